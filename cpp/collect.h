@@ -1,0 +1,31 @@
+// Shared by the CGAL translation units (not by the bridge): turns a CGAL 2D
+// triangulation whose vertices carry their input index into flat arrays.
+#pragma once
+#include "orthomesh/src/backend/cgal/ffi.rs.h"
+#include <cstddef>
+#include <vector>
+
+namespace orthomesh {
+
+// Finite faces as ccw index triples, plus the indices that are no vertex
+// (hidden points of a regular triangulation, merged duplicates).
+template <class Tr>
+TriangulationOut collect(const Tr& tr, std::size_t n) {
+  TriangulationOut out;
+  std::vector<bool> present(n, false);
+  for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v) {
+    present.at(v->info()) = true;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!present[i]) out.hidden.push_back(static_cast<uint32_t>(i));
+  }
+  if (tr.dimension() == 2) {
+    out.triangles.reserve(3 * tr.number_of_faces());
+    for (auto f = tr.finite_faces_begin(); f != tr.finite_faces_end(); ++f) {
+      for (int k = 0; k < 3; ++k) out.triangles.push_back(f->vertex(k)->info());
+    }
+  }
+  return out;
+}
+
+}  // namespace orthomesh

@@ -1,0 +1,74 @@
+// Epick (exact predicates, double constructions): the weights step works on
+// double points and weights, so exact predicates make every decision exact.
+#include "orthomesh/cpp/shim.h"
+#include "orthomesh/cpp/collect.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Regular_triangulation_2.h>
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+namespace orthomesh {
+namespace {
+
+typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
+
+typedef CGAL::Regular_triangulation_vertex_base_2<K> RVbb;
+typedef CGAL::Triangulation_vertex_base_with_info_2<uint32_t, K, RVbb> RVb;
+typedef CGAL::Regular_triangulation_face_base_2<K> RFb;
+typedef CGAL::Triangulation_data_structure_2<RVb, RFb> RTds;
+typedef CGAL::Regular_triangulation_2<K, RTds> RT;
+
+typedef CGAL::Triangulation_vertex_base_with_info_2<uint32_t, K> CVb;
+typedef CGAL::Constrained_triangulation_face_base_2<K> CFb;
+typedef CGAL::Triangulation_data_structure_2<CVb, CFb> CTds;
+typedef CGAL::Constrained_Delaunay_triangulation_2<K, CTds, CGAL::Exact_predicates_tag> CDT;
+
+}  // namespace
+
+TriangulationOut regular_triangulation_2(rust::Slice<const double> xyw) {
+  if (xyw.size() % 3 != 0) throw std::invalid_argument("xyw length is not a multiple of 3");
+  const std::size_t n = xyw.size() / 3;
+  std::vector<std::pair<RT::Weighted_point, uint32_t>> pts;
+  pts.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    pts.emplace_back(RT::Weighted_point(K::Point_2(xyw[3 * i], xyw[3 * i + 1]), xyw[3 * i + 2]),
+                     static_cast<uint32_t>(i));
+  }
+  RT rt(pts.begin(), pts.end());  // range insert: spatial sort inside CGAL
+  return collect(rt, n);
+}
+
+TriangulationOut constrained_delaunay_2(rust::Slice<const double> xy,
+                                        rust::Slice<const uint32_t> segments) {
+  if (xy.size() % 2 != 0) throw std::invalid_argument("xy length is not even");
+  if (segments.size() % 2 != 0) throw std::invalid_argument("segments length is not even");
+  const std::size_t n = xy.size() / 2;
+  std::vector<std::pair<K::Point_2, uint32_t>> pts;
+  pts.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    pts.emplace_back(K::Point_2(xy[2 * i], xy[2 * i + 1]), static_cast<uint32_t>(i));
+  }
+  CDT cdt;
+  cdt.insert(pts.begin(), pts.end());
+  std::vector<CDT::Vertex_handle> handle(n);
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
+    handle.at(v->info()) = v;
+  }
+  for (std::size_t s = 0; s < segments.size() / 2; ++s) {
+    uint32_t a = segments[2 * s], b = segments[2 * s + 1];
+    if (a >= n || b >= n) throw std::out_of_range("segment refers to a vertex out of range");
+    if (handle[a] == CDT::Vertex_handle() || handle[b] == CDT::Vertex_handle())
+      throw std::invalid_argument("segment endpoint is a duplicate point");
+    cdt.insert_constraint(handle[a], handle[b]);
+  }
+  if (cdt.number_of_vertices() != n)
+    throw std::runtime_error("constraints created new vertices: the segments intersect");
+  return collect(cdt, n);
+}
+
+}  // namespace orthomesh

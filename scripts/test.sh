@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# The test suite: Rust unit, integration and property tests, then the meshes
+# the tests wrote, read back by the readers users run (vtk, pyvista, meshio).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+python3 -m pip install -q --disable-pip-version-check -r scripts/requirements-readers.txt
+export ORTHOMESH_TEST_OUT="$PWD/target/test-meshes"
+rm -rf "$ORTHOMESH_TEST_OUT" && mkdir -p "$ORTHOMESH_TEST_OUT"
+cargo test --all-targets "$@"
+python3 tests/readers.py "$ORTHOMESH_TEST_OUT"

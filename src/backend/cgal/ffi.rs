@@ -1,0 +1,21 @@
+//! The cxx bridge: the only place where Rust and the C++ shim meet.
+//! Whole slices in, flat index arrays out; every call can throw, so every
+//! call returns `Result`.
+
+#[cxx::bridge(namespace = "orthomesh")]
+pub(super) mod bridge {
+    struct TriangulationOut {
+        /// ccw triangles, 3 input indices each
+        triangles: Vec<u32>,
+        /// input indices that are no vertex of the triangulation
+        hidden: Vec<u32>,
+    }
+
+    unsafe extern "C++" {
+        include!("orthomesh/cpp/shim.h");
+
+        fn regular_triangulation_2(xyw: &[f64]) -> Result<TriangulationOut>;
+        fn constrained_delaunay_2(xy: &[f64], segments: &[u32]) -> Result<TriangulationOut>;
+        fn regular_triangulation_2_exact(xyw: &str) -> Result<TriangulationOut>;
+    }
+}

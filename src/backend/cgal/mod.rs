@@ -1,0 +1,45 @@
+//! CGAL backend: `Regular_triangulation_2` over Epick (double input, exact
+//! predicates) and Epeck (rational input), `Constrained_Delaunay_triangulation_2`.
+
+#[allow(unsafe_code)]
+mod ffi;
+
+use super::{Backend, Triangulation};
+use crate::error::{Error, Result};
+use crate::exact::Q;
+use std::fmt::Write;
+
+/// The CGAL backend (feature `cgal`).
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Cgal;
+
+fn convert(r: std::result::Result<ffi::bridge::TriangulationOut, cxx::Exception>) -> Result<Triangulation> {
+    let out = r.map_err(|e| Error::Backend(format!("CGAL: {}", e.what())))?;
+    Ok(Triangulation::from_flat(&out.triangles, out.hidden))
+}
+
+impl Backend for Cgal {
+    fn name(&self) -> &'static str {
+        "cgal"
+    }
+
+    fn regular(&self, points: &[[f64; 2]], weights: &[f64]) -> Result<Triangulation> {
+        let xyw: Vec<f64> = points.iter().zip(weights).flat_map(|(p, w)| [p[0], p[1], *w]).collect();
+        convert(ffi::bridge::regular_triangulation_2(&xyw))
+    }
+
+    fn constrained_delaunay(&self, points: &[[f64; 2]], segments: &[[u32; 2]]) -> Result<Triangulation> {
+        let xy: Vec<f64> = points.iter().flatten().copied().collect();
+        let segs: Vec<u32> = segments.iter().flatten().copied().collect();
+        convert(ffi::bridge::constrained_delaunay_2(&xy, &segs))
+    }
+
+    fn regular_exact(&self, points: &[[Q; 2]], weights: &[Q]) -> Result<Triangulation> {
+        let mut text = String::with_capacity(points.len() * 96);
+        for (p, w) in points.iter().zip(weights) {
+            // num-rational prints "n/d" or "n", which GMP's mpq parser reads.
+            let _ = write!(text, "{} {} {}\n", p[0], p[1], w);
+        }
+        convert(ffi::bridge::regular_triangulation_2_exact(&text))
+    }
+}

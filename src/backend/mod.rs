@@ -1,0 +1,123 @@
+//! The triangulation backends. This trait is the only boundary behind which
+//! CGAL (or, later, a pure-Rust engine) lives; everything above it is generic.
+
+#[cfg(feature = "cgal")]
+mod cgal;
+#[cfg(feature = "cgal")]
+pub use cgal::Cgal;
+
+use crate::error::Result;
+use crate::exact::Q;
+use std::collections::HashMap;
+
+/// What every backend computes, in batch.
+pub trait Backend: Sync {
+    /// Short name used in reports and benchmark ids.
+    fn name(&self) -> &'static str;
+    /// Regular triangulation of weighted double points, exact predicates.
+    fn regular(&self, points: &[[f64; 2]], weights: &[f64]) -> Result<Triangulation>;
+    /// Constrained Delaunay triangulation of a validated complex.
+    fn constrained_delaunay(&self, points: &[[f64; 2]], segments: &[[u32; 2]]) -> Result<Triangulation>;
+    /// Regular triangulation of exact rational weighted points.
+    fn regular_exact(&self, points: &[[Q; 2]], weights: &[Q]) -> Result<Triangulation>;
+}
+
+/// The backend compiled in by default.
+#[cfg(feature = "cgal")]
+pub fn default_backend() -> Cgal {
+    Cgal
+}
+
+/// A finite 2D triangulation as index triples, with its edge adjacency.
+#[derive(Debug, Clone, Default)]
+pub struct Triangulation {
+    /// Counter-clockwise triangles (input indices).
+    pub triangles: Vec<[u32; 3]>,
+    /// Input indices that are not vertices (hidden or merged).
+    pub hidden: Vec<u32>,
+    /// Directed edge (a, b) -> the triangle having a->b in ccw order.
+    left: HashMap<(u32, u32), u32>,
+}
+
+impl Triangulation {
+    pub(crate) fn from_flat(flat: &[u32], hidden: Vec<u32>) -> Self {
+        let triangles: Vec<[u32; 3]> = flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        let mut left = HashMap::with_capacity(triangles.len() * 3);
+        for (t, tri) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                left.insert((tri[k], tri[(k + 1) % 3]), t as u32);
+            }
+        }
+        Triangulation { triangles, hidden, left }
+    }
+
+    /// The triangle on the left of the directed edge a->b, if any.
+    pub fn left_of(&self, a: u32, b: u32) -> Option<u32> {
+        self.left.get(&(a, b)).copied()
+    }
+
+    /// The vertex of triangle `t` opposite its edge a->b (which must be in it).
+    pub fn apex(&self, t: u32, a: u32, b: u32) -> u32 {
+        let tri = self.triangles[t as usize];
+        *tri.iter().find(|&&v| v != a && v != b).expect("edge belongs to triangle")
+    }
+
+    /// Whether {a, b} is an edge.
+    pub fn has_edge(&self, a: u32, b: u32) -> bool {
+        self.left.contains_key(&(a, b)) || self.left.contains_key(&(b, a))
+    }
+
+    /// Every undirected edge once, as (a, b) with a triangle on the left of a->b.
+    pub fn edges(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.left.keys().copied().filter(move |&(a, b)| a < b || !self.left.contains_key(&(b, a)))
+    }
+
+    /// Neighbours of each vertex (n = number of input points).
+    pub fn neighbours(&self, n: usize) -> Vec<Vec<u32>> {
+        let mut nb = vec![Vec::new(); n];
+        for (a, b) in self.edges() {
+            nb[a as usize].push(b);
+            nb[b as usize].push(a);
+        }
+        nb
+    }
+
+    /// Triangles around each vertex.
+    pub fn vertex_triangles(&self, n: usize) -> Vec<Vec<u32>> {
+        let mut vt = vec![Vec::new(); n];
+        for (t, tri) in self.triangles.iter().enumerate() {
+            for &v in tri {
+                vt[v as usize].push(t as u32);
+            }
+        }
+        vt
+    }
+
+    /// Whether vertex v lies on the convex hull (has an edge with one triangle).
+    pub fn on_hull(&self, v: u32, around: &[u32]) -> bool {
+        around.iter().any(|&t| {
+            let tri = self.triangles[t as usize];
+            (0..3).any(|k| {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                (a == v || b == v) && !self.left.contains_key(&(b, a))
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn adjacency_of_two_triangles() {
+        let t = Triangulation::from_flat(&[0, 1, 2, 2, 1, 3], vec![]);
+        assert_eq!(t.left_of(0, 1), Some(0));
+        assert_eq!(t.left_of(1, 2), Some(0));
+        assert_eq!(t.left_of(2, 1), Some(1));
+        assert_eq!(t.apex(1, 2, 1), 3);
+        assert!(t.has_edge(3, 2));
+        assert!(!t.has_edge(0, 3));
+        assert_eq!(t.edges().count(), 5);
+    }
+}

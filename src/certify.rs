@@ -1,0 +1,142 @@
+//! The exact certificate of a finished mesh (method.md section 7), decided
+//! on the exact power diagram, plus floating-point checks on the mesh as
+//! written.
+
+use crate::diagram::Diagram;
+use crate::domain::Domain;
+use crate::exact::{orient_q, qp, QPoint};
+use crate::mesh::Mesh;
+use crate::sites::Sites;
+use serde::Serialize;
+use std::cmp::Ordering;
+use std::collections::{HashMap, HashSet};
+
+/// What the mesh proves about itself.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct Certificate {
+    /// Every domain vertex of the complex is a mesh vertex (exact).
+    pub vertices_are_mesh_vertices: bool,
+    /// Every segment is exactly one edge of the cells beside it (exact).
+    pub segments_are_single_edges: bool,
+    /// Cells are strictly convex and counter-clockwise, interior edges are
+    /// shared by exactly two cells with opposite orientation, and the
+    /// unshared edges are exactly the domain boundary: the cells tile the
+    /// domain (exact; implies the areas add up).
+    pub cells_tile_domain: bool,
+    /// Every domain site strictly inside its own cell (exact).
+    pub sites_inside_cells: bool,
+    pub sites_outside: usize,
+    /// Relative difference of the summed cell areas and the domain area, as written.
+    pub area_relative_error: f64,
+    /// Largest |cos| between an interior face and the segment joining its two sites, as written.
+    pub max_orthogonality_defect: f64,
+    /// Failures, named.
+    pub problems: Vec<String>,
+}
+
+impl Certificate {
+    /// Whether the mesh conforms (sites inside are checked separately).
+    pub fn conforms(&self) -> bool {
+        self.vertices_are_mesh_vertices && self.segments_are_single_edges && self.cells_tile_domain
+    }
+}
+
+/// Checks the exact diagram against the domain, and the written mesh.
+pub fn certify(dom: &Domain, sites: &Sites, diagram: &Diagram, outside: &[usize], mesh: &Mesh) -> Certificate {
+    let cx = &dom.complex;
+    let mut c = Certificate { sites_outside: outside.len(), sites_inside_cells: outside.is_empty(), ..Default::default() };
+    let index: HashMap<&QPoint, u32> = diagram.points.iter().enumerate().map(|(i, p)| (p, i as u32)).collect();
+    let vid: Vec<Option<u32>> = cx.points.iter().map(|&p| index.get(&qp(p)).copied()).collect();
+
+    let missing: Vec<i64> = (0..cx.points.len()).filter(|&v| vid[v].is_none()).map(|v| cx.vertex_ids[v]).collect();
+    c.vertices_are_mesh_vertices = missing.is_empty();
+    if !missing.is_empty() {
+        c.problems.push(format!("vertices that are not mesh vertices: {missing:?}"));
+    }
+
+    // Directed edges of domain cells.
+    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut convex = true;
+    for (s, cell) in diagram.cells.iter().enumerate() {
+        if !diagram.in_domain[s] {
+            continue;
+        }
+        let Some(cell) = cell else { continue };
+        let k = cell.len();
+        if k < 3 {
+            convex = false;
+            c.problems.push(format!("cell of site {s} has {k} vertices"));
+            continue;
+        }
+        for e in 0..k {
+            let (a, b, d) = (cell[e], cell[(e + 1) % k], cell[(e + 2) % k]);
+            *edges.entry((a, b)).or_default() += 1;
+            let p = &diagram.points;
+            if orient_q(&p[a as usize], &p[b as usize], &p[d as usize]) != Ordering::Greater {
+                convex = false;
+                c.problems.push(format!("cell of site {s} is not strictly convex and counter-clockwise"));
+                break;
+            }
+        }
+    }
+
+    // Segments: a single edge of each domain cell beside them.
+    let pairs = sites.segment_pairs(cx.segments.len());
+    let mut bad_segments = vec![];
+    for (k, &[i, j]) in cx.segments.iter().enumerate() {
+        let (Some(a), Some(b)) = (vid[i as usize], vid[j as usize]) else {
+            bad_segments.push(cx.segment_ids[k]);
+            continue;
+        };
+        let beside: Vec<u32> = pairs[k].iter().copied().filter(|&s| diagram.in_domain[s as usize]).collect();
+        let ok = !beside.is_empty()
+            && beside.iter().all(|&s| {
+                let cell = diagram.cells[s as usize].as_ref().unwrap();
+                let m = cell.len();
+                (0..m).any(|e| {
+                    let (x, y) = (cell[e], cell[(e + 1) % m]);
+                    (x, y) == (a, b) || (x, y) == (b, a)
+                })
+            });
+        if !ok {
+            bad_segments.push(cx.segment_ids[k]);
+        }
+    }
+    c.segments_are_single_edges = bad_segments.is_empty();
+    if !bad_segments.is_empty() {
+        c.problems.push(format!("segments that are not single mesh edges: {bad_segments:?}"));
+    }
+
+    // Tiling: unshared directed edges are exactly the domain boundary.
+    let boundary: HashSet<(u32, u32)> = dom
+        .boundary()
+        .into_iter()
+        .filter_map(|(a, b)| Some((vid[a as usize]?, vid[b as usize]?)))
+        .collect();
+    let mut tiles = convex && boundary.len() == dom.boundary().len();
+    let mut seen_boundary = 0;
+    for (&(a, b), &count) in &edges {
+        let twin = edges.get(&(b, a)).copied().unwrap_or(0);
+        if count != 1 || twin > 1 {
+            tiles = false;
+        } else if twin == 0 {
+            if boundary.contains(&(a, b)) {
+                seen_boundary += 1;
+            } else {
+                tiles = false;
+            }
+        }
+    }
+    tiles &= seen_boundary == boundary.len();
+    c.cells_tile_domain = tiles;
+    if !tiles {
+        c.problems.push("the domain cells do not tile the domain exactly".into());
+    }
+
+    // As written: areas and orthogonality in floating point.
+    let area: f64 = mesh.cells.iter().map(|cell| mesh.area(cell)).sum();
+    let dom_area = dom.area();
+    c.area_relative_error = ((area - dom_area) / dom_area).abs();
+    c.max_orthogonality_defect = mesh.orthogonality_defect();
+    c
+}

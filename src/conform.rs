@@ -1,0 +1,161 @@
+//! The whole 2D pipeline: validate, domain, weights, sites, relocation,
+//! diagram, certificate. Generic over the backend.
+
+use crate::backend::Backend;
+use crate::certify::{certify, Certificate};
+use crate::complex::Complex;
+use crate::domain::{self, Domain};
+use crate::error::{Error, Result};
+use crate::exact::{f, norm2, sub};
+use crate::mesh::Mesh;
+use crate::relocate::relocate;
+use crate::sites::{Role, Sites};
+use crate::weights::{self, WeightsReport};
+use serde::Serialize;
+use std::time::Instant;
+
+/// Choices of the caller.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    /// Write the conforming mesh even when some sites lie outside their cells.
+    pub allow_sites_outside: bool,
+}
+
+/// A certified mesh and how it was made.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    pub mesh: Mesh,
+    pub domain: Domain,
+    pub report: Report,
+    /// Which mesh cells have their site strictly inside.
+    pub site_inside: Vec<bool>,
+}
+
+/// The report written next to the mesh.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct Report {
+    pub backend: String,
+    pub vertices: usize,
+    pub segments: usize,
+    pub holes: usize,
+    pub notes: Vec<String>,
+    pub domain_area: f64,
+    pub hull_edges_added: usize,
+    pub dropped_vertices: usize,
+    pub dropped_segments: usize,
+    pub weights: WeightsReport,
+    /// Segments (input ids) that do not cross their dual edge.
+    pub segments_missing_dual: Vec<i64>,
+    pub sites: usize,
+    pub vertex_sites: usize,
+    pub relocation_rounds: usize,
+    /// Smallest distance from a domain site to its cell's boundary, divided
+    /// by the square root of the cell's area (0 when some site is outside).
+    pub min_site_margin: f64,
+    pub sites_outside: Vec<String>,
+    pub cells: usize,
+    pub mesh_vertices: usize,
+    pub collapsed_vertices: usize,
+    pub certificate: Certificate,
+    /// Milliseconds per stage, in order.
+    pub timings_ms: Vec<(String, f64)>,
+    pub total_ms: f64,
+    /// The backend's raw regular triangulation of the same vertices.
+    pub raw_triangulation_ms: f64,
+}
+
+struct Clock(Instant, Vec<(String, f64)>);
+
+impl Clock {
+    fn lap(&mut self, stage: &str) {
+        let now = Instant::now();
+        self.1.push((stage.into(), (now - self.0).as_secs_f64() * 1e3));
+        self.0 = now;
+    }
+}
+
+/// Builds the certified conforming orthogonal mesh of a complex.
+pub fn conform<B: Backend + ?Sized>(backend: &B, input: &Complex, opts: &Options) -> Result<Outcome> {
+    let start = Instant::now();
+    let mut clock = Clock(start, vec![]);
+    input.validate()?;
+    clock.lap("validate");
+    let dom = domain::build(backend, input)?;
+    clock.lap("domain");
+    let cx = &dom.complex;
+    let wts = weights::solve(backend, &dom)?;
+    clock.lap("weights");
+    let missing_dual: Vec<i64> = wts.sys3_failed.iter().map(|&s| cx.segment_ids[s as usize]).collect();
+    if !missing_dual.is_empty() && !opts.allow_sites_outside {
+        return Err(Error::SegmentsMissTheirDuals { segments: missing_dual });
+    }
+    let mut sites = Sites::place(cx, &wts.w, &wts.rt, &wts.sys3_failed);
+    clock.lap("sites");
+    let rel = relocate(backend, &dom, &mut sites)?;
+    clock.lap("relocate");
+    let outside_names: Vec<String> = rel.outside.iter().map(|&s| sites.describe(s, cx)).collect();
+    if !rel.outside.is_empty() && !opts.allow_sites_outside {
+        return Err(Error::SitesOutsideCells { sites: outside_names });
+    }
+    let mesh = Mesh::from_diagram(&rel.diagram, &sites)?;
+    let cert = certify(&dom, &sites, &rel.diagram, &rel.outside, &mesh);
+    clock.lap("certify");
+    if !cert.conforms() {
+        return Err(Error::Certificate(cert.problems.join("; ")));
+    }
+    let domain_sites: Vec<usize> = (0..sites.len()).filter(|&s| rel.diagram.in_domain[s]).collect();
+    let site_inside: Vec<bool> = domain_sites.iter().map(|s| !rel.outside.contains(s)).collect();
+    let min_site_margin = if rel.outside.is_empty() { site_margin(&sites, &rel.rt, &mesh, &domain_sites) } else { 0.0 };
+
+    let t0 = Instant::now();
+    backend.regular(&input.points, &vec![0.0; input.points.len()])?;
+    let raw_triangulation_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let report = Report {
+        backend: backend.name().into(),
+        vertices: input.points.len(),
+        segments: input.segments.len(),
+        holes: input.holes.len(),
+        notes: cx.notes.clone(),
+        domain_area: dom.area(),
+        hull_edges_added: dom.hull_edges_added,
+        dropped_vertices: dom.dropped_vertices,
+        dropped_segments: dom.dropped_segments,
+        weights: wts.report.clone(),
+        segments_missing_dual: wts.sys3_failed.iter().map(|&s| cx.segment_ids[s as usize]).collect(),
+        sites: sites.len(),
+        vertex_sites: sites.role.iter().filter(|r| matches!(r, Role::Vertex { .. })).count(),
+        relocation_rounds: rel.rounds,
+        min_site_margin,
+        sites_outside: outside_names,
+        cells: mesh.cells.len(),
+        mesh_vertices: mesh.points.len(),
+        collapsed_vertices: mesh.collapsed,
+        certificate: cert,
+        total_ms: start.elapsed().as_secs_f64() * 1e3,
+        timings_ms: clock.1,
+        raw_triangulation_ms,
+    };
+    Ok(Outcome { mesh, domain: dom, report, site_inside })
+}
+
+/// Smallest (distance from site to a face of its cell) / sqrt(cell area)
+/// over the domain sites; the distance to the radical line of a and b is
+/// (|a - b|^2 + omega_a - omega_b) / (2 |a - b|).
+fn site_margin(sites: &Sites, rt: &crate::backend::Triangulation, mesh: &Mesh, domain_sites: &[usize]) -> f64 {
+    let nb = rt.neighbours(sites.len());
+    domain_sites
+        .iter()
+        .zip(&mesh.cells)
+        .map(|(&a, cell)| {
+            let scale = mesh.area(cell).abs().sqrt();
+            nb[a]
+                .iter()
+                .map(|&b| {
+                    let d2 = norm2(&sub(&sites.pos[a], &sites.pos[b as usize]));
+                    let num = f(&(&d2 + &sites.weight[a] - &sites.weight[b as usize]));
+                    num / (2.0 * f(&d2).sqrt()) / scale
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(f64::INFINITY, f64::min)
+}

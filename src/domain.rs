@@ -1,0 +1,178 @@
+//! The domain, as Triangle's `p` switch sees it: the region enclosed by the
+//! segments minus the regions of the hole points; with no enclosing segments,
+//! the convex hull (its edges join the constraints). Vertices and segments
+//! outside the domain are dropped: they play no role in the mesh.
+
+use crate::backend::{Backend, Triangulation};
+use crate::complex::Complex;
+use crate::error::{Error, Result};
+use crate::exact::orient;
+use std::cmp::Ordering;
+use std::collections::{HashSet, VecDeque};
+
+/// The complex restricted to the domain, with its constrained Delaunay
+/// triangulation and which of its triangles lie in the domain.
+#[derive(Debug, Clone)]
+pub struct Domain {
+    pub complex: Complex,
+    pub cdt: Triangulation,
+    pub inside: Vec<bool>,
+    /// Convex-hull edges added as constraints.
+    pub hull_edges_added: usize,
+    /// Input vertices and segments dropped as outside the domain.
+    pub dropped_vertices: usize,
+    pub dropped_segments: usize,
+}
+
+impl Domain {
+    /// Domain boundary as directed segments (a, b) with the domain on the left.
+    pub fn boundary(&self) -> Vec<(u32, u32)> {
+        let inside = |t: Option<u32>| t.is_some_and(|t| self.inside[t as usize]);
+        let mut out = vec![];
+        for &[a, b] in &self.complex.segments {
+            match (inside(self.cdt.left_of(a, b)), inside(self.cdt.left_of(b, a))) {
+                (true, false) => out.push((a, b)),
+                (false, true) => out.push((b, a)),
+                _ => {}
+            }
+        }
+        out
+    }
+
+    /// Area of the domain (floating point, for reports).
+    pub fn area(&self) -> f64 {
+        let p = &self.complex.points;
+        self.cdt
+            .triangles
+            .iter()
+            .zip(&self.inside)
+            .filter(|(_, &i)| i)
+            .map(|(t, _)| {
+                let [a, b, c] = t.map(|v| p[v as usize]);
+                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+            })
+            .sum()
+    }
+}
+
+/// Builds the domain of a validated complex.
+pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain> {
+    let mut cx = input.clone();
+    let mut cdt = backend.constrained_delaunay(&cx.points, &cx.segments)?;
+    if cdt.triangles.is_empty() {
+        return Err(Error::Degenerate("fewer than three vertices, or all vertices collinear".into()));
+    }
+    let mut inside = classify(&cx, &cdt);
+    let mut hull_edges_added = 0;
+    if !inside.iter().any(|&i| i) {
+        // Nothing enclosed: mesh the convex hull, its edges become constraints.
+        let segs: HashSet<(u32, u32)> = cx.segments.iter().map(|s| (s[0].min(s[1]), s[0].max(s[1]))).collect();
+        let mut next_id = cx.segment_ids.iter().copied().max().unwrap_or(0) + 1;
+        for (a, b) in hull_edges(&cdt) {
+            if !segs.contains(&(a.min(b), a.max(b))) {
+                cx.segments.push([a, b]);
+                cx.segment_ids.push(next_id);
+                next_id += 1;
+                hull_edges_added += 1;
+            }
+        }
+        cx.notes.push(format!(
+            "no segments enclose a region: meshing the convex hull ({hull_edges_added} hull edges added as segments, ids from {})",
+            next_id - hull_edges_added as i64
+        ));
+        cdt = backend.constrained_delaunay(&cx.points, &cx.segments)?;
+        inside = classify(&cx, &cdt);
+        if !inside.iter().any(|&i| i) {
+            return Err(Error::Degenerate("the hole points remove the whole convex hull".into()));
+        }
+    }
+
+    // Keep what touches the domain.
+    let n = cx.points.len();
+    let mut keep_v = vec![false; n];
+    for (t, tri) in cdt.triangles.iter().enumerate() {
+        if inside[t] {
+            for &v in tri {
+                keep_v[v as usize] = true;
+            }
+        }
+    }
+    let inside_at = |t: Option<u32>| t.is_some_and(|t| inside[t as usize]);
+    let keep_s: Vec<bool> =
+        cx.segments.iter().map(|&[a, b]| inside_at(cdt.left_of(a, b)) || inside_at(cdt.left_of(b, a))).collect();
+    let dropped_vertices = keep_v.iter().filter(|&&k| !k).count();
+    let dropped_segments = keep_s.iter().filter(|&&k| !k).count();
+    if dropped_vertices == 0 && dropped_segments == 0 {
+        return Ok(Domain { complex: cx, cdt, inside, hull_edges_added, dropped_vertices, dropped_segments });
+    }
+    let mut map = vec![u32::MAX; n];
+    let mut rc = Complex { holes: cx.holes.clone(), notes: cx.notes.clone(), ..Default::default() };
+    for v in 0..n {
+        if keep_v[v] {
+            map[v] = rc.points.len() as u32;
+            rc.points.push(cx.points[v]);
+            rc.vertex_ids.push(cx.vertex_ids[v]);
+        }
+    }
+    for (s, &[a, b]) in cx.segments.iter().enumerate() {
+        if keep_s[s] {
+            rc.segments.push([map[a as usize], map[b as usize]]);
+            rc.segment_ids.push(cx.segment_ids[s]);
+        }
+    }
+    rc.notes.push(format!(
+        "{dropped_vertices} vertices and {dropped_segments} segments lie outside the domain (or in holes) and are ignored"
+    ));
+    let cdt = backend.constrained_delaunay(&rc.points, &rc.segments)?;
+    let inside = classify(&rc, &cdt);
+    Ok(Domain { complex: rc, cdt, inside, hull_edges_added, dropped_vertices, dropped_segments })
+}
+
+/// Directed convex-hull edges (interior on the left).
+fn hull_edges(t: &Triangulation) -> Vec<(u32, u32)> {
+    t.triangles
+        .iter()
+        .flat_map(|tri| (0..3).map(move |k| (tri[k], tri[(k + 1) % 3])))
+        .filter(|&(a, b)| t.left_of(b, a).is_none())
+        .collect()
+}
+
+/// Triangle's eating: from the hull and from the hole points, across every
+/// edge that is not a segment. What is not eaten is the domain.
+fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
+    let segs: HashSet<(u32, u32)> = cx.segments.iter().map(|s| (s[0].min(s[1]), s[0].max(s[1]))).collect();
+    let is_seg = |a: u32, b: u32| segs.contains(&(a.min(b), a.max(b)));
+    let mut eaten = vec![false; t.triangles.len()];
+    let mut queue = VecDeque::new();
+    for (a, b) in hull_edges(t) {
+        if !is_seg(a, b) {
+            queue.push_back(t.left_of(a, b).expect("hull edge has a triangle"));
+        }
+    }
+    let p = &cx.points;
+    for h in &cx.holes {
+        for (k, tri) in t.triangles.iter().enumerate() {
+            let [a, b, c] = tri.map(|v| p[v as usize]);
+            if [orient(a, b, *h), orient(b, c, *h), orient(c, a, *h)].iter().all(|&o| o != Ordering::Less) {
+                queue.push_back(k as u32);
+            }
+        }
+    }
+    while let Some(k) = queue.pop_front() {
+        if std::mem::replace(&mut eaten[k as usize], true) {
+            continue;
+        }
+        let tri = t.triangles[k as usize];
+        for e in 0..3 {
+            let (a, b) = (tri[e], tri[(e + 1) % 3]);
+            if !is_seg(a, b) {
+                if let Some(n) = t.left_of(b, a) {
+                    if !eaten[n as usize] {
+                        queue.push_back(n);
+                    }
+                }
+            }
+        }
+    }
+    eaten.into_iter().map(|e| !e).collect()
+}

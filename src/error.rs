@@ -1,0 +1,130 @@
+//! The one error type. Variants carry the offending items by the ids the
+//! input file gave them, so messages point back into the user's file.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// Result with the crate's error.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Everything that can stop orthomesh.
+#[derive(Debug)]
+pub enum Error {
+    /// A file could not be read or written.
+    Io { path: PathBuf, message: String },
+    /// A file does not parse; `line` is 1-based.
+    Parse { path: PathBuf, line: usize, message: String },
+    /// Vertices with NaN or infinite coordinates.
+    NonFinite { vertices: Vec<i64> },
+    /// Pairs of vertices at the same position.
+    DuplicateVertices { pairs: Vec<(i64, i64)> },
+    /// Segments whose two ends are the same vertex.
+    ZeroLengthSegments { segments: Vec<i64> },
+    /// Pairs of segments joining the same two vertices.
+    RepeatedSegments { pairs: Vec<(i64, i64)> },
+    /// Pairs of segments that cross, overlap or touch other than at a shared endpoint.
+    CrossingSegments { pairs: Vec<(i64, i64)> },
+    /// (vertex, segment): a vertex inside a segment.
+    VertexOnSegment { pairs: Vec<(i64, i64)> },
+    /// The input has no area to mesh (fewer than 3 points, all collinear, empty domain).
+    Degenerate(String),
+    /// System 1 infeasible: no regular constrained triangulation exists.
+    NoRegularConstrainedTriangulation { segments: Vec<i64> },
+    /// System 3 infeasible: these segments cannot cross their dual edges, so
+    /// some sites must lie outside their cells.
+    SegmentsMissTheirDuals { segments: Vec<i64> },
+    /// Sites that could not be brought into their own cells.
+    SitesOutsideCells { sites: Vec<String> },
+    /// The LP solver failed (not an infeasibility verdict).
+    Lp(String),
+    /// A backend (CGAL) reported an error or threw.
+    Backend(String),
+    /// The exact certificate of the final mesh does not hold.
+    Certificate(String),
+    /// Command-line usage error.
+    Usage(String),
+}
+
+/// Shows at most 20 items, then how many more.
+fn list<T: fmt::Display>(items: &[T]) -> String {
+    let shown: Vec<String> = items.iter().take(20).map(|x| x.to_string()).collect();
+    let more = items.len().saturating_sub(20);
+    if more > 0 {
+        format!("{} and {more} more", shown.join(", "))
+    } else {
+        shown.join(", ")
+    }
+}
+
+fn pairs(items: &[(i64, i64)], join: &str) -> String {
+    let v: Vec<String> = items.iter().map(|(a, b)| format!("{a}{join}{b}")).collect();
+    list(&v)
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Io { path, message } => write!(f, "{}: {message}", path.display()),
+            Error::Parse { path, line, message } => write!(f, "{}:{line}: {message}", path.display()),
+            Error::NonFinite { vertices } => {
+                write!(f, "vertices with a NaN or infinite coordinate: {}", list(vertices))
+            }
+            Error::DuplicateVertices { pairs: p } => {
+                write!(f, "duplicate vertices (same position): {}", pairs(p, " = "))
+            }
+            Error::ZeroLengthSegments { segments } => {
+                write!(f, "zero-length segments (both ends the same vertex): {}", list(segments))
+            }
+            Error::RepeatedSegments { pairs: p } => {
+                write!(f, "repeated segments (same two vertices): {}", pairs(p, " = "))
+            }
+            Error::CrossingSegments { pairs: p } => write!(
+                f,
+                "segments that cross, overlap or touch other than at a shared endpoint: {}",
+                pairs(p, " x ")
+            ),
+            Error::VertexOnSegment { pairs: p } => {
+                write!(f, "vertices lying inside a segment (vertex on segment): {}", pairs(p, " on "))
+            }
+            Error::Degenerate(m) => write!(f, "nothing to mesh: {m}"),
+            Error::NoRegularConstrainedTriangulation { segments } => write!(
+                f,
+                "no regular constrained triangulation exists (system 1 is infeasible), so no conforming \
+                 power diagram can be built without extra points; constraints involved (segment ids): {}",
+                list(segments)
+            ),
+            Error::SegmentsMissTheirDuals { segments } => write!(
+                f,
+                "a conforming mesh exists but these segments cannot cross their dual edges (system 3 is \
+                 infeasible), so sites cannot all lie inside their cells; segment ids: {}. Rerun with \
+                 --allow-sites-outside to write the conforming mesh anyway",
+                list(segments)
+            ),
+            Error::SitesOutsideCells { sites } => write!(
+                f,
+                "sites that could not be brought strictly inside their own cells: {}. Rerun with \
+                 --allow-sites-outside to write the conforming mesh anyway",
+                list(sites)
+            ),
+            Error::Lp(m) => write!(f, "LP solver: {m}"),
+            Error::Backend(m) => write!(f, "triangulation backend: {m}"),
+            Error::Certificate(m) => write!(f, "certificate failed: {m}"),
+            Error::Usage(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_lists_are_cut() {
+        let e = Error::ZeroLengthSegments { segments: (1..=25).collect() };
+        let s = e.to_string();
+        assert!(s.contains("20 and 5 more"), "{s}");
+        assert!(!s.contains("21"));
+    }
+}

@@ -1,0 +1,163 @@
+//! Exact arithmetic and predicates. Every geometric decision goes through
+//! here: doubles are converted exactly to rationals (or fed to Shewchuk's
+//! adaptive predicates); nothing else in the crate looks at a raw sign.
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{Signed, ToPrimitive, Zero};
+use std::cmp::Ordering;
+
+/// An exact rational number.
+pub type Q = BigRational;
+/// An exact point.
+pub type QPoint = [Q; 2];
+
+/// The exact value of a finite double.
+pub fn q(x: f64) -> Q {
+    BigRational::from_float(x).expect("finite coordinates are validated before any geometry")
+}
+
+/// The exact value of a double point.
+pub fn qp(p: [f64; 2]) -> QPoint {
+    [q(p[0]), q(p[1])]
+}
+
+/// Small integer as a rational.
+pub fn qi(n: i64) -> Q {
+    BigRational::from_integer(BigInt::from(n))
+}
+
+/// Nearest double (num-rational rounds correctly).
+pub fn f(x: &Q) -> f64 {
+    x.to_f64().unwrap_or(f64::NAN)
+}
+
+/// Nearest double point.
+pub fn fp(p: &QPoint) -> [f64; 2] {
+    [f(&p[0]), f(&p[1])]
+}
+
+pub fn sub(a: &QPoint, b: &QPoint) -> QPoint {
+    [&a[0] - &b[0], &a[1] - &b[1]]
+}
+
+pub fn add(a: &QPoint, b: &QPoint) -> QPoint {
+    [&a[0] + &b[0], &a[1] + &b[1]]
+}
+
+pub fn scale(a: &QPoint, t: &Q) -> QPoint {
+    [&a[0] * t, &a[1] * t]
+}
+
+pub fn dot(a: &QPoint, b: &QPoint) -> Q {
+    &a[0] * &b[0] + &a[1] * &b[1]
+}
+
+pub fn cross(a: &QPoint, b: &QPoint) -> Q {
+    &a[0] * &b[1] - &a[1] * &b[0]
+}
+
+pub fn norm2(a: &QPoint) -> Q {
+    dot(a, a)
+}
+
+/// Sign of the turn a -> b -> c: Greater = counter-clockwise.
+pub fn orient_q(a: &QPoint, b: &QPoint, c: &QPoint) -> Ordering {
+    cross(&sub(b, a), &sub(c, a)).cmp(&Q::zero())
+}
+
+/// Exact orientation of double points (Shewchuk's adaptive predicate).
+pub fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
+    let d = robust::orient2d(
+        robust::Coord { x: a[0], y: a[1] },
+        robust::Coord { x: b[0], y: b[1] },
+        robust::Coord { x: c[0], y: c[1] },
+    );
+    d.partial_cmp(&0.0).unwrap_or(Ordering::Equal)
+}
+
+/// Whether p lies in the closed axis-aligned box of segment ab.
+pub fn in_box(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
+    (0..2).all(|k| p[k] >= a[k].min(b[k]) && p[k] <= a[k].max(b[k]))
+}
+
+/// Whether p lies in the closed diametral disc of segment ab: (a-p).(b-p) <= 0.
+pub fn in_diametral_disc(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
+    let (a, b, p) = (qp(a), qp(b), qp(p));
+    !dot(&sub(&a, &p), &sub(&b, &p)).is_positive()
+}
+
+/// Power of x with respect to the weighted point (p, w): |x - p|^2 - w.
+pub fn power(x: &QPoint, p: &QPoint, w: &Q) -> Q {
+    norm2(&sub(x, p)) - w
+}
+
+/// The power centre of three weighted points (equal power to all three), or
+/// None when they are collinear.
+pub fn power_centre(p: [&QPoint; 3], w: [&Q; 3]) -> Option<QPoint> {
+    // x = p0 + y with 2 y.(pk - p0) = |pk - p0|^2 - wk + w0 for k = 1, 2.
+    let u = sub(p[1], p[0]);
+    let v = sub(p[2], p[0]);
+    let det = cross(&u, &v);
+    if det.is_zero() {
+        return None;
+    }
+    let ru = (norm2(&u) - w[1] + w[0]) / qi(2);
+    let rv = (norm2(&v) - w[2] + w[0]) / qi(2);
+    let y0 = (&ru * &v[1] - &rv * &u[1]) / &det;
+    let y1 = (&rv * &u[0] - &ru * &v[0]) / &det;
+    Some([&p[0][0] + y0, &p[0][1] + y1])
+}
+
+/// The double nearest to x, back as an exact value: a short rational.
+pub fn round(x: &Q) -> Q {
+    q(f(x))
+}
+
+/// |x| as a double, for reports.
+pub fn abs_f(x: &Q) -> f64 {
+    f(&x.abs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn doubles_convert_exactly() {
+        assert_eq!(q(0.1) * qi(10), q(0.1) * qi(10));
+        assert_ne!(q(0.1) * qi(3), q(0.3));
+        assert_eq!(f(&q(0.1)), 0.1);
+    }
+
+    #[test]
+    fn orientation_is_exact_near_degeneracy() {
+        let a = [0.0, 0.0];
+        let b = [1.0, 1.0];
+        let c = [0.5, 0.5];
+        assert_eq!(orient(a, b, c), Ordering::Equal);
+        let c2 = [0.5, f64::from_bits(0.5f64.to_bits() + 1)];
+        assert_eq!(orient(a, b, c2), Ordering::Greater);
+        assert_eq!(orient_q(&qp(a), &qp(b), &qp(c2)), Ordering::Greater);
+    }
+
+    #[test]
+    fn diametral_disc_is_closed() {
+        assert!(in_diametral_disc([-1.0, 0.0], [1.0, 0.0], [0.0, 1.0]));
+        assert!(!in_diametral_disc([-1.0, 0.0], [1.0, 0.0], [0.0, 1.0 + 1e-15]));
+    }
+
+    #[test]
+    fn power_centre_of_unweighted_triangle_is_circumcentre() {
+        let p = [qp([0.0, 0.0]), qp([2.0, 0.0]), qp([0.0, 2.0])];
+        let z = Q::zero();
+        let c = power_centre([&p[0], &p[1], &p[2]], [&z, &z, &z]).unwrap();
+        assert_eq!(c, qp([1.0, 1.0]));
+        // Weights shift it: equal power to all three.
+        let w = [qi(1), qi(0), qi(3)];
+        let c = power_centre([&p[0], &p[1], &p[2]], [&w[0], &w[1], &w[2]]).unwrap();
+        let pw: Vec<Q> = (0..3).map(|k| power(&c, &p[k], &w[k])).collect();
+        assert_eq!(pw[0], pw[1]);
+        assert_eq!(pw[1], pw[2]);
+    }
+}

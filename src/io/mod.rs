@@ -1,0 +1,92 @@
+//! Readers and writers.
+
+pub mod edg;
+pub mod poly;
+pub mod svg;
+pub mod vtu;
+
+use crate::complex::Complex;
+use crate::error::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// Reads a constraint complex, choosing the reader by extension.
+pub fn read_complex(path: &Path) -> Result<Complex> {
+    let text = read_text(path)?;
+    match path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
+        Some("poly") => poly::parse(&text, path),
+        Some("edg") => edg::parse(&text, path),
+        _ => Err(Error::Usage(format!(
+            "{}: unknown input format (expected .poly or .edg)",
+            path.display()
+        ))),
+    }
+}
+
+pub(crate) fn read_text(path: &Path) -> Result<String> {
+    let bytes = std::fs::read(path).map_err(|e| io_err(path, e))?;
+    String::from_utf8(bytes).map_err(|_| Error::Io { path: path.into(), message: "not UTF-8 text".into() })
+}
+
+pub(crate) fn io_err(path: &Path, e: std::io::Error) -> Error {
+    Error::Io { path: path.into(), message: e.to_string() }
+}
+
+/// Writes a file whole or not at all: to a temporary sibling, then renamed.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let mut tmp: PathBuf = path.into();
+    let name = format!(".{}.partial", path.file_name().and_then(|n| n.to_str()).unwrap_or("out"));
+    tmp.set_file_name(name);
+    std::fs::write(&tmp, bytes).map_err(|e| io_err(path, e))?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io_err(path, e)
+    })
+}
+
+/// Non-blank, non-comment lines of a text file as (1-based line, tokens),
+/// with `#` starting a comment.
+pub(crate) struct Records<'a> {
+    lines: std::iter::Enumerate<std::str::Lines<'a>>,
+    path: &'a Path,
+    last_line: usize,
+}
+
+impl<'a> Records<'a> {
+    pub fn new(text: &'a str, path: &'a Path) -> Self {
+        Records { lines: text.lines().enumerate(), path, last_line: 0 }
+    }
+
+    /// The next record, or a parse error saying what was expected.
+    pub fn next_record(&mut self, what: &str) -> Result<(usize, Vec<&'a str>)> {
+        for (i, line) in self.lines.by_ref() {
+            let content = line.split('#').next().unwrap_or("");
+            let toks: Vec<&str> = content.split_whitespace().collect();
+            self.last_line = i + 1;
+            if !toks.is_empty() {
+                return Ok((i + 1, toks));
+            }
+        }
+        Err(self.error(self.last_line + 1, format!("file ends where {what} was expected (truncated?)")))
+    }
+
+    /// Whether any record is left.
+    pub fn at_end(&mut self) -> bool {
+        let rest = self.lines.clone();
+        for (_, line) in rest {
+            if !line.split('#').next().unwrap_or("").trim().is_empty() {
+                return false;
+            }
+        }
+        true
+    }
+
+    pub fn error(&self, line: usize, message: String) -> Error {
+        Error::Parse { path: self.path.into(), line, message }
+    }
+
+    /// Parses token `k` of a record.
+    pub fn num<T: std::str::FromStr>(&self, line: usize, toks: &[&str], k: usize, what: &str) -> Result<T> {
+        let t = toks.get(k).ok_or_else(|| self.error(line, format!("missing {what}")))?;
+        t.parse().map_err(|_| self.error(line, format!("{what}: cannot read '{t}' as a number")))
+    }
+}

@@ -1,0 +1,105 @@
+//! Triangle's `.poly`: vertices (possibly in a sibling `.node` file),
+//! segments, holes. Regional attributes are read past and ignored.
+
+use super::Records;
+use crate::complex::Complex;
+use crate::error::Result;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Parses a `.poly` file's text.
+pub fn parse(text: &str, path: &Path) -> Result<Complex> {
+    let mut r = Records::new(text, path);
+    let mut cx = Complex::default();
+    let (line, head) = r.next_record("the vertex header 'count 2 attributes markers'")?;
+    let nv: usize = r.num(line, &head, 0, "vertex count")?;
+    if nv == 0 {
+        // Vertices live in the .node file next to the .poly.
+        let node_path = path.with_extension("node");
+        let node_text = super::read_text(&node_path)?;
+        let mut nr = Records::new(&node_text, &node_path);
+        read_vertices(&mut nr, &mut cx)?;
+    } else {
+        read_vertex_list(&mut r, line, &head, &mut cx)?;
+    }
+    let index: HashMap<i64, u32> = cx.vertex_ids.iter().enumerate().map(|(i, &id)| (id, i as u32)).collect();
+
+    let (line, head) = r.next_record("the segment header 'count markers'")?;
+    let ns: usize = r.num(line, &head, 0, "segment count")?;
+    for k in 0..ns {
+        let (line, t) = r.next_record(&format!("segment {} of {ns}", k + 1))?;
+        let id: i64 = r.num(line, &t, 0, "segment id")?;
+        let mut ends = [0u32; 2];
+        for e in 0..2 {
+            let v: i64 = r.num(line, &t, 1 + e, "segment endpoint")?;
+            ends[e] = *index.get(&v).ok_or_else(|| r.error(line, format!("segment {id} refers to vertex {v}, which does not exist")))?;
+        }
+        cx.segments.push(ends);
+        cx.segment_ids.push(id);
+    }
+
+    if r.at_end() {
+        return Ok(cx); // Triangle allows the hole section to be missing
+    }
+    let (line, head) = r.next_record("the hole count")?;
+    let nh: usize = r.num(line, &head, 0, "hole count")?;
+    for k in 0..nh {
+        let (line, t) = r.next_record(&format!("hole {} of {nh}", k + 1))?;
+        cx.holes.push([r.num(line, &t, 1, "hole x")?, r.num(line, &t, 2, "hole y")?]);
+    }
+    Ok(cx)
+}
+
+fn read_vertices(r: &mut Records, cx: &mut Complex) -> Result<()> {
+    let (line, head) = r.next_record("the vertex header")?;
+    read_vertex_list(r, line, &head, cx)
+}
+
+fn read_vertex_list(r: &mut Records, line: usize, head: &[&str], cx: &mut Complex) -> Result<()> {
+    let nv: usize = r.num(line, head, 0, "vertex count")?;
+    let dim: usize = r.num(line, head, 1, "dimension").unwrap_or(2);
+    if dim != 2 {
+        return Err(r.error(line, format!("dimension {dim}: this reader takes 2D .poly files")));
+    }
+    for k in 0..nv {
+        let (line, t) = r.next_record(&format!("vertex {} of {nv}", k + 1))?;
+        let id: i64 = r.num(line, &t, 0, "vertex id")?;
+        let x: f64 = r.num(line, &t, 1, "x coordinate")?;
+        let y: f64 = r.num(line, &t, 2, "y coordinate")?;
+        if let Some(prev) = cx.vertex_ids.last() {
+            if id != prev + 1 {
+                return Err(r.error(line, format!("vertex id {id} after {prev}: ids must be consecutive")));
+            }
+        }
+        cx.points.push([x, y]);
+        cx.vertex_ids.push(id);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::Error;
+
+    #[test]
+    fn reads_a_square_with_a_hole_and_one_based_ids() {
+        let text = "# square\n4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n4 1\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n1\n1 0.5 0.5\n";
+        let c = parse(text, Path::new("sq.poly")).unwrap();
+        assert_eq!(c.points.len(), 4);
+        assert_eq!(c.segments, vec![[0, 1], [1, 2], [2, 3], [3, 0]]);
+        assert_eq!(c.holes, vec![[0.5, 0.5]]);
+        assert_eq!(c.vertex_ids, vec![1, 2, 3, 4]);
+    }
+
+    #[test]
+    fn truncated_and_garbage_files_name_the_line() {
+        let e = parse("3 2 0 0\n0 0 0\n1 1 0\n", Path::new("t.poly")).unwrap_err();
+        assert!(matches!(e, Error::Parse { line: 4, .. }), "{e}");
+        assert!(e.to_string().contains("vertex 3 of 3"), "{e}");
+        let e = parse("2 2 0 0\n0 0 0\n1 abc 0\n", Path::new("t.poly")).unwrap_err();
+        assert!(matches!(e, Error::Parse { line: 3, .. }), "{e}");
+        let e = parse("2 2 0 0\n0 0 0\n1 1 0\n1 0\n0 0 7\n", Path::new("t.poly")).unwrap_err();
+        assert!(e.to_string().contains("vertex 7"), "{e}");
+    }
+}

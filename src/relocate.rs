@@ -1,0 +1,56 @@
+//! Sites into their own cells (paper section 5.2, method.md section 5).
+//! A site lies strictly inside its cell iff for every neighbour b in the
+//! regular triangulation of the sites |a - b|^2 + omega_a - omega_b > 0,
+//! decided exactly. A segment site outside its cell moves halfway towards its
+//! segment (its cell then tends to a fixed half-region around the segment,
+//! so close enough is inside); a vertex site tries other points of its dual
+//! edge. Bounded in rounds.
+
+use crate::backend::{Backend, Triangulation};
+use crate::diagram::Diagram;
+use crate::domain::Domain;
+use crate::error::Result;
+use crate::sites::{inside_wrt, Sites};
+
+/// Rounds of relocation before giving up.
+pub const MAX_ROUNDS: usize = 48;
+
+/// The final site diagram.
+pub struct Relocated {
+    pub rt: Triangulation,
+    pub diagram: Diagram,
+    pub rounds: usize,
+    /// Domain sites not strictly inside their cell (or hidden).
+    pub outside: Vec<usize>,
+}
+
+/// Domain sites that are hidden or not strictly inside their cell.
+pub fn outside(sites: &Sites, rt: &Triangulation, diagram: &Diagram, dom_sites_only: bool) -> Vec<usize> {
+    let nb = rt.neighbours(sites.len());
+    let hidden: std::collections::HashSet<u32> = rt.hidden.iter().copied().collect();
+    (0..sites.len())
+        .filter(|&a| !dom_sites_only || diagram.in_domain[a] || hidden.contains(&(a as u32)))
+        .filter(|&a| hidden.contains(&(a as u32)) || nb[a].iter().any(|&b| !inside_wrt(sites, a, b as usize)))
+        .collect()
+}
+
+/// Builds the site diagram, moving sites until all domain sites are inside
+/// their cells or no site can move.
+pub fn relocate<B: Backend + ?Sized>(backend: &B, dom: &Domain, sites: &mut Sites) -> Result<Relocated> {
+    let mut round = 0;
+    loop {
+        let rt = backend.regular_exact(&sites.pos, &sites.weight)?;
+        let diagram = Diagram::build(dom, sites, &rt);
+        let out = outside(sites, &rt, &diagram, true);
+        let mut moved = false;
+        if round < MAX_ROUNDS {
+            for &s in &out {
+                moved |= sites.step(s);
+            }
+        }
+        if out.is_empty() || !moved {
+            return Ok(Relocated { rt, diagram, rounds: round, outside: out });
+        }
+        round += 1;
+    }
+}

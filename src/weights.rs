@@ -1,0 +1,567 @@
+//! Weights of a regular constrained triangulation (paper section 3, system 1)
+//! under which every segment crosses its dual (section 5.1, system 3).
+//! The only module that talks to HiGHS.
+//!
+//! Order of attack: zero weights when every segment is strictly Gabriel;
+//! else the local form (one power-test row per interior edge of the
+//! constrained Delaunay triangulation); else the lazy global form (a
+//! supporting plane per segment, rows added where the regular triangulation
+//! of the current weights disagrees). The LP output is floating point and
+//! is never trusted: the regular triangulation of the returned weights is
+//! built with exact predicates and checked segment by segment.
+//!
+//! Objective (method.md section 2): phase 1 maximises a common margin `delta`
+//! over rows scaled to be dimensionless, with |w_i| <= k l_i^2, k raised
+//! stepwise and free weights last (only the unbounded try may declare
+//! infeasibility); phase 2 keeps delta >= delta*/2 and minimises
+//! sum |w_i| / l_i^2, so weights stay small and sites stay near the segments'
+//! midpoints. When system 3 cannot hold, an elastic phase keeps system 1 and
+//! minimises the total violation of system 3, so that as few segments as
+//! possible miss their duals.
+
+use crate::backend::{Backend, Triangulation};
+use crate::complex::Complex;
+use crate::domain::Domain;
+use crate::error::{Error, Result};
+use crate::exact::{in_diametral_disc, q, qp, sub, dot, norm2, Q};
+use highs::{HighsModelStatus, RowProblem, Sense};
+use num_traits::Signed;
+use serde::Serialize;
+use std::collections::BTreeSet;
+use std::ops::Bound;
+
+/// Margins below this are inside HiGHS' tolerances: not trusted.
+const TRUST: f64 = 1e-6;
+/// Bounds |w_i| <= k l_i^2 tried in turn; the last try is unbounded.
+const K_LADDER: [Option<f64>; 5] = [Some(0.25), Some(1.0), Some(4.0), Some(16.0), None];
+/// Rounds of the lazy global form before giving up on adding rows locally.
+const GLOBAL_ROUNDS: usize = 40;
+
+/// Verified weights and their regular triangulation.
+#[derive(Debug, Clone)]
+pub struct Weights {
+    pub w: Vec<f64>,
+    /// RT(w): contains every segment, hides no vertex (checked exactly).
+    pub rt: Triangulation,
+    pub report: WeightsReport,
+    /// Segments that do not cross their dual edge (exact check).
+    pub sys3_failed: Vec<u32>,
+}
+
+/// What the weights step did, for the report.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct WeightsReport {
+    /// "zero", "local", or "global".
+    pub method: String,
+    pub lp_solves: usize,
+    pub lp_rows: usize,
+    pub lp_cols: usize,
+    pub lp_status: String,
+    /// Phase-1 margin (dimensionless), when an LP ran.
+    pub margin: Option<f64>,
+    /// The k of |w_i| <= k l_i^2 that gave a positive margin (None: unbounded).
+    pub bound_k: Option<f64>,
+    pub global_rounds: usize,
+    pub max_abs_weight: f64,
+    pub system3_feasible: bool,
+}
+
+/// Finds weights for the domain's complex.
+pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> {
+    let cx = &dom.complex;
+    let n = cx.points.len();
+    let zero = vec![0.0; n];
+    let rt0 = backend.regular(&cx.points, &zero)?;
+    if conforms(cx, &rt0).is_ok() && cx.segments.iter().all(|s| strictly_gabriel(cx, &rt0, s[0], s[1])) {
+        let report = WeightsReport { method: "zero".into(), system3_feasible: true, ..Default::default() };
+        return Ok(Weights { w: zero, rt: rt0, report, sys3_failed: vec![] });
+    }
+    let l2 = shortest_edge2(cx, &dom.cdt);
+    let mut report = WeightsReport { method: "local".into(), ..Default::default() };
+    let local = local_system(cx, &dom.cdt, &l2);
+    if let Some(found) = attempt(backend, cx, &local, &mut report)? {
+        return finish(found, report);
+    }
+    report.method = "global".into();
+    global(backend, dom, &l2, report)
+}
+
+/// A candidate from one LP attempt, verified to conform.
+struct Found {
+    w: Vec<f64>,
+    rt: Triangulation,
+    sys3_failed: Vec<u32>,
+    /// Whether the LP found system 3 feasible on its rows (false: elastic).
+    lp_sys3: bool,
+}
+
+fn finish(found: Found, mut report: WeightsReport) -> Result<Weights> {
+    report.max_abs_weight = found.w.iter().fold(0.0, |m, w| m.max(w.abs()));
+    report.system3_feasible = found.sys3_failed.is_empty();
+    Ok(Weights { w: found.w, rt: found.rt, report, sys3_failed: found.sys3_failed })
+}
+
+/// Which rows a row belongs to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Family {
+    Sys1,
+    Sys3(u32),
+}
+
+/// sum(terms) - delta >= rhs  (or == rhs for equalities, without delta).
+#[derive(Debug, Clone)]
+struct Row {
+    terms: Vec<(usize, f64)>,
+    rhs: f64,
+    family: Family,
+}
+
+/// An LP over the weights (columns 0..n) and auxiliary free columns.
+#[derive(Debug, Clone, Default)]
+struct System {
+    n: usize,
+    aux: usize,
+    l2: Vec<f64>,
+    rows: Vec<Row>,
+    eqs: Vec<Row>,
+}
+
+/// Power-test rows for every interior edge of `t`, and system 3 rows for
+/// every segment against the apexes of `t` beside it.
+fn local_system(cx: &Complex, t: &Triangulation, l2: &[f64]) -> System {
+    let p = &cx.points;
+    let mut sys = System { n: p.len(), l2: l2.to_vec(), ..Default::default() };
+    for (a, b) in t.edges() {
+        let (Some(tl), Some(tr)) = (t.left_of(a, b), t.left_of(b, a)) else { continue };
+        let c = t.apex(tl, a, b);
+        let d = t.apex(tr, b, a);
+        sys.rows.push(convexity_row(p, a, b, c, d));
+    }
+    for (s, &[i, j]) in cx.segments.iter().enumerate() {
+        let mut apexes = vec![];
+        for (x, y) in [(i, j), (j, i)] {
+            if let Some(tri) = t.left_of(x, y) {
+                apexes.push(t.apex(tri, x, y));
+            }
+        }
+        sys3_rows(&mut sys, p, s as u32, i, j, &apexes);
+    }
+    sys
+}
+
+/// Lifted edge (a, b) of ccw triangle (a, b, c), apex d across: locally
+/// convex iff det[[b-a, Zb], [c-a, Zc], [d-a, Zd]] > 0, Z relative to a.
+fn convexity_row(p: &[[f64; 2]], a: u32, b: u32, c: u32, d: u32) -> Row {
+    let pa = p[a as usize];
+    let rel = |v: u32| [p[v as usize][0] - pa[0], p[v as usize][1] - pa[1]];
+    let (u, v, r) = (rel(b), rel(c), rel(d));
+    let cr = |x: [f64; 2], y: [f64; 2]| x[0] * y[1] - x[1] * y[0];
+    let n2 = |x: [f64; 2]| x[0] * x[0] + x[1] * x[1];
+    let (ca, cb, cc) = (cr(v, r), cr(u, r), cr(u, v));
+    let c0 = n2(u) * ca - n2(v) * cb + n2(r) * cc;
+    let norm = n2(u) * (cc.abs() + cb.abs()) / 2.0;
+    Row {
+        terms: vec![
+            (a as usize, (ca - cb + cc) / norm),
+            (b as usize, -ca / norm),
+            (c as usize, cb / norm),
+            (d as usize, -cc / norm),
+        ],
+        rhs: -c0 / norm,
+        family: Family::Sys1,
+    }
+}
+
+/// System 3 for segment s = (i, j): |w_i - w_j| < L and, for each m, the
+/// radical point q of i, j on the segment has smaller power for i than for m.
+fn sys3_rows(sys: &mut System, p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &[u32]) {
+    let (pi, pj) = (p[i as usize], p[j as usize]);
+    let u = [pj[0] - pi[0], pj[1] - pi[1]];
+    let l = u[0] * u[0] + u[1] * u[1];
+    let fam = Family::Sys3(s);
+    let (i, j) = (i as usize, j as usize);
+    sys.rows.push(Row { terms: vec![(i, -1.0 / l), (j, 1.0 / l)], rhs: -1.0, family: fam });
+    sys.rows.push(Row { terms: vec![(i, 1.0 / l), (j, -1.0 / l)], rhs: -1.0, family: fam });
+    for &m in others {
+        let pm = p[m as usize];
+        let r = [pm[0] - pi[0], pm[1] - pi[1]];
+        let ur = u[0] * r[0] + u[1] * r[1];
+        let rr = r[0] * r[0] + r[1] * r[1];
+        sys.rows.push(Row {
+            terms: vec![(i, (1.0 - ur / l) / l), (j, ur / l / l), (m as usize, -1.0 / l)],
+            rhs: -(rr - ur) / l,
+            family: fam,
+        });
+    }
+}
+
+/// The supporting-plane rows of segment s = (i, j) (or, with j == i, of an
+/// isolated vertex): the plane through the lifts of i (and j), relative to
+/// p_i, has free slopes in two auxiliary columns; every m lies above it.
+fn plane_rows(sys: &mut System, p: &[[f64; 2]], i: u32, j: Option<u32>, others: &[u32], scale2: f64) -> usize {
+    let a0 = sys.n + sys.aux;
+    sys.aux += 2;
+    let pi = p[i as usize];
+    let rel = |v: u32| [p[v as usize][0] - pi[0], p[v as usize][1] - pi[1]];
+    if let Some(j) = j {
+        // a.u + w_j - w_i = |u|^2, scaled by 1/L.
+        let u = rel(j);
+        sys.eqs.push(Row {
+            terms: vec![(a0, u[0] / scale2), (a0 + 1, u[1] / scale2), (j as usize, 1.0 / scale2), (i as usize, -1.0 / scale2)],
+            rhs: (u[0] * u[0] + u[1] * u[1]) / scale2,
+            family: Family::Sys1,
+        });
+    }
+    for &m in others {
+        let r = rel(m);
+        // |r|^2 - w_m + w_i - a.r >= delta * scale2
+        sys.rows.push(Row {
+            terms: vec![(m as usize, -1.0 / scale2), (i as usize, 1.0 / scale2), (a0, -r[0] / scale2), (a0 + 1, -r[1] / scale2)],
+            rhs: -(r[0] * r[0] + r[1] * r[1]) / scale2,
+            family: Family::Sys1,
+        });
+    }
+    a0
+}
+
+enum Mode {
+    /// Maximise delta.
+    Margin,
+    /// delta >= min, minimise sum |w_i| / l_i^2.
+    Regularise { delta_min: f64 },
+    /// System 1 with delta >= min; system 3 rows elastic, minimise violation.
+    Elastic { delta_min: f64 },
+}
+
+struct Solution {
+    delta: f64,
+    w: Vec<f64>,
+}
+
+fn run(sys: &System, with3: bool, k: Option<f64>, mode: &Mode, report: &mut WeightsReport) -> Result<Solution> {
+    let mut pb = RowProblem::default();
+    let bound = |b: f64| (Bound::Included(-b), Bound::Included(b));
+    let free = (Bound::<f64>::Unbounded, Bound::<f64>::Unbounded);
+    let w: Vec<_> = (0..sys.n)
+        .map(|i| pb.add_column(0.0, k.map_or(free, |k| bound(k * sys.l2[i]))))
+        .collect();
+    let aux: Vec<_> = (0..sys.aux).map(|_| pb.add_column(0.0, free)).collect();
+    let col = |c: usize| if c < sys.n { w[c] } else { aux[c - sys.n] };
+    let (delta, sense) = match mode {
+        Mode::Margin => (pb.add_column(1.0, (Bound::Unbounded, Bound::Included(1.0))), Sense::Maximise),
+        Mode::Regularise { delta_min } | Mode::Elastic { delta_min } => {
+            (pb.add_column(0.0, *delta_min..=1.0f64.max(*delta_min)), Sense::Minimise)
+        }
+    };
+    if let Mode::Regularise { .. } = mode {
+        for i in 0..sys.n {
+            let t = pb.add_column(1.0 / sys.l2[i], 0.0..);
+            pb.add_row(0.0.., [(t, 1.0), (w[i], -1.0)]);
+            pb.add_row(0.0.., [(t, 1.0), (w[i], 1.0)]);
+        }
+    }
+    let mut slack = std::collections::HashMap::new();
+    for r in &sys.eqs {
+        let terms: Vec<_> = r.terms.iter().map(|&(c, v)| (col(c), v)).collect();
+        pb.add_row(r.rhs..=r.rhs, terms);
+    }
+    for r in &sys.rows {
+        let mut terms: Vec<_> = r.terms.iter().map(|&(c, v)| (col(c), v)).collect();
+        match (r.family, mode) {
+            (Family::Sys3(_), _) if !with3 => continue,
+            (Family::Sys3(s), Mode::Elastic { .. }) => {
+                // sum(terms) + slack_s >= rhs + small positive margin
+                let sl = *slack.entry(s).or_insert_with(|| pb.add_column(1.0, 0.0..));
+                terms.push((sl, 1.0));
+                pb.add_row((r.rhs + 1e-3).., terms);
+                continue;
+            }
+            _ => terms.push((delta, -1.0)),
+        }
+        pb.add_row(r.rhs.., terms);
+    }
+    report.lp_rows = report.lp_rows.max(pb.num_rows());
+    report.lp_cols = report.lp_cols.max(pb.num_cols());
+    report.lp_solves += 1;
+    let big = pb.num_rows() > 20_000;
+    let mut model = pb.try_optimise(sense).map_err(|e| Error::Lp(format!("building the LP: {e:?}")))?;
+    model.make_quiet();
+    // Measured: dual simplex stalls on large sparse systems of this shape
+    // where interior point finishes in seconds (method.md section 2).
+    model.set_option("solver", if big { "ipm" } else { "simplex" });
+    model.set_option("time_limit", 600.0);
+    let solved = model.try_solve().map_err(|e| Error::Lp(format!("HiGHS: {e:?}")))?;
+    let status = solved.status();
+    report.lp_status = format!("{status:?}");
+    match status {
+        HighsModelStatus::Optimal => {
+            let cols = solved.get_solution().columns().to_vec();
+            Ok(Solution { delta: cols[delta.index()], w: cols[..sys.n].to_vec() })
+        }
+        HighsModelStatus::Infeasible => Ok(Solution { delta: f64::NEG_INFINITY, w: vec![] }),
+        s => Err(Error::Lp(format!("HiGHS ended with status {s:?}"))),
+    }
+}
+
+/// Phase 1 up the k ladder: the best margin and the k that reached it.
+fn margin(sys: &System, with3: bool, report: &mut WeightsReport) -> Result<(f64, Option<f64>)> {
+    let mut best = f64::NEG_INFINITY;
+    for k in K_LADDER {
+        let sol = run(sys, with3, k, &Mode::Margin, report)?;
+        best = best.max(sol.delta);
+        if sol.delta > TRUST {
+            return Ok((sol.delta, k));
+        }
+    }
+    Ok((best, None))
+}
+
+/// One attempt on a row system: system 1 + 3, else system 1 with elastic
+/// system 3. None when system 1 has no trusted margin or the verified
+/// triangulation does not conform.
+fn attempt<B: Backend + ?Sized>(backend: &B, cx: &Complex, sys: &System, report: &mut WeightsReport) -> Result<Option<Found>> {
+    let (m3, k3) = margin(sys, true, report)?;
+    if m3 > TRUST {
+        report.margin = Some(m3);
+        report.bound_k = k3;
+        let sol = run(sys, true, k3, &Mode::Regularise { delta_min: m3 / 2.0 }, report)?;
+        if let Some(found) = verify(backend, cx, sol.w, true)? {
+            return Ok(Some(found));
+        }
+    }
+    let (m1, k1) = margin(sys, false, report)?;
+    report.margin = Some(m1);
+    report.bound_k = k1;
+    if m1 <= TRUST {
+        return Ok(None);
+    }
+    let sol = run(sys, true, k1, &Mode::Elastic { delta_min: m1 / 2.0 }, report)?;
+    verify(backend, cx, sol.w, false)
+}
+
+/// Builds RT(w) exactly; Some when it contains every segment and hides no vertex.
+fn verify<B: Backend + ?Sized>(backend: &B, cx: &Complex, w: Vec<f64>, lp_sys3: bool) -> Result<Option<Found>> {
+    let rt = backend.regular(&cx.points, &w)?;
+    if conforms(cx, &rt).is_err() {
+        return Ok(None);
+    }
+    let sys3_failed = sys3_failures(cx, &w, &rt);
+    Ok(Some(Found { w, rt, sys3_failed, lp_sys3 }))
+}
+
+/// Ok, or the segments missing from `rt` (and hidden vertices as Err too).
+fn conforms(cx: &Complex, rt: &Triangulation) -> std::result::Result<(), (Vec<u32>, Vec<u32>)> {
+    let missing: Vec<u32> =
+        (0..cx.segments.len() as u32).filter(|&s| !rt.has_edge(cx.segments[s as usize][0], cx.segments[s as usize][1])).collect();
+    if missing.is_empty() && rt.hidden.is_empty() {
+        Ok(())
+    } else {
+        Err((missing, rt.hidden.clone()))
+    }
+}
+
+/// Strictly Gabriel, for a segment that is an edge of the Delaunay
+/// triangulation: both apexes outside the closed diametral disc.
+fn strictly_gabriel(cx: &Complex, dt: &Triangulation, i: u32, j: u32) -> bool {
+    let p = &cx.points;
+    [(i, j), (j, i)].iter().all(|&(a, b)| match dt.left_of(a, b) {
+        Some(t) => !in_diametral_disc(p[i as usize], p[j as usize], p[dt.apex(t, a, b) as usize]),
+        None => true,
+    })
+}
+
+/// Segments of `rt` that do not cross their dual edge, decided exactly:
+/// |w_i - w_j| < L and the radical point of i, j on the segment has smaller
+/// power for i than for each apex beside the segment.
+pub fn sys3_failures(cx: &Complex, w: &[f64], rt: &Triangulation) -> Vec<u32> {
+    let p = &cx.points;
+    let mut out = vec![];
+    for (s, &[i, j]) in cx.segments.iter().enumerate() {
+        let (pi, pj) = (qp(p[i as usize]), qp(p[j as usize]));
+        let u = sub(&pj, &pi);
+        let l = norm2(&u);
+        let d = q(w[i as usize]) - q(w[j as usize]);
+        let mut ok = d.abs() < l;
+        for (a, b) in [(i, j), (j, i)] {
+            if let Some(t) = rt.left_of(a, b) {
+                let m = rt.apex(t, a, b);
+                let r = sub(&qp(p[m as usize]), &pi);
+                // L * (pi(q; m) - pi(q; i)) > 0
+                let v: Q = &l * norm2(&r) - (&l + &d) * dot(&u, &r) + &l * (q(w[i as usize]) - q(w[m as usize]));
+                ok &= v.is_positive();
+            }
+        }
+        if !ok {
+            out.push(s as u32);
+        }
+    }
+    out
+}
+
+/// Squared length of the shortest edge of `t` at each vertex (its scale).
+fn shortest_edge2(cx: &Complex, t: &Triangulation) -> Vec<f64> {
+    let p = &cx.points;
+    let mut l2 = vec![f64::INFINITY; p.len()];
+    for (a, b) in t.edges() {
+        let (pa, pb) = (p[a as usize], p[b as usize]);
+        let d = (pa[0] - pb[0]).powi(2) + (pa[1] - pb[1]).powi(2);
+        for v in [a, b] {
+            l2[v as usize] = l2[v as usize].min(d);
+        }
+    }
+    l2.iter().map(|&d| if d.is_finite() && d > 0.0 { d } else { 1.0 }).collect()
+}
+
+/// The lazy global form: a supporting plane per segment and per isolated
+/// vertex, with rows for the points near it; rows are added where RT(w)
+/// disagrees. A restricted LP that is infeasible proves the full one so.
+fn global<B: Backend + ?Sized>(backend: &B, dom: &Domain, l2: &[f64], mut report: WeightsReport) -> Result<Weights> {
+    let cx = &dom.complex;
+    let p = &cx.points;
+    let n = p.len();
+    let cdt_nb = dom.cdt.neighbours(n);
+    let degree = cx.degrees();
+    // Row sets: segments first, then isolated vertices.
+    let owners: Vec<(u32, Option<u32>)> = cx
+        .segments
+        .iter()
+        .map(|s| (s[0], Some(s[1])))
+        .chain((0..n as u32).filter(|&v| degree[v as usize] == 0).map(|v| (v, None)))
+        .collect();
+    let mut sets: Vec<BTreeSet<u32>> = owners
+        .iter()
+        .map(|&(i, j)| {
+            let mut s: BTreeSet<u32> = cdt_nb[i as usize].iter().copied().collect();
+            if let Some(j) = j {
+                s.extend(cdt_nb[j as usize].iter().copied());
+                s.remove(&j);
+            }
+            s.remove(&i);
+            s
+        })
+        .collect();
+    let mut last_missing: Vec<u32> = vec![];
+    for round in 1..=GLOBAL_ROUNDS + 2 {
+        report.global_rounds = round;
+        let mut sys = System { n, l2: l2.to_vec(), ..Default::default() };
+        for (o, &(i, j)) in owners.iter().enumerate() {
+            let others: Vec<u32> = sets[o].iter().copied().collect();
+            let scale2 = match j {
+                Some(j) => {
+                    let (a, b) = (p[i as usize], p[j as usize]);
+                    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)
+                }
+                None => l2[i as usize],
+            };
+            plane_rows(&mut sys, p, i, j, &others, scale2);
+            if let Some(j) = j {
+                sys3_rows(&mut sys, p, o as u32, i, j, &others);
+            }
+        }
+        let (m1, _) = margin(&sys, false, &mut report)?;
+        if m1 <= TRUST {
+            // Infeasible on a subset of the rows: infeasible outright.
+            let ids = if last_missing.is_empty() { (0..cx.segments.len() as u32).collect() } else { last_missing };
+            return Err(Error::NoRegularConstrainedTriangulation {
+                segments: ids.iter().map(|&s| cx.segment_ids[s as usize]).collect(),
+            });
+        }
+        let found = attempt(backend, cx, &sys, &mut report)?;
+        // Which owners disagree with the RT of the best weights we have?
+        let (w, rt) = match &found {
+            // An elastic solution proves system 3 infeasible on a subset of
+            // its rows, hence outright: keep it.
+            Some(f) if f.sys3_failed.is_empty() || !f.lp_sys3 => return finish(found.unwrap(), report),
+            Some(f) => (f.w.clone(), f.rt.clone()),
+            None => {
+                let sol = run(&sys, false, report.bound_k, &Mode::Regularise { delta_min: m1 / 2.0 }, &mut report)?;
+                let rt = backend.regular(p, &sol.w)?;
+                (sol.w, rt)
+            }
+        };
+        let (missing, hidden) = conforms(cx, &rt).err().unwrap_or_default();
+        let sys3_bad = if missing.is_empty() && hidden.is_empty() { sys3_failures(cx, &w, &rt) } else { vec![] };
+        last_missing = missing.clone();
+        let rt_nb = rt.neighbours(n);
+        let widen = round > GLOBAL_ROUNDS / 2;
+        let mut grew = false;
+        let mut bad_owners: BTreeSet<usize> = missing.iter().chain(&sys3_bad).map(|&s| s as usize).collect();
+        for h in &hidden {
+            if let Some(o) = owners.iter().position(|&(i, j)| i == *h || j == Some(*h)) {
+                bad_owners.insert(o);
+            }
+        }
+        for o in bad_owners {
+            let (i, j) = owners[o];
+            let before = sets[o].len();
+            let ends: Vec<u32> = std::iter::once(i).chain(j).collect();
+            // two rings around both ends, in RT(w) and in the CDT
+            let mut ring: BTreeSet<u32> = BTreeSet::new();
+            for &e in &ends {
+                for &a in rt_nb[e as usize].iter().chain(&cdt_nb[e as usize]) {
+                    ring.insert(a);
+                    ring.extend(rt_nb[a as usize].iter().copied());
+                    ring.extend(cdt_nb[a as usize].iter().copied());
+                }
+            }
+            if widen {
+                ring.extend(0..n as u32); // the dense rows for this owner only
+            }
+            for e in &ends {
+                ring.remove(e);
+            }
+            sets[o].extend(ring);
+            grew |= sets[o].len() > before;
+        }
+        if !grew {
+            // Every violated owner has all its rows, yet RT(w) disagrees:
+            // the LP's margin is below what the exact check can confirm.
+            if let Some(f) = found {
+                return finish(f, report);
+            }
+            return Err(Error::Lp(format!(
+                "weights from the global form do not give a conforming triangulation (segments {:?} missing) and no rows are left to add",
+                missing.iter().map(|&s| cx.segment_ids[s as usize]).collect::<Vec<_>>()
+            )));
+        }
+    }
+    Err(Error::Lp("the lazy global form did not converge".into()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn convexity_row_matches_the_incircle_sign() {
+        // Unit square split by the diagonal (0,2): the other two corners are
+        // cocircular, so zero weights give a zero row value.
+        let p = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        // edge 0->2, left triangle (0, 2, 3), right apex 1
+        let r = convexity_row(&p, 0, 2, 3, 1);
+        assert!((-r.rhs).abs() < 1e-12, "cocircular: {}", r.rhs);
+        // Raising the weight of the apex lowers its lift: the edge becomes reflex.
+        let coef_d = r.terms.iter().find(|t| t.0 == 1).unwrap().1;
+        assert!(coef_d < 0.0);
+        // Pushing d outwards makes the edge convex with zero weights.
+        let p2 = [[0.0, 0.0], [1.5, -0.5], [1.0, 1.0], [0.0, 1.0]];
+        let r2 = convexity_row(&p2, 0, 2, 3, 1);
+        assert!(-r2.rhs > 0.0);
+    }
+
+    #[test]
+    fn sys3_rows_by_hand() {
+        // Segment (0,0)-(2,0), apex (1,1): q = (1,0) with zero weights;
+        // pi(q; m) - pi(q; i) = 1 - 1 = 0, scaled by L = 4 -> row value 0.
+        let p = [[0.0, 0.0], [2.0, 0.0], [1.0, 1.0]];
+        let mut sys = System { n: 3, l2: vec![1.0; 3], ..Default::default() };
+        sys3_rows(&mut sys, &p, 0, 0, 1, &[2]);
+        assert_eq!(sys.rows.len(), 3);
+        let apex = &sys.rows[2];
+        assert_eq!(apex.rhs, -(2.0 - 2.0) / 4.0);
+        // raising w_i by 1 moves q towards j: lambda = (1 + 1/4)/2, value
+        // |r|^2 - 2 lambda u.r - w_m + w_i = 2 - 2.5 + 1 = 0.5 -> 0.125 scaled
+        let v: f64 = apex.terms.iter().map(|&(c, k)| k * if c == 0 { 1.0 } else { 0.0 }).sum::<f64>() - apex.rhs;
+        assert!((v - 0.125).abs() < 1e-15, "{v}");
+    }
+}
