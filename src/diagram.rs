@@ -3,7 +3,7 @@
 
 use crate::backend::Triangulation;
 use crate::domain::Domain;
-use crate::exact::{orient_q, power_centre, qi, qp, QPoint, Q};
+use crate::exact::{orient_q, power_centre, qi, qp, zero, QPoint};
 use crate::sites::Sites;
 use std::cmp::Ordering;
 use std::collections::{HashMap, VecDeque};
@@ -125,7 +125,7 @@ impl Diagram {
             return None;
         }
         let k = qi(cell.len() as i64);
-        let mut x = [Q::from_integer(0.into()), Q::from_integer(0.into())];
+        let mut x = [zero(), zero()];
         for &c in cell {
             x[0] += &self.points[c as usize][0];
             x[1] += &self.points[c as usize][1];

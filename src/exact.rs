@@ -2,19 +2,22 @@
 //! here: doubles are converted exactly to rationals (or fed to Shewchuk's
 //! adaptive predicates); nothing else in the crate looks at a raw sign.
 
-use num_bigint::BigInt;
-use num_rational::BigRational;
-use num_traits::{Signed, ToPrimitive, Zero};
+use malachite_base::num::arithmetic::traits::{Abs, Sign};
+use malachite_base::num::basic::traits::{One, Zero};
+use malachite_base::num::conversion::traits::RoundingFrom;
+use malachite_base::rounding_modes::RoundingMode;
+use malachite_q::Rational;
 use std::cmp::Ordering;
 
-/// An exact rational number.
-pub type Q = BigRational;
+/// An exact rational number (malachite: subquadratic gcd, which dominates
+/// the cost of exact constructions).
+pub type Q = Rational;
 /// An exact point.
 pub type QPoint = [Q; 2];
 
 /// The exact value of a finite double.
 pub fn q(x: f64) -> Q {
-    BigRational::from_float(x).expect("finite coordinates are validated before any geometry")
+    Rational::try_from(x).expect("finite coordinates are validated before any geometry")
 }
 
 /// The exact value of a double point.
@@ -24,12 +27,34 @@ pub fn qp(p: [f64; 2]) -> QPoint {
 
 /// Small integer as a rational.
 pub fn qi(n: i64) -> Q {
-    BigRational::from_integer(BigInt::from(n))
+    Rational::from(n)
 }
 
-/// Nearest double (num-rational rounds correctly).
+/// n / d exactly.
+pub fn ratio(n: i64, d: i64) -> Q {
+    Rational::from_signeds(n, d)
+}
+
+pub fn zero() -> Q {
+    Rational::ZERO
+}
+
+pub fn one() -> Q {
+    Rational::ONE
+}
+
+/// Whether x > 0.
+pub fn is_pos(x: &Q) -> bool {
+    x.sign() == Ordering::Greater
+}
+
+pub fn abs(x: &Q) -> Q {
+    x.abs()
+}
+
+/// Nearest double (ties to even); out of range gives an infinity.
 pub fn f(x: &Q) -> f64 {
-    x.to_f64().unwrap_or(f64::NAN)
+    f64::rounding_from(x, RoundingMode::Nearest).0
 }
 
 /// Nearest double point.
@@ -63,7 +88,7 @@ pub fn norm2(a: &QPoint) -> Q {
 
 /// Sign of the turn a -> b -> c: Greater = counter-clockwise.
 pub fn orient_q(a: &QPoint, b: &QPoint, c: &QPoint) -> Ordering {
-    cross(&sub(b, a), &sub(c, a)).cmp(&Q::zero())
+    cross(&sub(b, a), &sub(c, a)).sign()
 }
 
 /// Exact orientation of double points (Shewchuk's adaptive predicate).
@@ -84,7 +109,7 @@ pub fn in_box(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
 /// Whether p lies in the closed diametral disc of segment ab: (a-p).(b-p) <= 0.
 pub fn in_diametral_disc(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
     let (a, b, p) = (qp(a), qp(b), qp(p));
-    !dot(&sub(&a, &p), &sub(&b, &p)).is_positive()
+    !is_pos(&dot(&sub(&a, &p), &sub(&b, &p)))
 }
 
 /// Power of x with respect to the weighted point (p, w): |x - p|^2 - w.
@@ -99,7 +124,7 @@ pub fn power_centre(p: [&QPoint; 3], w: [&Q; 3]) -> Option<QPoint> {
     let u = sub(p[1], p[0]);
     let v = sub(p[2], p[0]);
     let det = cross(&u, &v);
-    if det.is_zero() {
+    if det == Rational::ZERO {
         return None;
     }
     let ru = (norm2(&u) - w[1] + w[0]) / qi(2);
@@ -116,7 +141,7 @@ pub fn round(x: &Q) -> Q {
 
 /// |x| as a double, for reports.
 pub fn abs_f(x: &Q) -> f64 {
-    f(&x.abs())
+    f(&abs(x))
 }
 
 #[cfg(test)]
@@ -150,7 +175,7 @@ mod tests {
     #[test]
     fn power_centre_of_unweighted_triangle_is_circumcentre() {
         let p = [qp([0.0, 0.0]), qp([2.0, 0.0]), qp([0.0, 2.0])];
-        let z = Q::zero();
+        let z = zero();
         let c = power_centre([&p[0], &p[1], &p[2]], [&z, &z, &z]).unwrap();
         assert_eq!(c, qp([1.0, 1.0]));
         // Weights shift it: equal power to all three.

@@ -6,8 +6,7 @@
 
 use crate::backend::Triangulation;
 use crate::complex::Complex;
-use crate::exact::{add, cross, dot, norm2, power_centre, q, qi, qp, round, scale, sub, QPoint, Q};
-use num_traits::{One, Signed, Zero};
+use crate::exact::{add, cross, dot, is_pos, norm2, one, power_centre, q, qi, qp, ratio, round, scale, sub, zero, QPoint, Q};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
@@ -60,21 +59,21 @@ impl Sites {
         let failed: std::collections::HashSet<u32> = sys3_failed.iter().copied().collect();
         for (k, &[i, j]) in cx.segments.iter().enumerate() {
             let (base, dir, tl, tr) = s.dual_line(rt, i, j);
-            let one = Q::one();
+            let one = one();
             if failed.contains(&(k as u32)) {
                 // The dual edge misses the segment: both sites on it, fixed.
                 let ta = tr.unwrap_or_else(|| tl.clone().unwrap() - qi(2));
                 let tb = tl.unwrap_or_else(|| ta.clone() + qi(2));
                 for (left, fr) in [(true, (2i64, 3i64)), (false, (1, 3))] {
                     let tk = Track { base: base.clone(), dir: dir.clone(), ta: ta.clone(), tb: tb.clone(), anchor: i };
-                    s.push(Role::Segment { seg: k as u32, left }, tk, Q::new(fr.0.into(), fr.1.into()), false);
+                    s.push(Role::Segment { seg: k as u32, left }, tk, ratio(fr.0, fr.1), false);
                 }
             } else {
                 // Left site in (0, tl), right in (tr, 0); a ray is cut at |e|.
-                let zero = Q::zero();
+                let zero = zero();
                 let tb_left = tl.unwrap_or_else(|| one.clone());
                 let tb_right = tr.unwrap_or_else(|| -one.clone());
-                let half = Q::new(1.into(), 2.into());
+                let half = ratio(1, 2);
                 for (left, tb) in [(true, tb_left), (false, tb_right)] {
                     let tk = Track { base: base.clone(), dir: dir.clone(), ta: zero.clone(), tb, anchor: i };
                     s.push(Role::Segment { seg: k as u32, left }, tk, half.clone(), true);
@@ -170,8 +169,8 @@ impl Sites {
                 let (ta, tb) = match (tr, tl) {
                     (Some(a), Some(b)) if a < b => (a, b),
                     (Some(_), Some(_)) => continue, // zero-length dual
-                    (Some(a), None) => (a.clone(), a + Q::one()),
-                    (None, Some(b)) => (b.clone() - Q::one(), b),
+                    (Some(a), None) => (a.clone(), a + one()),
+                    (None, Some(b)) => (b.clone() - one(), b),
                     (None, None) => continue,
                 };
                 cands.push((k, Track { base, dir, ta, tb, anchor: i }));
@@ -198,7 +197,7 @@ impl Sites {
                     continue;
                 }
                 on_edge.insert(key, self.pos.len());
-                self.push(Role::Vertex { edge: key, serves: vec![i] }, tk, Q::new(1.into(), 2.into()), true);
+                self.push(Role::Vertex { edge: key, serves: vec![i] }, tk, ratio(1, 2), true);
             }
         }
     }
@@ -213,15 +212,15 @@ impl Sites {
         let next = match &self.role[s] {
             Role::Segment { .. } => {
                 let f = &self.frac[s] / qi(2);
-                if f < Q::new(1.into(), (1i64 << 40).into()) {
+                if f < ratio(1, 1i64 << 40) {
                     return false;
                 }
                 f
             }
             Role::Vertex { .. } => {
-                let at = VERTEX_FRACS.iter().position(|&(a, b)| Q::new(a.into(), b.into()) == self.frac[s]);
+                let at = VERTEX_FRACS.iter().position(|&(a, b)| ratio(a, b) == self.frac[s]);
                 match at.map(|k| k + 1).filter(|&k| k < VERTEX_FRACS.len()) {
-                    Some(k) => Q::new(VERTEX_FRACS[k].0.into(), VERTEX_FRACS[k].1.into()),
+                    Some(k) => ratio(VERTEX_FRACS[k].0, VERTEX_FRACS[k].1),
                     None => return false,
                 }
             }
@@ -277,8 +276,8 @@ fn spanning_triple(dirs: &[QPoint]) -> Option<[usize; 3]> {
             for c in b + 1..dirs.len() {
                 // Positively spanning iff the origin is strictly inside the
                 // triangle of the three directions (exact).
-                let o = [Q::zero(), Q::zero()];
-                let sides = [(a, b), (b, c), (c, a)].map(|(x, y)| cross(&sub(&dirs[y], &dirs[x]), &sub(&o, &dirs[x])).cmp(&Q::zero()));
+                let o = [zero(), zero()];
+                let sides = [(a, b), (b, c), (c, a)].map(|(x, y)| cross(&sub(&dirs[y], &dirs[x]), &sub(&o, &dirs[x])).cmp(&zero()));
                 if !(sides.iter().all(|&s| s == Ordering::Greater) || sides.iter().all(|&s| s == Ordering::Less)) {
                     continue;
                 }
@@ -298,5 +297,5 @@ fn spanning_triple(dirs: &[QPoint]) -> Option<[usize; 3]> {
 /// |a - b|^2 + omega_a - omega_b > 0.
 pub fn inside_wrt(sites: &Sites, a: usize, b: usize) -> bool {
     let d = norm2(&sub(&sites.pos[a], &sites.pos[b]));
-    (d + &sites.weight[a] - &sites.weight[b]).is_positive()
+    is_pos(&(d + &sites.weight[a] - &sites.weight[b]))
 }

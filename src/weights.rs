@@ -23,9 +23,8 @@ use crate::backend::{Backend, Triangulation};
 use crate::complex::Complex;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
-use crate::exact::{in_diametral_disc, q, qp, sub, dot, norm2, Q};
+use crate::exact::{abs, dot, in_diametral_disc, is_pos, norm2, q, qp, sub, Q};
 use highs::{HighsModelStatus, RowProblem, Sense};
-use num_traits::Signed;
 use serde::Serialize;
 use std::collections::BTreeSet;
 use std::ops::Bound;
@@ -381,14 +380,14 @@ pub fn sys3_failures(cx: &Complex, w: &[f64], rt: &Triangulation) -> Vec<u32> {
         let u = sub(&pj, &pi);
         let l = norm2(&u);
         let d = q(w[i as usize]) - q(w[j as usize]);
-        let mut ok = d.abs() < l;
+        let mut ok = abs(&d) < l;
         for (a, b) in [(i, j), (j, i)] {
             if let Some(t) = rt.left_of(a, b) {
                 let m = rt.apex(t, a, b);
                 let r = sub(&qp(p[m as usize]), &pi);
                 // L * (pi(q; m) - pi(q; i)) > 0
                 let v: Q = &l * norm2(&r) - (&l + &d) * dot(&u, &r) + &l * (q(w[i as usize]) - q(w[m as usize]));
-                ok &= v.is_positive();
+                ok &= is_pos(&v);
             }
         }
         if !ok {
