@@ -97,7 +97,8 @@ pub fn conform<B: Backend + ?Sized>(backend: &B, input: &Complex, opts: &Options
     if !rel.outside.is_empty() && !opts.allow_sites_outside {
         return Err(Error::SitesOutsideCells { sites: outside_names });
     }
-    let mesh = Mesh::from_diagram(&rel.diagram, &sites)?;
+    let fixed: Vec<_> = cx.points.iter().map(|&p| crate::exact::qp(p)).collect();
+    let mesh = Mesh::from_diagram(&rel.diagram, &sites, &fixed)?;
     let cert = certify(&dom, &sites, &rel.diagram, &rel.outside, &mesh);
     clock.lap("certify");
     if !cert.conforms() {

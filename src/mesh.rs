@@ -1,12 +1,18 @@
 //! The mesh as written: the domain cells of the exact diagram rounded to
-//! doubles. Distinct exact vertices that round to the same double point
-//! (edges of length ~1e-17 on nearly symmetric input) are merged and counted.
+//! doubles. Nearly symmetric input gives exactly non-zero edges of length
+//! ~1e-17; readers merge such points, so vertices closer than `COLLAPSE`
+//! times the mesh size are merged here (never two input vertices) and counted.
 
 use crate::diagram::Diagram;
 use crate::error::{Error, Result};
 use crate::exact::{f, fp};
 use crate::sites::Sites;
 use std::collections::HashMap;
+
+/// Edges shorter than this fraction of the mesh size are collapsed.
+pub const COLLAPSE: f64 = 1e-10;
+/// Edges shorter than this fraction are too short to measure a direction.
+const MEASURE: f64 = 1e-7;
 
 /// A polygonal mesh with one site and weight per cell.
 #[derive(Debug, Clone, Default)]
@@ -16,41 +22,91 @@ pub struct Mesh {
     pub cells: Vec<Vec<u32>>,
     pub sites: Vec<[f64; 2]>,
     pub weights: Vec<f64>,
-    /// Exact vertices merged because they round to the same double point.
+    /// Exact vertices merged into a neighbour closer than COLLAPSE x size.
     pub collapsed: usize,
+    /// Whether each point is an input vertex.
+    pub fixed: Vec<bool>,
+    /// Largest extent of the mesh.
+    pub size: f64,
+}
+
+fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in pts {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
 }
 
 impl Mesh {
-    /// Rounds the domain cells of a diagram.
-    pub fn from_diagram(diagram: &Diagram, sites: &Sites) -> Result<Mesh> {
+    /// Rounds the domain cells of a diagram. `fixed` are the exact points
+    /// of the input vertices, which are never merged with each other.
+    pub fn from_diagram(diagram: &Diagram, sites: &Sites, fixed: &[crate::exact::QPoint]) -> Result<Mesh> {
         let mut m = Mesh::default();
-        let mut index: HashMap<[u64; 2], u32> = HashMap::new();
+        // Exact vertex -> rounded point, for the vertices of domain cells.
+        let used: Vec<u32> = {
+            let mut u: Vec<u32> = (0..diagram.cells.len())
+                .filter(|&s| diagram.in_domain[s])
+                .flat_map(|s| diagram.cells[s].as_deref().unwrap_or(&[]).to_vec())
+                .collect();
+            u.sort_unstable();
+            u.dedup();
+            u
+        };
+        let fixed: std::collections::HashSet<&crate::exact::QPoint> = fixed.iter().collect();
+        let pts: Vec<[f64; 2]> = used.iter().map(|&v| fp(&diagram.points[v as usize])).collect();
+        let (lo, hi) = bbox(&pts);
+        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        let tol = COLLAPSE * size;
+        // Grid of cell size tol: close points are in neighbouring buckets.
+        let key = |p: [f64; 2]| [((p[0] - lo[0]) / tol).floor() as i64, ((p[1] - lo[1]) / tol).floor() as i64];
+        let mut grid: HashMap<[i64; 2], Vec<u32>> = HashMap::new();
         let mut map: HashMap<u32, u32> = HashMap::new();
+        for (k, &v) in used.iter().enumerate() {
+            let p = pts[k];
+            let is_fixed = fixed.contains(&diagram.points[v as usize]);
+            let g = key(p);
+            let mut target = None;
+            'search: for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for &id in grid.get(&[g[0] + dx, g[1] + dy]).map(Vec::as_slice).unwrap_or(&[]) {
+                        let q = m.points[id as usize];
+                        if (q[0] - p[0]).hypot(q[1] - p[1]) <= tol && !(is_fixed && m.fixed[id as usize]) {
+                            target = Some(id);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+            let id = match target {
+                Some(id) => {
+                    m.collapsed += 1;
+                    if is_fixed {
+                        // an input vertex keeps its exact position
+                        m.points[id as usize] = p;
+                        m.fixed[id as usize] = true;
+                    }
+                    id
+                }
+                None => {
+                    m.points.push(p);
+                    m.fixed.push(is_fixed);
+                    grid.entry(g).or_default().push(m.points.len() as u32 - 1);
+                    m.points.len() as u32 - 1
+                }
+            };
+            map.insert(v, id);
+        }
         for (s, cell) in diagram.cells.iter().enumerate() {
             if !diagram.in_domain[s] {
                 continue;
             }
             let cell = cell.as_ref().expect("domain cells are bounded");
-            let mut poly: Vec<u32> = cell
-                .iter()
-                .map(|&v| {
-                    *map.entry(v).or_insert_with(|| {
-                        let p = fp(&diagram.points[v as usize]);
-                        let key = [(p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits()];
-                        match index.get(&key) {
-                            Some(&id) => {
-                                m.collapsed += 1;
-                                id
-                            }
-                            None => {
-                                m.points.push(p);
-                                index.insert(key, m.points.len() as u32 - 1);
-                                m.points.len() as u32 - 1
-                            }
-                        }
-                    })
-                })
-                .collect();
+            let mut poly: Vec<u32> = cell.iter().map(|v| map[v]).collect();
             poly.dedup();
             if poly.len() > 1 && poly.first() == poly.last() {
                 poly.pop();
@@ -64,6 +120,7 @@ impl Mesh {
             m.sites.push(fp(&sites.pos[s]));
             m.weights.push(f(&sites.weight[s]));
         }
+        m.size = size;
         Ok(m)
     }
 
@@ -98,7 +155,7 @@ impl Mesh {
             let s = [sd[0] - sc[0], sd[1] - sc[1]];
             let ne = e[0].hypot(e[1]);
             let ns = s[0].hypot(s[1]);
-            if ne > 0.0 && ns > 0.0 {
+            if ne > MEASURE * self.size && ns > 0.0 {
                 worst = worst.max(((e[0] * s[0] + e[1] * s[1]) / (ne * ns)).abs());
             }
         }

@@ -78,8 +78,11 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
     let l2 = shortest_edge2(cx, &dom.cdt);
     let mut report = WeightsReport { method: "local".into(), ..Default::default() };
     let local = local_system(cx, &dom.cdt, &l2);
-    if let Some(found) = attempt(backend, cx, &local, &mut report)? {
-        return finish(found, report);
+    // The local form fixes the triangulation, so its failures are no verdict.
+    if let Attempt::Found(found) = attempt(backend, cx, &local, &mut report)? {
+        if found.sys3_failed.is_empty() {
+            return finish(found, report);
+        }
     }
     report.method = "global".into();
     global(backend, dom, &l2, report)
@@ -315,37 +318,39 @@ fn margin(sys: &System, with3: bool, report: &mut WeightsReport) -> Result<(f64,
     Ok((best, None))
 }
 
-/// One attempt on a row system: system 1 + 3, else system 1 with elastic
-/// system 3. None when system 1 has no trusted margin or the verified
-/// triangulation does not conform.
-fn attempt<B: Backend + ?Sized>(backend: &B, cx: &Complex, sys: &System, report: &mut WeightsReport) -> Result<Option<Found>> {
-    let (m3, k3) = margin(sys, true, report)?;
-    if m3 > TRUST {
-        report.margin = Some(m3);
-        report.bound_k = k3;
-        let sol = run(sys, true, k3, &Mode::Regularise { delta_min: m3 / 2.0 }, report)?;
-        if let Some(found) = verify(backend, cx, sol.w, true)? {
-            return Ok(Some(found));
-        }
-    }
-    let (m1, k1) = margin(sys, false, report)?;
-    report.margin = Some(m1);
-    report.bound_k = k1;
-    if m1 <= TRUST {
-        return Ok(None);
-    }
-    let sol = run(sys, true, k1, &Mode::Elastic { delta_min: m1 / 2.0 }, report)?;
-    verify(backend, cx, sol.w, false)
+/// The outcome of one LP attempt on a row system.
+enum Attempt {
+    /// Weights whose RT contains every segment (system 3 checked exactly).
+    Found(Found),
+    /// Weights whose RT misses segments or hides vertices: rows are missing.
+    NotConforming(Vec<f64>),
+    /// System 1 has no trusted margin on these rows.
+    Sys1Infeasible,
 }
 
-/// Builds RT(w) exactly; Some when it contains every segment and hides no vertex.
-fn verify<B: Backend + ?Sized>(backend: &B, cx: &Complex, w: Vec<f64>, lp_sys3: bool) -> Result<Option<Found>> {
+/// One attempt on a row system: system 1 + 3; else system 1 with system 3
+/// elastic (as few segments as possible missing their duals).
+fn attempt<B: Backend + ?Sized>(backend: &B, cx: &Complex, sys: &System, report: &mut WeightsReport) -> Result<Attempt> {
+    let (m3, k3) = margin(sys, true, report)?;
+    let (w, lp_sys3) = if m3 > TRUST {
+        report.margin = Some(m3);
+        report.bound_k = k3;
+        (run(sys, true, k3, &Mode::Regularise { delta_min: m3 / 2.0 }, report)?.w, true)
+    } else {
+        let (m1, k1) = margin(sys, false, report)?;
+        report.margin = Some(m1);
+        report.bound_k = k1;
+        if m1 <= TRUST {
+            return Ok(Attempt::Sys1Infeasible);
+        }
+        (run(sys, true, k1, &Mode::Elastic { delta_min: m1 / 2.0 }, report)?.w, false)
+    };
     let rt = backend.regular(&cx.points, &w)?;
     if conforms(cx, &rt).is_err() {
-        return Ok(None);
+        return Ok(Attempt::NotConforming(w));
     }
     let sys3_failed = sys3_failures(cx, &w, &rt);
-    Ok(Some(Found { w, rt, sys3_failed, lp_sys3 }))
+    Ok(Attempt::Found(Found { w, rt, sys3_failed, lp_sys3 }))
 }
 
 /// Ok, or the segments missing from `rt` (and hidden vertices as Err too).
@@ -457,26 +462,26 @@ fn global<B: Backend + ?Sized>(backend: &B, dom: &Domain, l2: &[f64], mut report
                 sys3_rows(&mut sys, p, o as u32, i, j, &others);
             }
         }
-        let (m1, _) = margin(&sys, false, &mut report)?;
-        if m1 <= TRUST {
-            // Infeasible on a subset of the rows: infeasible outright.
-            let ids = if last_missing.is_empty() { (0..cx.segments.len() as u32).collect() } else { last_missing };
-            return Err(Error::NoRegularConstrainedTriangulation {
-                segments: ids.iter().map(|&s| cx.segment_ids[s as usize]).collect(),
-            });
-        }
-        let found = attempt(backend, cx, &sys, &mut report)?;
-        // Which owners disagree with the RT of the best weights we have?
-        let (w, rt) = match &found {
-            // An elastic solution proves system 3 infeasible on a subset of
-            // its rows, hence outright: keep it.
-            Some(f) if f.sys3_failed.is_empty() || !f.lp_sys3 => return finish(found.unwrap(), report),
-            Some(f) => (f.w.clone(), f.rt.clone()),
-            None => {
-                let sol = run(&sys, false, report.bound_k, &Mode::Regularise { delta_min: m1 / 2.0 }, &mut report)?;
-                let rt = backend.regular(p, &sol.w)?;
-                (sol.w, rt)
+        let (found, w) = match attempt(backend, cx, &sys, &mut report)? {
+            Attempt::Sys1Infeasible => {
+                // Infeasible on a subset of the rows: infeasible outright.
+                let ids = if last_missing.is_empty() { (0..cx.segments.len() as u32).collect() } else { last_missing };
+                return Err(Error::NoRegularConstrainedTriangulation {
+                    segments: ids.iter().map(|&s| cx.segment_ids[s as usize]).collect(),
+                });
             }
+            // Elastic: system 3 is infeasible on a subset of its rows, hence
+            // outright; keep these weights.
+            Attempt::Found(f) if f.sys3_failed.is_empty() || !f.lp_sys3 => return finish(f, report),
+            Attempt::Found(f) => {
+                let w = f.w.clone();
+                (Some(f), w)
+            }
+            Attempt::NotConforming(w) => (None, w),
+        };
+        let rt = match &found {
+            Some(f) => f.rt.clone(),
+            None => backend.regular(p, &w)?,
         };
         let (missing, hidden) = conforms(cx, &rt).err().unwrap_or_default();
         let sys3_bad = if missing.is_empty() && hidden.is_empty() { sys3_failures(cx, &w, &rt) } else { vec![] };

@@ -7,7 +7,8 @@ use std::fmt::Write;
 
 /// SVG text of the mesh and its constraints.
 pub fn to_string(mesh: &Mesh, site_inside: &[bool], cx: &Complex) -> String {
-    let pts = mesh.points.iter().chain(&cx.points);
+    // Sites outside their cells may lie outside the domain: keep them in view.
+    let pts = mesh.points.iter().chain(&cx.points).chain(&mesh.sites);
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in pts {
         for k in 0..2 {
@@ -39,6 +40,11 @@ pub fn to_string(mesh: &Mesh, site_inside: &[bool], cx: &Complex) -> String {
     for &[a, b] in &cx.segments {
         let (p, q) = (x(cx.points[a as usize]), x(cx.points[b as usize]));
         let _ = writeln!(s, "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\"/>", p.0, p.1, q.0, q.1);
+    }
+    s.push_str("</g>\n<g fill=\"black\">\n");
+    for p in &cx.points {
+        let (a, b) = x(*p);
+        let _ = writeln!(s, "<circle cx=\"{a:.2}\" cy=\"{b:.2}\" r=\"2.2\"/>");
     }
     s.push_str("</g>\n<g>\n");
     for (c, site) in mesh.sites.iter().enumerate() {

@@ -66,7 +66,7 @@ mod tests {
             cells: vec![vec![0, 1, 2]],
             sites: vec![[0.3, 0.3]],
             weights: vec![-0.0],
-            collapsed: 0,
+            ..Default::default()
         };
         let text = to_string(&mesh, &[true]);
         let line = text.lines().find(|l| l.ends_with(" 0") && l.contains("e-300")).unwrap();

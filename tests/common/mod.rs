@@ -1,0 +1,36 @@
+//! Shared helpers for the integration tests.
+#![allow(dead_code)]
+
+use orthomesh::backend::Backend;
+use orthomesh::conform::{conform, Options, Outcome};
+use orthomesh::{io, Complex, Result};
+use std::path::{Path, PathBuf};
+
+pub fn shared(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/pslg").join(name)
+}
+
+pub fn read(name: &str) -> Complex {
+    io::read_complex(&shared(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Runs the pipeline; on success writes the mesh where the reader checks
+/// (scripts/test.sh) will find it.
+pub fn run<B: Backend>(b: &B, cx: &Complex, tag: &str, allow: bool) -> Result<Outcome> {
+    let out = conform(b, cx, &Options { allow_sites_outside: allow })?;
+    if let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") {
+        let name = format!("{tag}-{}.vtu", b.name());
+        io::write_atomic(&Path::new(&dir).join(name), io::vtu::to_string(&out.mesh, &out.site_inside).as_bytes())?;
+    }
+    Ok(out)
+}
+
+/// The invariants every returned mesh satisfies.
+pub fn assert_certified(out: &Outcome, tag: &str) {
+    let c = &out.report.certificate;
+    assert!(c.conforms(), "{tag}: certificate {c:?}");
+    assert!(c.area_relative_error < 1e-9, "{tag}: area error {}", c.area_relative_error);
+    assert!(c.max_orthogonality_defect < 1e-6, "{tag}: orthogonality defect {}", c.max_orthogonality_defect);
+    assert_eq!(out.mesh.cells.len(), out.site_inside.len());
+    assert_eq!(c.sites_outside, out.site_inside.iter().filter(|&&i| !i).count(), "{tag}");
+}

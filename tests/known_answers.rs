@@ -1,0 +1,74 @@
+//! Hand-built cases with known answers.
+
+mod common;
+use common::*;
+use orthomesh::backend::default_backend;
+use orthomesh::{Complex, Error};
+
+/// The "mother of all examples": an outer triangle, a shrunken inner copy,
+/// and all twelve edges of its cyclically twisted triangulation, which is
+/// not regular. With every edge a constraint no regular constrained
+/// triangulation exists: system 1 is infeasible.
+#[test]
+fn mother_of_all_examples_has_no_regular_constrained_triangulation() {
+    let outer = [[0.0, 0.0], [4.0, 0.0], [2.0, 3.5]];
+    let c = [2.0, 3.5 / 3.0];
+    let inner: Vec<[f64; 2]> = outer.iter().map(|p| [c[0] + 0.3 * (p[0] - c[0]), c[1] + 0.3 * (p[1] - c[1])]).collect();
+    let points: Vec<[f64; 2]> = outer.iter().copied().chain(inner).collect();
+    let mut segs = vec![];
+    for i in 0..3u32 {
+        let j = (i + 1) % 3;
+        segs.push([i, j]); // outer
+        segs.push([3 + i, 3 + j]); // inner
+        segs.push([i, 3 + i]); // spoke
+        segs.push([i, 3 + j]); // twisted diagonal
+    }
+    let cx = Complex::new(points, segs);
+    cx.validate().unwrap();
+    match run(&default_backend(), &cx, "mother", true) {
+        Err(Error::NoRegularConstrainedTriangulation { segments }) => assert!(!segments.is_empty()),
+        other => panic!("expected no regular constrained triangulation, got {:?}", other.map(|o| o.report.weights)),
+    }
+    // Untwisting one diagonal makes it regular again.
+    let mut cx2 = cx.clone();
+    cx2.segments[11] = [0, 5]; // P0-Q2 instead of P2-Q0
+    let out = run(&default_backend(), &cx2, "mother-untwisted", true).unwrap();
+    assert_certified(&out, "mother-untwisted");
+}
+
+/// A segment that is not a Delaunay edge: the long diagonal of a flat
+/// rhombus. Zero weights cannot work; the LP finds weights and every site
+/// ends in its cell.
+#[test]
+fn a_non_delaunay_segment_needs_the_lp() {
+    let cx = Complex::new(vec![[0.0, 0.0], [4.0, 0.0], [2.0, 1.0], [2.0, -1.0]], vec![[0, 1]]);
+    let out = run(&default_backend(), &cx, "rhombus", false).unwrap();
+    assert_certified(&out, "rhombus");
+    assert_ne!(out.report.weights.method, "zero");
+    assert!(out.report.weights.max_abs_weight > 0.0);
+    assert_eq!(out.report.certificate.sites_outside, 0);
+    assert_eq!(out.report.hull_edges_added, 4);
+}
+
+/// A free end (case 2) and an isolated vertex (case 3) inside a square.
+#[test]
+fn free_ends_and_isolated_vertices_get_extra_sites() {
+    let cx = Complex::new(
+        vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0], [3.0, 3.0], [5.0, 4.0], [7.0, 7.0]],
+        vec![[0, 1], [1, 2], [2, 3], [3, 0], [4, 5]],
+    );
+    let out = run(&default_backend(), &cx, "free-ends", true).unwrap();
+    assert_certified(&out, "free-ends");
+    // two free ends (one site each, possibly shared) and one isolated vertex (three)
+    assert!(out.report.vertex_sites >= 4, "{}", out.report.vertex_sites);
+}
+
+#[test]
+fn bad_inputs_get_errors_naming_items() {
+    let b = default_backend();
+    let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    let e = run(&b, &Complex::new(square.clone(), vec![[0, 2], [1, 3]]), "x", true).err().unwrap();
+    assert_eq!(e.to_string(), "segments that cross, overlap or touch other than at a shared endpoint: 0 x 1");
+    let e = run(&b, &Complex::new(vec![[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], vec![[0, 1]]), "x", true).err().unwrap();
+    assert!(matches!(e, Error::Degenerate(_)), "{e}");
+}
