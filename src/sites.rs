@@ -46,6 +46,9 @@ pub struct Sites {
     weights: Vec<Q>,
 }
 
+/// Shortest dual edge, relative to its primal edge, that carries a vertex site.
+const MIN_DUAL: f64 = 1e-3;
+
 /// Fractions tried in turn for a vertex site that is outside its cell.
 const VERTEX_FRACS: [(i64, i64); 5] = [(1, 2), (1, 4), (3, 4), (1, 8), (7, 8)];
 
@@ -167,8 +170,10 @@ impl Sites {
                 }
                 let (base, dir, tl, tr) = self.dual_line(rt, i, k);
                 let (ta, tb) = match (tr, tl) {
-                    (Some(a), Some(b)) if a < b => (a, b),
-                    (Some(_), Some(_)) => continue, // zero-length dual
+                    // t is in units of |p_k - p_i|: a dual edge far shorter
+                    // than the edge itself gives a sliver cell.
+                    (Some(a), Some(b)) if crate::exact::f(&(&b - &a)) > MIN_DUAL => (a, b),
+                    (Some(_), Some(_)) => continue, // (nearly) zero-length dual
                     (Some(a), None) => (a.clone(), a + one()),
                     (None, Some(b)) => (b.clone() - one(), b),
                     (None, None) => continue,
@@ -187,6 +192,15 @@ impl Sites {
             } else {
                 spanning_triple(&dirs).map(|t| t.to_vec()).unwrap_or_default()
             };
+            if chosen.is_empty() {
+                // No usable dual edges (a vertex where diagonals cross, or all
+                // its edges are constraints): points inside its power cell
+                // serve it just as well (Theorem 1 only needs them in the cell).
+                for tk in self.in_cell_tracks(rt, i, want) {
+                    self.push(Role::Vertex { edge: (i, i), serves: vec![i] }, tk, ratio(1, 2), true);
+                }
+                continue;
+            }
             for c in chosen {
                 let (k, tk) = cands[c].clone();
                 let key = (i.min(k), i.max(k));
@@ -200,6 +214,38 @@ impl Sites {
                 self.push(Role::Vertex { edge: key, serves: vec![i] }, tk, ratio(1, 2), true);
             }
         }
+    }
+
+    /// Tracks from the centroid of the power cell of vertex i towards `count`
+    /// of its corners, chosen not collinear: sites on them lie strictly
+    /// inside the cell.
+    fn in_cell_tracks(&self, rt: &Triangulation, i: u32, count: usize) -> Vec<Track> {
+        let mut corners: Vec<QPoint> = vec![];
+        for (t, tri) in rt.triangles.iter().enumerate() {
+            if tri.contains(&i) {
+                let c = self.centre(rt, t as u32);
+                if !corners.contains(&c) {
+                    corners.push(c);
+                }
+            }
+        }
+        if corners.len() < 3 {
+            return vec![];
+        }
+        let k = qi(corners.len() as i64);
+        let g = [corners.iter().map(|c| &c[0]).sum::<Q>() / &k, corners.iter().map(|c| &c[1]).sum::<Q>() / &k];
+        // the first corner, the farthest from it, and the farthest from their line
+        let far = |from: &QPoint| (0..corners.len()).max_by_key(|&c| norm2(&sub(&corners[c], from))).unwrap();
+        let a = 0;
+        let b = far(&corners[a]);
+        let c = (0..corners.len())
+            .max_by_key(|&c| crate::exact::abs(&cross(&sub(&corners[b], &corners[a]), &sub(&corners[c], &corners[a]))))
+            .unwrap();
+        [a, b, c]
+            .iter()
+            .take(count)
+            .map(|&k| Track { base: g.clone(), dir: sub(&corners[k], &g), ta: zero(), tb: one(), anchor: i })
+            .collect()
     }
 
     /// Moves a site one step: a segment site halves its distance to the

@@ -67,9 +67,13 @@ impl Triangulation {
         self.left.contains_key(&(a, b)) || self.left.contains_key(&(b, a))
     }
 
-    /// Every undirected edge once, as (a, b) with a triangle on the left of a->b.
+    /// Every undirected edge once, as (a, b) with a triangle on the left of
+    /// a->b, in triangle order (deterministic: LP rows follow this order).
     pub fn edges(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
-        self.left.keys().copied().filter(move |&(a, b)| a < b || !self.left.contains_key(&(b, a)))
+        self.triangles
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
+            .filter(move |&(a, b)| a < b || !self.left.contains_key(&(b, a)))
     }
 
     /// Neighbours of each vertex (n = number of input points).
