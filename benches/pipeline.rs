@@ -1,1 +1,114 @@
-fn main(){}
+//! Criterion benchmarks: the backend's raw regular triangulation, and the
+//! whole `conform` pipeline, one id per backend and size. Before the
+//! criterion groups run, a table prints the ratios the issue sets targets
+//! for: pipeline / raw regular triangulation of the same vertices (zero
+//! weights: target <= 5), and the LP case's time at 10^3 and 10^4 segments.
+
+use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
+use orthomesh::backend::{default_backend, Backend};
+use orthomesh::conform::{conform, Options};
+use orthomesh::generate::{cavities, staggered_chains};
+use orthomesh::Complex;
+use std::time::{Duration, Instant};
+
+fn random_points(n: usize, seed: u64) -> Vec<[f64; 2]> {
+    // xorshift: reproducible without a dependency
+    let mut s = seed;
+    let mut next = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..n).map(|_| [next(), next()]).collect()
+}
+
+fn raw_ms<B: Backend>(b: &B, cx: &Complex) -> f64 {
+    let w = vec![0.0; cx.points.len()];
+    let t = Instant::now();
+    b.regular(&cx.points, &w).unwrap();
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+fn allow() -> Options {
+    Options { allow_sites_outside: true }
+}
+
+/// The ratios, printed once.
+fn ratios() {
+    let b = default_backend();
+    eprintln!("\n{:<34} {:>9} {:>12} {:>10} {:>8}", "case", "segments", "pipeline ms", "raw RT ms", "ratio");
+    let mut row = |name: String, cx: &Complex| {
+        let t = Instant::now();
+        let out = conform(&b, cx, &allow());
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        let raw = raw_ms(&b, cx);
+        let status = match &out {
+            Ok(o) => format!("weights {}, sites outside {}", o.report.weights.method, o.report.certificate.sites_outside),
+            Err(e) => format!("error: {e}"),
+        };
+        eprintln!("{name:<34} {:>9} {ms:>12.1} {raw:>10.3} {:>8.0}  {status}", cx.segments.len(), ms / raw);
+    };
+    for (nx, ny) in [(2, 2), (6, 6), (12, 12)] {
+        row(format!("{}/cavities {nx}x{ny} (zero weights)", b.name()), &cavities(nx, ny, 14.0));
+    }
+    for (nx, ny) in [(2, 2), (6, 6), (20, 20)] {
+        row(format!("{}/cavities {nx}x{ny} r=21 (LP)", b.name()), &cavities(nx, ny, 21.0));
+    }
+    for (r, c) in [(10, 101), (32, 314)] {
+        row(format!("{}/staggered chains {r}x{c} (LP)", b.name()), &staggered_chains(r, c, 0.3));
+    }
+}
+
+fn regular_triangulation(c: &mut Criterion) {
+    let b = default_backend();
+    let mut g = c.benchmark_group("regular_triangulation");
+    g.sample_size(10).measurement_time(Duration::from_secs(3));
+    for n in [10_000usize, 100_000] {
+        let pts = random_points(n, 7);
+        let w: Vec<f64> = random_points(n, 11).iter().map(|p| p[0] * 1e-4).collect();
+        g.throughput(Throughput::Elements(n as u64));
+        g.bench_with_input(BenchmarkId::new(b.name(), n), &n, |bench, _| bench.iter(|| b.regular(&pts, &w).unwrap()));
+    }
+    g.finish();
+}
+
+fn conform_zero_weights(c: &mut Criterion) {
+    let b = default_backend();
+    let mut g = c.benchmark_group("conform_zero_weights");
+    g.sample_size(10).measurement_time(Duration::from_secs(5));
+    for k in [2usize, 6] {
+        let cx = cavities(k, k, 14.0);
+        g.throughput(Throughput::Elements(cx.segments.len() as u64));
+        g.bench_with_input(BenchmarkId::new(b.name(), cx.segments.len()), &cx, |bench, cx| {
+            bench.iter(|| conform(&b, cx, &Options::default()).unwrap())
+        });
+    }
+    g.finish();
+}
+
+fn conform_lp(c: &mut Criterion) {
+    let b = default_backend();
+    let mut g = c.benchmark_group("conform_lp");
+    g.sample_size(10).measurement_time(Duration::from_secs(5));
+    for k in [2usize, 6] {
+        let cx = cavities(k, k, 21.0);
+        g.throughput(Throughput::Elements(cx.segments.len() as u64));
+        g.bench_with_input(BenchmarkId::new(b.name(), cx.segments.len()), &cx, |bench, cx| {
+            bench.iter(|| conform(&b, cx, &allow()))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, regular_triangulation, conform_zero_weights, conform_lp);
+
+fn main() {
+    // `cargo bench` passes --bench; `cargo test --benches` runs each
+    // benchmark once only, and skips the (slow) table.
+    if std::env::args().any(|a| a == "--bench") {
+        ratios();
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

@@ -8,6 +8,17 @@ use crate::sites::Sites;
 use std::cmp::Ordering;
 use std::collections::{HashMap, VecDeque};
 
+/// Power centres by sorted site triple.
+#[derive(Debug, Default)]
+pub struct CentreCache(HashMap<[u32; 3], QPoint>);
+
+impl CentreCache {
+    /// Forgets the centres of triangles with a moved site.
+    pub fn forget(&mut self, moved: &std::collections::HashSet<u32>) {
+        self.0.retain(|k, _| !k.iter().any(|v| moved.contains(v)));
+    }
+}
+
 /// Power diagram of the sites, exact.
 #[derive(Debug, Clone)]
 pub struct Diagram {
@@ -23,19 +34,33 @@ pub struct Diagram {
 impl Diagram {
     /// Builds the cells from the regular triangulation of the sites.
     pub fn build(dom: &Domain, sites: &Sites, rt: &Triangulation) -> Diagram {
+        Self::build_cached(dom, sites, rt, &mut CentreCache::default())
+    }
+
+    /// As `build`, reusing the power centres of triangles whose sites have
+    /// not moved since the cache was filled (relocation rounds).
+    pub fn build_cached(dom: &Domain, sites: &Sites, rt: &Triangulation, cache: &mut CentreCache) -> Diagram {
         let mut index: HashMap<QPoint, u32> = HashMap::new();
         let mut points = vec![];
         let centre_id: Vec<u32> = rt
             .triangles
             .iter()
             .map(|tri| {
-                let [a, b, c] = tri.map(|v| v as usize);
-                let c = power_centre([&sites.pos[a], &sites.pos[b], &sites.pos[c]], [&sites.weight[a], &sites.weight[b], &sites.weight[c]])
-                    .expect("triangles of a regular triangulation are not flat");
-                *index.entry(c.clone()).or_insert_with(|| {
-                    points.push(c);
-                    points.len() as u32 - 1
-                })
+                let mut key = *tri;
+                key.sort_unstable();
+                let c = cache.0.entry(key).or_insert_with(|| {
+                    let [a, b, c] = tri.map(|v| v as usize);
+                    power_centre([&sites.pos[a], &sites.pos[b], &sites.pos[c]], [&sites.weight[a], &sites.weight[b], &sites.weight[c]])
+                        .expect("triangles of a regular triangulation are not flat")
+                });
+                match index.get(c) {
+                    Some(&id) => id,
+                    None => {
+                        points.push(c.clone());
+                        index.insert(c.clone(), points.len() as u32 - 1);
+                        points.len() as u32 - 1
+                    }
+                }
             })
             .collect();
         let around = rt.vertex_triangles(sites.len());

@@ -31,6 +31,7 @@ pub mod diagram;
 pub mod domain;
 pub mod error;
 pub mod exact;
+pub mod generate;
 pub mod io;
 pub mod mesh;
 pub mod relocate;

@@ -7,7 +7,7 @@
 //! edge. Bounded in rounds.
 
 use crate::backend::{Backend, Triangulation};
-use crate::diagram::Diagram;
+use crate::diagram::{CentreCache, Diagram};
 use crate::domain::Domain;
 use crate::error::Result;
 use crate::sites::{inside_wrt, Sites};
@@ -38,17 +38,21 @@ pub fn outside(sites: &Sites, rt: &Triangulation, diagram: &Diagram, dom_sites_o
 /// their cells or no site can move.
 pub fn relocate<B: Backend + ?Sized>(backend: &B, dom: &Domain, sites: &mut Sites) -> Result<Relocated> {
     let mut round = 0;
+    let mut cache = CentreCache::default();
     loop {
         let rt = backend.regular_exact(&sites.pos, &sites.weight)?;
-        let diagram = Diagram::build(dom, sites, &rt);
+        let diagram = Diagram::build_cached(dom, sites, &rt, &mut cache);
         let out = outside(sites, &rt, &diagram, true);
-        let mut moved = false;
+        let mut moved = std::collections::HashSet::new();
         if round < MAX_ROUNDS {
             for &s in &out {
-                moved |= sites.step(s);
+                if sites.step(s) {
+                    moved.insert(s as u32);
+                }
             }
         }
-        if out.is_empty() || !moved {
+        cache.forget(&moved);
+        if out.is_empty() || moved.is_empty() {
             return Ok(Relocated { rt, diagram, rounds: round, outside: out });
         }
         round += 1;

@@ -44,6 +44,8 @@ pub struct Sites {
     pub movable: Vec<bool>,
     points: Vec<QPoint>,
     weights: Vec<Q>,
+    /// Power centres of the triangles of RT(w), computed once each.
+    centres: std::cell::RefCell<HashMap<u32, QPoint>>,
 }
 
 /// Shortest dual edge, relative to its primal edge, that carries a vertex site.
@@ -136,9 +138,15 @@ impl Sites {
     }
 
     fn centre(&self, rt: &Triangulation, t: u32) -> QPoint {
-        let [a, b, c] = rt.triangles[t as usize].map(|v| v as usize);
-        power_centre([&self.points[a], &self.points[b], &self.points[c]], [&self.weights[a], &self.weights[b], &self.weights[c]])
-            .expect("triangles of a regular triangulation are not flat")
+        self.centres
+            .borrow_mut()
+            .entry(t)
+            .or_insert_with(|| {
+                let [a, b, c] = rt.triangles[t as usize].map(|v| v as usize);
+                power_centre([&self.points[a], &self.points[b], &self.points[c]], [&self.weights[a], &self.weights[b], &self.weights[c]])
+                    .expect("triangles of a regular triangulation are not flat")
+            })
+            .clone()
     }
 
     /// Extra sites: one for a free end, three for an isolated vertex, on

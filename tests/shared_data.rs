@@ -104,3 +104,18 @@ fn demo_data_is_certified_with_zero_weights() {
     assert_eq!(out.mesh.cells.len(), 36);
     assert_eq!(out.report.certificate.sites_outside, 0);
 }
+
+/// The copies in tests/data equal the shared originals (when those are here).
+#[test]
+fn test_data_copies_are_unmodified() {
+    let original = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/pslg");
+    let Ok(entries) = std::fs::read_dir(&original) else {
+        eprintln!("no shared data next to the repository: nothing to compare");
+        return;
+    };
+    for e in entries {
+        let path = e.unwrap().path();
+        let name = path.file_name().unwrap().to_str().unwrap().to_string();
+        assert_eq!(std::fs::read(&path).unwrap(), std::fs::read(shared(&name)).unwrap(), "{name} differs from the shared original");
+    }
+}

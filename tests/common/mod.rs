@@ -6,8 +6,9 @@ use orthomesh::conform::{conform, Options, Outcome};
 use orthomesh::{io, Complex, Result};
 use std::path::{Path, PathBuf};
 
+/// A constraint set from the copy of the shared data in tests/data/pslg.
 pub fn shared(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/pslg").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pslg").join(name)
 }
 
 pub fn read(name: &str) -> Complex {
