@@ -15,9 +15,14 @@ mod cgal {
 
     pub fn build() {
         let cgal_dir = std::env::var("CGAL_INCLUDE_DIR").unwrap_or_else(|_| "/usr/include".into());
-        if !Path::new(&cgal_dir).join("CGAL/Regular_triangulation_2.h").exists() {
+        if !Path::new(&cgal_dir)
+            .join("CGAL/Regular_triangulation_2.h")
+            .exists()
+        {
             println!("cargo:warning=CGAL headers not found under {cgal_dir}: {HELP}");
-            eprintln!("error: CGAL headers not found under {cgal_dir} (set CGAL_INCLUDE_DIR): {HELP}");
+            eprintln!(
+                "error: CGAL headers not found under {cgal_dir} (set CGAL_INCLUDE_DIR): {HELP}"
+            );
             std::process::exit(1);
         }
         if !Path::new("/usr/include/gmp.h").exists()
@@ -39,7 +44,13 @@ mod cgal {
             .compile("orthomesh_cgal");
         println!("cargo:rustc-link-lib=gmp");
         println!("cargo:rustc-link-lib=mpfr");
-        for f in ["cpp/shim.h", "cpp/collect.h", "cpp/regular2.cpp", "cpp/regular2_exact.cpp", "src/backend/cgal/ffi.rs"] {
+        for f in [
+            "cpp/shim.h",
+            "cpp/collect.h",
+            "cpp/regular2.cpp",
+            "cpp/regular2_exact.cpp",
+            "src/backend/cgal/ffi.rs",
+        ] {
             println!("cargo:rerun-if-changed={f}");
         }
         println!("cargo:rerun-if-env-changed=CGAL_INCLUDE_DIR");

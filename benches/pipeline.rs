@@ -31,32 +31,53 @@ fn raw_ms<B: Backend>(b: &B, cx: &Complex) -> f64 {
 }
 
 fn allow() -> Options {
-    Options { allow_sites_outside: true }
+    Options {
+        allow_sites_outside: true,
+    }
 }
 
 /// The ratios, printed once.
 fn ratios() {
     let b = default_backend();
-    eprintln!("\n{:<34} {:>9} {:>12} {:>10} {:>8}", "case", "segments", "pipeline ms", "raw RT ms", "ratio");
-    let mut row = |name: String, cx: &Complex| {
+    eprintln!(
+        "\n{:<34} {:>9} {:>12} {:>10} {:>8}",
+        "case", "segments", "pipeline ms", "raw RT ms", "ratio"
+    );
+    let row = |name: String, cx: &Complex| {
         let t = Instant::now();
         let out = conform(&b, cx, &allow());
         let ms = t.elapsed().as_secs_f64() * 1e3;
         let raw = raw_ms(&b, cx);
         let status = match &out {
-            Ok(o) => format!("weights {}, sites outside {}", o.report.weights.method, o.report.certificate.sites_outside),
+            Ok(o) => format!(
+                "weights {}, sites outside {}",
+                o.report.weights.method, o.report.certificate.sites_outside
+            ),
             Err(e) => format!("error: {e}"),
         };
-        eprintln!("{name:<34} {:>9} {ms:>12.1} {raw:>10.3} {:>8.0}  {status}", cx.segments.len(), ms / raw);
+        eprintln!(
+            "{name:<34} {:>9} {ms:>12.1} {raw:>10.3} {:>8.0}  {status}",
+            cx.segments.len(),
+            ms / raw
+        );
     };
     for (nx, ny) in [(2, 2), (6, 6), (12, 12)] {
-        row(format!("{}/cavities {nx}x{ny} (zero weights)", b.name()), &cavities(nx, ny, 14.0));
+        row(
+            format!("{}/cavities {nx}x{ny} (zero weights)", b.name()),
+            &cavities(nx, ny, 14.0),
+        );
     }
     for (nx, ny) in [(2, 2), (6, 6), (20, 20)] {
-        row(format!("{}/cavities {nx}x{ny} r=21 (LP)", b.name()), &cavities(nx, ny, 21.0));
+        row(
+            format!("{}/cavities {nx}x{ny} r=21 (LP)", b.name()),
+            &cavities(nx, ny, 21.0),
+        );
     }
     for (r, c) in [(10, 101), (32, 314)] {
-        row(format!("{}/staggered chains {r}x{c} (LP)", b.name()), &staggered_chains(r, c, 0.3));
+        row(
+            format!("{}/staggered chains {r}x{c} (LP)", b.name()),
+            &staggered_chains(r, c, 0.3),
+        );
     }
 }
 
@@ -68,7 +89,9 @@ fn regular_triangulation(c: &mut Criterion) {
         let pts = random_points(n, 7);
         let w: Vec<f64> = random_points(n, 11).iter().map(|p| p[0] * 1e-4).collect();
         g.throughput(Throughput::Elements(n as u64));
-        g.bench_with_input(BenchmarkId::new(b.name(), n), &n, |bench, _| bench.iter(|| b.regular(&pts, &w).unwrap()));
+        g.bench_with_input(BenchmarkId::new(b.name(), n), &n, |bench, _| {
+            bench.iter(|| b.regular(&pts, &w).unwrap())
+        });
     }
     g.finish();
 }
@@ -80,9 +103,11 @@ fn conform_zero_weights(c: &mut Criterion) {
     for k in [2usize, 6] {
         let cx = cavities(k, k, 14.0);
         g.throughput(Throughput::Elements(cx.segments.len() as u64));
-        g.bench_with_input(BenchmarkId::new(b.name(), cx.segments.len()), &cx, |bench, cx| {
-            bench.iter(|| conform(&b, cx, &Options::default()).unwrap())
-        });
+        g.bench_with_input(
+            BenchmarkId::new(b.name(), cx.segments.len()),
+            &cx,
+            |bench, cx| bench.iter(|| conform(&b, cx, &Options::default()).unwrap()),
+        );
     }
     g.finish();
 }
@@ -94,14 +119,21 @@ fn conform_lp(c: &mut Criterion) {
     for k in [2usize, 6] {
         let cx = cavities(k, k, 21.0);
         g.throughput(Throughput::Elements(cx.segments.len() as u64));
-        g.bench_with_input(BenchmarkId::new(b.name(), cx.segments.len()), &cx, |bench, cx| {
-            bench.iter(|| conform(&b, cx, &allow()))
-        });
+        g.bench_with_input(
+            BenchmarkId::new(b.name(), cx.segments.len()),
+            &cx,
+            |bench, cx| bench.iter(|| conform(&b, cx, &allow())),
+        );
     }
     g.finish();
 }
 
-criterion_group!(benches, regular_triangulation, conform_zero_weights, conform_lp);
+criterion_group!(
+    benches,
+    regular_triangulation,
+    conform_zero_weights,
+    conform_lp
+);
 
 fn main() {
     // `cargo bench` passes --bench; `cargo test --benches` runs each

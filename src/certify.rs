@@ -42,16 +42,39 @@ impl Certificate {
 }
 
 /// Checks the exact diagram against the domain, and the written mesh.
-pub fn certify(dom: &Domain, sites: &Sites, diagram: &Diagram, outside: &[usize], mesh: &Mesh) -> Certificate {
+pub fn certify(
+    dom: &Domain,
+    sites: &Sites,
+    diagram: &Diagram,
+    outside: &[usize],
+    mesh: &Mesh,
+) -> Certificate {
     let cx = &dom.complex;
-    let mut c = Certificate { sites_outside: outside.len(), sites_inside_cells: outside.is_empty(), ..Default::default() };
-    let index: HashMap<&QPoint, u32> = diagram.points.iter().enumerate().map(|(i, p)| (p, i as u32)).collect();
-    let vid: Vec<Option<u32>> = cx.points.iter().map(|&p| index.get(&qp(p)).copied()).collect();
+    let mut c = Certificate {
+        sites_outside: outside.len(),
+        sites_inside_cells: outside.is_empty(),
+        ..Default::default()
+    };
+    let index: HashMap<&QPoint, u32> = diagram
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p, i as u32))
+        .collect();
+    let vid: Vec<Option<u32>> = cx
+        .points
+        .iter()
+        .map(|&p| index.get(&qp(p)).copied())
+        .collect();
 
-    let missing: Vec<i64> = (0..cx.points.len()).filter(|&v| vid[v].is_none()).map(|v| cx.vertex_ids[v]).collect();
+    let missing: Vec<i64> = (0..cx.points.len())
+        .filter(|&v| vid[v].is_none())
+        .map(|v| cx.vertex_ids[v])
+        .collect();
     c.vertices_are_mesh_vertices = missing.is_empty();
     if !missing.is_empty() {
-        c.problems.push(format!("vertices that are not mesh vertices: {missing:?}"));
+        c.problems
+            .push(format!("vertices that are not mesh vertices: {missing:?}"));
     }
 
     // Directed edges of domain cells.
@@ -65,7 +88,8 @@ pub fn certify(dom: &Domain, sites: &Sites, diagram: &Diagram, outside: &[usize]
         let k = cell.len();
         if k < 3 {
             convex = false;
-            c.problems.push(format!("cell of site {s} has {k} vertices"));
+            c.problems
+                .push(format!("cell of site {s} has {k} vertices"));
             continue;
         }
         for e in 0..k {
@@ -74,7 +98,9 @@ pub fn certify(dom: &Domain, sites: &Sites, diagram: &Diagram, outside: &[usize]
             let p = &diagram.points;
             if orient_q(&p[a as usize], &p[b as usize], &p[d as usize]) != Ordering::Greater {
                 convex = false;
-                c.problems.push(format!("cell of site {s} is not strictly convex and counter-clockwise"));
+                c.problems.push(format!(
+                    "cell of site {s} is not strictly convex and counter-clockwise"
+                ));
                 break;
             }
         }
@@ -88,7 +114,11 @@ pub fn certify(dom: &Domain, sites: &Sites, diagram: &Diagram, outside: &[usize]
             bad_segments.push(cx.segment_ids[k]);
             continue;
         };
-        let beside: Vec<u32> = pairs[k].iter().copied().filter(|&s| diagram.in_domain[s as usize]).collect();
+        let beside: Vec<u32> = pairs[k]
+            .iter()
+            .copied()
+            .filter(|&s| diagram.in_domain[s as usize])
+            .collect();
         let ok = !beside.is_empty()
             && beside.iter().all(|&s| {
                 let cell = diagram.cells[s as usize].as_ref().unwrap();
@@ -104,7 +134,9 @@ pub fn certify(dom: &Domain, sites: &Sites, diagram: &Diagram, outside: &[usize]
     }
     c.segments_are_single_edges = bad_segments.is_empty();
     if !bad_segments.is_empty() {
-        c.problems.push(format!("segments that are not single mesh edges: {bad_segments:?}"));
+        c.problems.push(format!(
+            "segments that are not single mesh edges: {bad_segments:?}"
+        ));
     }
 
     // Tiling: unshared directed edges are exactly the domain boundary.
@@ -130,7 +162,8 @@ pub fn certify(dom: &Domain, sites: &Sites, diagram: &Diagram, outside: &[usize]
     tiles &= seen_boundary == boundary.len();
     c.cells_tile_domain = tiles;
     if !tiles {
-        c.problems.push("the domain cells do not tile the domain exactly".into());
+        c.problems
+            .push("the domain cells do not tile the domain exactly".into());
     }
 
     // As written: areas and orthogonality in floating point.

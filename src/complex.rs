@@ -26,7 +26,14 @@ impl Complex {
     pub fn new(points: Vec<[f64; 2]>, segments: Vec<[u32; 2]>) -> Self {
         let vertex_ids = (0..points.len() as i64).collect();
         let segment_ids = (0..segments.len() as i64).collect();
-        Complex { points, segments, holes: vec![], vertex_ids, segment_ids, notes: vec![] }
+        Complex {
+            points,
+            segments,
+            holes: vec![],
+            vertex_ids,
+            segment_ids,
+            notes: vec![],
+        }
     }
 
     /// Checks that this is a simplicial complex: finite coordinates, distinct
@@ -42,8 +49,15 @@ impl Complex {
         if !bad.is_empty() {
             return Err(Error::NonFinite { vertices: bad });
         }
-        if let Some(h) = self.holes.iter().position(|h| !h.iter().all(|c| c.is_finite())) {
-            return Err(Error::Degenerate(format!("hole {} has a NaN or infinite coordinate", h + 1)));
+        if let Some(h) = self
+            .holes
+            .iter()
+            .position(|h| !h.iter().all(|c| c.is_finite()))
+        {
+            return Err(Error::Degenerate(format!(
+                "hole {} has a NaN or infinite coordinate",
+                h + 1
+            )));
         }
 
         // Exact duplicates: -0.0 and 0.0 are the same position.
@@ -85,11 +99,17 @@ impl Complex {
 
         let (crossings, on_segment) = self.intersections();
         if !crossings.is_empty() {
-            let pairs = crossings.into_iter().map(|(s, t)| (sid(s), sid(t))).collect();
+            let pairs = crossings
+                .into_iter()
+                .map(|(s, t)| (sid(s), sid(t)))
+                .collect();
             return Err(Error::CrossingSegments { pairs });
         }
         if !on_segment.is_empty() {
-            let pairs = on_segment.into_iter().map(|(v, s)| (vid(v), sid(s))).collect();
+            let pairs = on_segment
+                .into_iter()
+                .map(|(v, s)| (vid(v), sid(s)))
+                .collect();
             return Err(Error::VertexOnSegment { pairs });
         }
         Ok(())
@@ -100,7 +120,12 @@ impl Complex {
     /// collinear overlaps all put a vertex inside a segment.
     fn intersections(&self) -> (Vec<(usize, usize)>, Vec<(u32, usize)>) {
         let p = &self.points;
-        let seg = |s: usize| (p[self.segments[s][0] as usize], p[self.segments[s][1] as usize]);
+        let seg = |s: usize| {
+            (
+                p[self.segments[s][0] as usize],
+                p[self.segments[s][1] as usize],
+            )
+        };
         // Events by min x; at equal x segments come before points.
         let mut events: Vec<(f64, u8, usize)> = (0..self.segments.len())
             .map(|s| {
@@ -147,7 +172,9 @@ impl Complex {
                 let o2 = orient(a, b, d);
                 let o3 = orient(c, d, a);
                 let o4 = orient(c, d, b);
-                let strict = |x: Ordering, y: Ordering| x != Ordering::Equal && y != Ordering::Equal && x != y;
+                let strict = |x: Ordering, y: Ordering| {
+                    x != Ordering::Equal && y != Ordering::Equal && x != y
+                };
                 if strict(o1, o2) && strict(o3, o4) {
                     crossings.push((t.min(i), t.max(i)));
                 }
@@ -180,7 +207,10 @@ mod tests {
 
     #[test]
     fn a_square_is_valid() {
-        let c = cx(&[[0., 0.], [1., 0.], [1., 1.], [0., 1.]], &[[0, 1], [1, 2], [2, 3], [3, 0]]);
+        let c = cx(
+            &[[0., 0.], [1., 0.], [1., 1.], [0., 1.]],
+            &[[0, 1], [1, 2], [2, 3], [3, 0]],
+        );
         c.validate().unwrap();
     }
 
@@ -192,24 +222,36 @@ mod tests {
         assert!(matches!(e, Error::DuplicateVertices { ref pairs } if pairs == &[(0, 1)]));
         let e = cx(&[[0., 0.], [1., 0.]], &[[1, 1]]).validate().unwrap_err();
         assert!(matches!(e, Error::ZeroLengthSegments { ref segments } if segments == &[0]));
-        let e = cx(&[[0., 0.], [1., 0.]], &[[0, 1], [1, 0]]).validate().unwrap_err();
+        let e = cx(&[[0., 0.], [1., 0.]], &[[0, 1], [1, 0]])
+            .validate()
+            .unwrap_err();
         assert!(matches!(e, Error::RepeatedSegments { ref pairs } if pairs == &[(0, 1)]));
-        let e = cx(&[[0., 0.], [1., 1.], [0., 1.], [1., 0.]], &[[0, 1], [2, 3]]).validate().unwrap_err();
+        let e = cx(&[[0., 0.], [1., 1.], [0., 1.], [1., 0.]], &[[0, 1], [2, 3]])
+            .validate()
+            .unwrap_err();
         assert!(matches!(e, Error::CrossingSegments { ref pairs } if pairs == &[(0, 1)]));
         // T-junction: vertex 2 inside segment 0.
-        let e = cx(&[[0., 0.], [2., 0.], [1., 0.], [1., 1.]], &[[0, 1], [2, 3]]).validate().unwrap_err();
+        let e = cx(&[[0., 0.], [2., 0.], [1., 0.], [1., 1.]], &[[0, 1], [2, 3]])
+            .validate()
+            .unwrap_err();
         assert!(matches!(e, Error::VertexOnSegment { ref pairs } if pairs == &[(2, 0)]));
         // Collinear overlap sharing an endpoint.
-        let e = cx(&[[0., 0.], [2., 0.], [1., 0.]], &[[0, 1], [0, 2]]).validate().unwrap_err();
+        let e = cx(&[[0., 0.], [2., 0.], [1., 0.]], &[[0, 1], [0, 2]])
+            .validate()
+            .unwrap_err();
         assert!(matches!(e, Error::VertexOnSegment { .. }));
         // Vertical segment with a vertex at its min x.
-        let e = cx(&[[0., 0.], [0., 2.], [0., 1.]], &[[0, 1]]).validate().unwrap_err();
+        let e = cx(&[[0., 0.], [0., 2.], [0., 1.]], &[[0, 1]])
+            .validate()
+            .unwrap_err();
         assert!(matches!(e, Error::VertexOnSegment { ref pairs } if pairs == &[(2, 0)]));
     }
 
     #[test]
     fn one_ulp_off_the_segment_is_fine() {
         let y = f64::from_bits(1.0f64.to_bits() + 1);
-        cx(&[[0., 0.], [2., 2.], [1., y]], &[[0, 1]]).validate().unwrap();
+        cx(&[[0., 0.], [2., 2.], [1., y]], &[[0, 1]])
+            .validate()
+            .unwrap();
     }
 }

@@ -6,7 +6,6 @@ use crate::certify::{certify, Certificate};
 use crate::complex::Complex;
 use crate::domain::{self, Domain};
 use crate::error::{Error, Result};
-use crate::exact::{f, norm2, sub};
 use crate::mesh::Mesh;
 use crate::relocate::relocate;
 use crate::sites::{Role, Sites};
@@ -69,13 +68,18 @@ struct Clock(Instant, Vec<(String, f64)>);
 impl Clock {
     fn lap(&mut self, stage: &str) {
         let now = Instant::now();
-        self.1.push((stage.into(), (now - self.0).as_secs_f64() * 1e3));
+        self.1
+            .push((stage.into(), (now - self.0).as_secs_f64() * 1e3));
         self.0 = now;
     }
 }
 
 /// Builds the certified conforming orthogonal mesh of a complex.
-pub fn conform<B: Backend + ?Sized>(backend: &B, input: &Complex, opts: &Options) -> Result<Outcome> {
+pub fn conform<B: Backend + ?Sized>(
+    backend: &B,
+    input: &Complex,
+    opts: &Options,
+) -> Result<Outcome> {
     let start = Instant::now();
     let mut clock = Clock(start, vec![]);
     input.validate()?;
@@ -85,9 +89,15 @@ pub fn conform<B: Backend + ?Sized>(backend: &B, input: &Complex, opts: &Options
     let cx = &dom.complex;
     let wts = weights::solve(backend, &dom)?;
     clock.lap("weights");
-    let missing_dual: Vec<i64> = wts.sys3_failed.iter().map(|&s| cx.segment_ids[s as usize]).collect();
+    let missing_dual: Vec<i64> = wts
+        .sys3_failed
+        .iter()
+        .map(|&s| cx.segment_ids[s as usize])
+        .collect();
     if !missing_dual.is_empty() && !opts.allow_sites_outside {
-        return Err(Error::SegmentsMissTheirDuals { segments: missing_dual });
+        return Err(Error::SegmentsMissTheirDuals {
+            segments: missing_dual,
+        });
     }
     let mut sites = Sites::place(cx, &wts.w, &wts.rt, &wts.sys3_failed);
     clock.lap("sites");
@@ -95,7 +105,9 @@ pub fn conform<B: Backend + ?Sized>(backend: &B, input: &Complex, opts: &Options
     clock.lap("relocate");
     let outside_names: Vec<String> = rel.outside.iter().map(|&s| sites.describe(s, cx)).collect();
     if !rel.outside.is_empty() && !opts.allow_sites_outside {
-        return Err(Error::SitesOutsideCells { sites: outside_names });
+        return Err(Error::SitesOutsideCells {
+            sites: outside_names,
+        });
     }
     let fixed: Vec<_> = cx.points.iter().map(|&p| crate::exact::qp(p)).collect();
     let mesh = Mesh::from_diagram(&rel.diagram, &sites, &fixed)?;
@@ -104,9 +116,18 @@ pub fn conform<B: Backend + ?Sized>(backend: &B, input: &Complex, opts: &Options
     if !cert.conforms() {
         return Err(Error::Certificate(cert.problems.join("; ")));
     }
-    let domain_sites: Vec<usize> = (0..sites.len()).filter(|&s| rel.diagram.in_domain[s]).collect();
-    let site_inside: Vec<bool> = domain_sites.iter().map(|s| !rel.outside.contains(s)).collect();
-    let min_site_margin = if rel.outside.is_empty() { site_margin(&sites, &rel.rt, &mesh, &domain_sites) } else { 0.0 };
+    let domain_sites: Vec<usize> = (0..sites.len())
+        .filter(|&s| rel.diagram.in_domain[s])
+        .collect();
+    let site_inside: Vec<bool> = domain_sites
+        .iter()
+        .map(|s| !rel.outside.contains(s))
+        .collect();
+    let min_site_margin = if rel.outside.is_empty() {
+        site_margin(&sites, &rel.rt, &mesh, &domain_sites)
+    } else {
+        0.0
+    };
 
     let t0 = Instant::now();
     backend.regular(&input.points, &vec![0.0; input.points.len()])?;
@@ -122,9 +143,17 @@ pub fn conform<B: Backend + ?Sized>(backend: &B, input: &Complex, opts: &Options
         dropped_vertices: dom.dropped_vertices,
         dropped_segments: dom.dropped_segments,
         weights: wts.report.clone(),
-        segments_missing_dual: wts.sys3_failed.iter().map(|&s| cx.segment_ids[s as usize]).collect(),
+        segments_missing_dual: wts
+            .sys3_failed
+            .iter()
+            .map(|&s| cx.segment_ids[s as usize])
+            .collect(),
         sites: sites.len(),
-        vertex_sites: sites.role.iter().filter(|r| matches!(r, Role::Vertex { .. })).count(),
+        vertex_sites: sites
+            .role
+            .iter()
+            .filter(|r| matches!(r, Role::Vertex { .. }))
+            .count(),
         relocation_rounds: rel.rounds,
         min_site_margin,
         sites_outside: outside_names,
@@ -136,25 +165,36 @@ pub fn conform<B: Backend + ?Sized>(backend: &B, input: &Complex, opts: &Options
         timings_ms: clock.1,
         raw_triangulation_ms,
     };
-    Ok(Outcome { mesh, domain: dom, report, site_inside })
+    Ok(Outcome {
+        mesh,
+        domain: dom,
+        report,
+        site_inside,
+    })
 }
 
 /// Smallest (distance from site to a face of its cell) / sqrt(cell area)
 /// over the domain sites; the distance to the radical line of a and b is
 /// (|a - b|^2 + omega_a - omega_b) / (2 |a - b|).
-fn site_margin(sites: &Sites, rt: &crate::backend::Triangulation, mesh: &Mesh, domain_sites: &[usize]) -> f64 {
+fn site_margin(
+    sites: &Sites,
+    rt: &crate::backend::Triangulation,
+    mesh: &Mesh,
+    domain_sites: &[usize],
+) -> f64 {
     let nb = rt.neighbours(sites.len());
     domain_sites
         .iter()
         .zip(&mesh.cells)
         .map(|(&a, cell)| {
             let scale = mesh.area(cell).abs().sqrt();
+            let [xa, ya, wa] = sites.approx[a];
             nb[a]
                 .iter()
                 .map(|&b| {
-                    let d2 = norm2(&sub(&sites.pos[a], &sites.pos[b as usize]));
-                    let num = f(&(&d2 + &sites.weight[a] - &sites.weight[b as usize]));
-                    num / (2.0 * f(&d2).sqrt()) / scale
+                    let [xb, yb, wb] = sites.approx[b as usize];
+                    let d2 = (xa - xb).powi(2) + (ya - yb).powi(2);
+                    (d2 + wa - wb) / (2.0 * d2.sqrt()) / scale
                 })
                 .fold(f64::INFINITY, f64::min)
         })

@@ -39,7 +39,12 @@ impl Diagram {
 
     /// As `build`, reusing the power centres of triangles whose sites have
     /// not moved since the cache was filled (relocation rounds).
-    pub fn build_cached(dom: &Domain, sites: &Sites, rt: &Triangulation, cache: &mut CentreCache) -> Diagram {
+    pub fn build_cached(
+        dom: &Domain,
+        sites: &Sites,
+        rt: &Triangulation,
+        cache: &mut CentreCache,
+    ) -> Diagram {
         let mut index: HashMap<QPoint, u32> = HashMap::new();
         let mut points = vec![];
         let centre_id: Vec<u32> = rt
@@ -50,8 +55,11 @@ impl Diagram {
                 key.sort_unstable();
                 let c = cache.0.entry(key).or_insert_with(|| {
                     let [a, b, c] = tri.map(|v| v as usize);
-                    power_centre([&sites.pos[a], &sites.pos[b], &sites.pos[c]], [&sites.weight[a], &sites.weight[b], &sites.weight[c]])
-                        .expect("triangles of a regular triangulation are not flat")
+                    power_centre(
+                        [&sites.pos[a], &sites.pos[b], &sites.pos[c]],
+                        [&sites.weight[a], &sites.weight[b], &sites.weight[c]],
+                    )
+                    .expect("triangles of a regular triangulation are not flat")
                 });
                 match index.get(c) {
                     Some(&id) => id,
@@ -86,7 +94,11 @@ impl Diagram {
                 Some(ring)
             })
             .collect();
-        let mut d = Diagram { points, cells, in_domain: vec![] };
+        let mut d = Diagram {
+            points,
+            cells,
+            in_domain: vec![],
+        };
         d.in_domain = d.classify(dom, sites, rt, &centre_id);
         d
     }
@@ -94,7 +106,13 @@ impl Diagram {
     /// Cells reachable from each other without crossing a segment form
     /// components; a component is in the domain when it has no unbounded
     /// cell and an interior point of one of its cells is in the domain.
-    fn classify(&self, dom: &Domain, sites: &Sites, rt: &Triangulation, centre_id: &[u32]) -> Vec<bool> {
+    fn classify(
+        &self,
+        dom: &Domain,
+        sites: &Sites,
+        rt: &Triangulation,
+        centre_id: &[u32],
+    ) -> Vec<bool> {
         let n = sites.len();
         let pairs = sites.segment_pairs(dom.complex.segments.len());
         let mut partner = vec![u32::MAX; n];
@@ -163,17 +181,25 @@ impl Diagram {
 fn in_domain(dom: &Domain, x: &QPoint) -> bool {
     let xf = crate::exact::fp(x);
     let p = &dom.complex.points;
-    dom.cdt.triangles.iter().zip(&dom.inside).any(|(tri, &inside)| {
-        let [a, b, c] = tri.map(|v| p[v as usize]);
-        let lo = |k: usize| a[k].min(b[k]).min(c[k]);
-        let hi = |k: usize| a[k].max(b[k]).max(c[k]);
-        // cheap reject with a margin for the rounding of x, then exact
-        let slack = |k: usize| (hi(k) - lo(k)) * 1e-9 + xf[k].abs() * 1e-15;
-        if (0..2).any(|k| xf[k] < lo(k) - slack(k) || xf[k] > hi(k) + slack(k)) {
-            return false;
-        }
-        let (qa, qb, qc) = (qp(a), qp(b), qp(c));
-        let o = [orient_q(&qa, &qb, x), orient_q(&qb, &qc, x), orient_q(&qc, &qa, x)];
-        inside && o.iter().all(|&s| s != Ordering::Less)
-    })
+    dom.cdt
+        .triangles
+        .iter()
+        .zip(&dom.inside)
+        .any(|(tri, &inside)| {
+            let [a, b, c] = tri.map(|v| p[v as usize]);
+            let lo = |k: usize| a[k].min(b[k]).min(c[k]);
+            let hi = |k: usize| a[k].max(b[k]).max(c[k]);
+            // cheap reject with a margin for the rounding of x, then exact
+            let slack = |k: usize| (hi(k) - lo(k)) * 1e-9 + xf[k].abs() * 1e-15;
+            if (0..2).any(|k| xf[k] < lo(k) - slack(k) || xf[k] > hi(k) + slack(k)) {
+                return false;
+            }
+            let (qa, qb, qc) = (qp(a), qp(b), qp(c));
+            let o = [
+                orient_q(&qa, &qb, x),
+                orient_q(&qb, &qc, x),
+                orient_q(&qc, &qa, x),
+            ];
+            inside && o.iter().all(|&s| s != Ordering::Less)
+        })
 }

@@ -30,7 +30,10 @@ impl Domain {
         let inside = |t: Option<u32>| t.is_some_and(|t| self.inside[t as usize]);
         let mut out = vec![];
         for &[a, b] in &self.complex.segments {
-            match (inside(self.cdt.left_of(a, b)), inside(self.cdt.left_of(b, a))) {
+            match (
+                inside(self.cdt.left_of(a, b)),
+                inside(self.cdt.left_of(b, a)),
+            ) {
                 (true, false) => out.push((a, b)),
                 (false, true) => out.push((b, a)),
                 _ => {}
@@ -60,13 +63,19 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
     let mut cx = input.clone();
     let mut cdt = backend.constrained_delaunay(&cx.points, &cx.segments)?;
     if cdt.triangles.is_empty() {
-        return Err(Error::Degenerate("fewer than three vertices, or all vertices collinear".into()));
+        return Err(Error::Degenerate(
+            "fewer than three vertices, or all vertices collinear".into(),
+        ));
     }
     let mut inside = classify(&cx, &cdt);
     let mut hull_edges_added = 0;
     if !inside.iter().any(|&i| i) {
         // Nothing enclosed: mesh the convex hull, its edges become constraints.
-        let segs: HashSet<(u32, u32)> = cx.segments.iter().map(|s| (s[0].min(s[1]), s[0].max(s[1]))).collect();
+        let segs: HashSet<(u32, u32)> = cx
+            .segments
+            .iter()
+            .map(|s| (s[0].min(s[1]), s[0].max(s[1])))
+            .collect();
         let mut next_id = cx.segment_ids.iter().copied().max().unwrap_or(0) + 1;
         for (a, b) in hull_edges(&cdt) {
             if !segs.contains(&(a.min(b), a.max(b))) {
@@ -83,7 +92,9 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
         cdt = backend.constrained_delaunay(&cx.points, &cx.segments)?;
         inside = classify(&cx, &cdt);
         if !inside.iter().any(|&i| i) {
-            return Err(Error::Degenerate("the hole points remove the whole convex hull".into()));
+            return Err(Error::Degenerate(
+                "the hole points remove the whole convex hull".into(),
+            ));
         }
     }
 
@@ -98,15 +109,29 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
         }
     }
     let inside_at = |t: Option<u32>| t.is_some_and(|t| inside[t as usize]);
-    let keep_s: Vec<bool> =
-        cx.segments.iter().map(|&[a, b]| inside_at(cdt.left_of(a, b)) || inside_at(cdt.left_of(b, a))).collect();
+    let keep_s: Vec<bool> = cx
+        .segments
+        .iter()
+        .map(|&[a, b]| inside_at(cdt.left_of(a, b)) || inside_at(cdt.left_of(b, a)))
+        .collect();
     let dropped_vertices = keep_v.iter().filter(|&&k| !k).count();
     let dropped_segments = keep_s.iter().filter(|&&k| !k).count();
     if dropped_vertices == 0 && dropped_segments == 0 {
-        return Ok(Domain { complex: cx, cdt, inside, hull_edges_added, dropped_vertices, dropped_segments });
+        return Ok(Domain {
+            complex: cx,
+            cdt,
+            inside,
+            hull_edges_added,
+            dropped_vertices,
+            dropped_segments,
+        });
     }
     let mut map = vec![u32::MAX; n];
-    let mut rc = Complex { holes: cx.holes.clone(), notes: cx.notes.clone(), ..Default::default() };
+    let mut rc = Complex {
+        holes: cx.holes.clone(),
+        notes: cx.notes.clone(),
+        ..Default::default()
+    };
     for v in 0..n {
         if keep_v[v] {
             map[v] = rc.points.len() as u32;
@@ -125,7 +150,14 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
     ));
     let cdt = backend.constrained_delaunay(&rc.points, &rc.segments)?;
     let inside = classify(&rc, &cdt);
-    Ok(Domain { complex: rc, cdt, inside, hull_edges_added, dropped_vertices, dropped_segments })
+    Ok(Domain {
+        complex: rc,
+        cdt,
+        inside,
+        hull_edges_added,
+        dropped_vertices,
+        dropped_segments,
+    })
 }
 
 /// Directed convex-hull edges (interior on the left).
@@ -140,7 +172,11 @@ fn hull_edges(t: &Triangulation) -> Vec<(u32, u32)> {
 /// Triangle's eating: from the hull and from the hole points, across every
 /// edge that is not a segment. What is not eaten is the domain.
 fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
-    let segs: HashSet<(u32, u32)> = cx.segments.iter().map(|s| (s[0].min(s[1]), s[0].max(s[1]))).collect();
+    let segs: HashSet<(u32, u32)> = cx
+        .segments
+        .iter()
+        .map(|s| (s[0].min(s[1]), s[0].max(s[1])))
+        .collect();
     let is_seg = |a: u32, b: u32| segs.contains(&(a.min(b), a.max(b)));
     let mut eaten = vec![false; t.triangles.len()];
     let mut queue = VecDeque::new();
@@ -153,7 +189,10 @@ fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
     for h in &cx.holes {
         for (k, tri) in t.triangles.iter().enumerate() {
             let [a, b, c] = tri.map(|v| p[v as usize]);
-            if [orient(a, b, *h), orient(b, c, *h), orient(c, a, *h)].iter().all(|&o| o != Ordering::Less) {
+            if [orient(a, b, *h), orient(b, c, *h), orient(c, a, *h)]
+                .iter()
+                .all(|&o| o != Ordering::Less)
+            {
                 queue.push_back(k as u32);
             }
         }

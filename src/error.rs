@@ -13,7 +13,11 @@ pub enum Error {
     /// A file could not be read or written.
     Io { path: PathBuf, message: String },
     /// A file does not parse; `line` is 1-based.
-    Parse { path: PathBuf, line: usize, message: String },
+    Parse {
+        path: PathBuf,
+        line: usize,
+        message: String,
+    },
     /// Vertices with NaN or infinite coordinates.
     NonFinite { vertices: Vec<i64> },
     /// Pairs of vertices at the same position.
@@ -122,7 +126,9 @@ mod tests {
 
     #[test]
     fn long_lists_are_cut() {
-        let e = Error::ZeroLengthSegments { segments: (1..=25).collect() };
+        let e = Error::ZeroLengthSegments {
+            segments: (1..=25).collect(),
+        };
         let s = e.to_string();
         assert!(s.contains("20 and 5 more"), "{s}");
         assert!(!s.contains("21"));

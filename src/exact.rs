@@ -169,7 +169,11 @@ mod tests {
     #[test]
     fn diametral_disc_is_closed() {
         assert!(in_diametral_disc([-1.0, 0.0], [1.0, 0.0], [0.0, 1.0]));
-        assert!(!in_diametral_disc([-1.0, 0.0], [1.0, 0.0], [0.0, 1.0 + 1e-15]));
+        assert!(!in_diametral_disc(
+            [-1.0, 0.0],
+            [1.0, 0.0],
+            [0.0, 1.0 + 1e-15]
+        ));
     }
 
     #[test]

@@ -26,10 +26,12 @@ pub fn cavities(nx: usize, ny: usize, radius: f64) -> Complex {
     for j in 0..=ny * per {
         for i in 0..=nx * per {
             if j % per == 0 && i < nx * per {
-                cx.segments.push([index[&grid(i, j)], index[&grid(i + 1, j)]]);
+                cx.segments
+                    .push([index[&grid(i, j)], index[&grid(i + 1, j)]]);
             }
             if i % per == 0 && j < ny * per {
-                cx.segments.push([index[&grid(i, j)], index[&grid(i, j + 1)]]);
+                cx.segments
+                    .push([index[&grid(i, j)], index[&grid(i, j + 1)]]);
             }
         }
     }
@@ -40,8 +42,10 @@ pub fn cavities(nx: usize, ny: usize, radius: f64) -> Complex {
             let first = cx.points.len() as u32;
             for k in 0..n {
                 let a = std::f64::consts::TAU * (k as f64 + 0.5) / n as f64;
-                cx.points.push([c[0] + radius * a.cos(), c[1] + radius * a.sin()]);
-                cx.segments.push([first + k as u32, first + ((k + 1) % n) as u32]);
+                cx.points
+                    .push([c[0] + radius * a.cos(), c[1] + radius * a.sin()]);
+                cx.segments
+                    .push([first + k as u32, first + ((k + 1) % n) as u32]);
             }
             cx.holes.push(c);
         }

@@ -45,7 +45,11 @@ fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
 impl Mesh {
     /// Rounds the domain cells of a diagram. `fixed` are the exact points
     /// of the input vertices, which are never merged with each other.
-    pub fn from_diagram(diagram: &Diagram, sites: &Sites, fixed: &[crate::exact::QPoint]) -> Result<Mesh> {
+    pub fn from_diagram(
+        diagram: &Diagram,
+        sites: &Sites,
+        fixed: &[crate::exact::QPoint],
+    ) -> Result<Mesh> {
         let mut m = Mesh::default();
         // Exact vertex -> rounded point, for the vertices of domain cells.
         let used: Vec<u32> = {
@@ -58,12 +62,20 @@ impl Mesh {
             u
         };
         let fixed: std::collections::HashSet<&crate::exact::QPoint> = fixed.iter().collect();
-        let pts: Vec<[f64; 2]> = used.iter().map(|&v| fp(&diagram.points[v as usize])).collect();
+        let pts: Vec<[f64; 2]> = used
+            .iter()
+            .map(|&v| fp(&diagram.points[v as usize]))
+            .collect();
         let (lo, hi) = bbox(&pts);
         let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
         let tol = COLLAPSE * size;
         // Grid of cell size tol: close points are in neighbouring buckets.
-        let key = |p: [f64; 2]| [((p[0] - lo[0]) / tol).floor() as i64, ((p[1] - lo[1]) / tol).floor() as i64];
+        let key = |p: [f64; 2]| {
+            [
+                ((p[0] - lo[0]) / tol).floor() as i64,
+                ((p[1] - lo[1]) / tol).floor() as i64,
+            ]
+        };
         let mut grid: HashMap<[i64; 2], Vec<u32>> = HashMap::new();
         let mut map: HashMap<u32, u32> = HashMap::new();
         for (k, &v) in used.iter().enumerate() {
@@ -73,9 +85,15 @@ impl Mesh {
             let mut target = None;
             'search: for dx in -1..=1 {
                 for dy in -1..=1 {
-                    for &id in grid.get(&[g[0] + dx, g[1] + dy]).map(Vec::as_slice).unwrap_or(&[]) {
+                    for &id in grid
+                        .get(&[g[0] + dx, g[1] + dy])
+                        .map(Vec::as_slice)
+                        .unwrap_or(&[])
+                    {
                         let q = m.points[id as usize];
-                        if (q[0] - p[0]).hypot(q[1] - p[1]) <= tol && !(is_fixed && m.fixed[id as usize]) {
+                        if (q[0] - p[0]).hypot(q[1] - p[1]) <= tol
+                            && !(is_fixed && m.fixed[id as usize])
+                        {
                             target = Some(id);
                             break 'search;
                         }
@@ -148,7 +166,9 @@ impl Mesh {
         }
         let mut worst: f64 = 0.0;
         for (&(a, b), &c) in &owner {
-            let Some(&d) = owner.get(&(b, a)) else { continue };
+            let Some(&d) = owner.get(&(b, a)) else {
+                continue;
+            };
             let (pa, pb) = (self.points[a as usize], self.points[b as usize]);
             let (sc, sd) = (self.sites[c], self.sites[d]);
             let e = [pb[0] - pa[0], pb[1] - pa[1]];

@@ -25,18 +25,29 @@ pub struct Relocated {
 }
 
 /// Domain sites that are hidden or not strictly inside their cell.
-pub fn outside(sites: &Sites, rt: &Triangulation, diagram: &Diagram, dom_sites_only: bool) -> Vec<usize> {
+pub fn outside(
+    sites: &Sites,
+    rt: &Triangulation,
+    diagram: &Diagram,
+    dom_sites_only: bool,
+) -> Vec<usize> {
     let nb = rt.neighbours(sites.len());
     let hidden: std::collections::HashSet<u32> = rt.hidden.iter().copied().collect();
     (0..sites.len())
         .filter(|&a| !dom_sites_only || diagram.in_domain[a] || hidden.contains(&(a as u32)))
-        .filter(|&a| hidden.contains(&(a as u32)) || nb[a].iter().any(|&b| !inside_wrt(sites, a, b as usize)))
+        .filter(|&a| {
+            hidden.contains(&(a as u32)) || nb[a].iter().any(|&b| !inside_wrt(sites, a, b as usize))
+        })
         .collect()
 }
 
 /// Builds the site diagram, moving sites until all domain sites are inside
 /// their cells or no site can move.
-pub fn relocate<B: Backend + ?Sized>(backend: &B, dom: &Domain, sites: &mut Sites) -> Result<Relocated> {
+pub fn relocate<B: Backend + ?Sized>(
+    backend: &B,
+    dom: &Domain,
+    sites: &mut Sites,
+) -> Result<Relocated> {
     let mut round = 0;
     let mut cache = CentreCache::default();
     loop {
@@ -53,7 +64,12 @@ pub fn relocate<B: Backend + ?Sized>(backend: &B, dom: &Domain, sites: &mut Site
         }
         cache.forget(&moved);
         if out.is_empty() || moved.is_empty() {
-            return Ok(Relocated { rt, diagram, rounds: round, outside: out });
+            return Ok(Relocated {
+                rt,
+                diagram,
+                rounds: round,
+                outside: out,
+            });
         }
         round += 1;
     }

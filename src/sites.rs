@@ -6,7 +6,10 @@
 
 use crate::backend::Triangulation;
 use crate::complex::Complex;
-use crate::exact::{add, cross, dot, is_pos, norm2, one, power_centre, q, qi, qp, ratio, round, scale, sub, zero, QPoint, Q};
+use crate::exact::{
+    add, cross, dot, is_pos, norm2, one, power_centre, q, qi, qp, ratio, round, scale, sub, zero,
+    QPoint, Q,
+};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
@@ -37,6 +40,8 @@ pub struct Sites {
     pub pos: Vec<QPoint>,
     pub weight: Vec<Q>,
     pub role: Vec<Role>,
+    /// Nearest doubles of (x, y, weight), for filters and reports.
+    pub approx: Vec<[f64; 3]>,
     track: Vec<Track>,
     /// Position on the track as the fraction (t - ta) / (tb - ta).
     frac: Vec<Q>,
@@ -60,7 +65,11 @@ impl Sites {
     pub fn place(cx: &Complex, w: &[f64], rt: &Triangulation, sys3_failed: &[u32]) -> Sites {
         let points: Vec<QPoint> = cx.points.iter().map(|&p| qp(p)).collect();
         let weights: Vec<Q> = w.iter().map(|&x| q(x)).collect();
-        let mut s = Sites { points, weights, ..Default::default() };
+        let mut s = Sites {
+            points,
+            weights,
+            ..Default::default()
+        };
         let failed: std::collections::HashSet<u32> = sys3_failed.iter().copied().collect();
         for (k, &[i, j]) in cx.segments.iter().enumerate() {
             let (base, dir, tl, tr) = s.dual_line(rt, i, j);
@@ -70,8 +79,22 @@ impl Sites {
                 let ta = tr.unwrap_or_else(|| tl.clone().unwrap() - qi(2));
                 let tb = tl.unwrap_or_else(|| ta.clone() + qi(2));
                 for (left, fr) in [(true, (2i64, 3i64)), (false, (1, 3))] {
-                    let tk = Track { base: base.clone(), dir: dir.clone(), ta: ta.clone(), tb: tb.clone(), anchor: i };
-                    s.push(Role::Segment { seg: k as u32, left }, tk, ratio(fr.0, fr.1), false);
+                    let tk = Track {
+                        base: base.clone(),
+                        dir: dir.clone(),
+                        ta: ta.clone(),
+                        tb: tb.clone(),
+                        anchor: i,
+                    };
+                    s.push(
+                        Role::Segment {
+                            seg: k as u32,
+                            left,
+                        },
+                        tk,
+                        ratio(fr.0, fr.1),
+                        false,
+                    );
                 }
             } else {
                 // Left site in (0, tl), right in (tr, 0); a ray is cut at |e|.
@@ -80,8 +103,22 @@ impl Sites {
                 let tb_right = tr.unwrap_or_else(|| -one.clone());
                 let half = ratio(1, 2);
                 for (left, tb) in [(true, tb_left), (false, tb_right)] {
-                    let tk = Track { base: base.clone(), dir: dir.clone(), ta: zero.clone(), tb, anchor: i };
-                    s.push(Role::Segment { seg: k as u32, left }, tk, half.clone(), true);
+                    let tk = Track {
+                        base: base.clone(),
+                        dir: dir.clone(),
+                        ta: zero.clone(),
+                        tb,
+                        anchor: i,
+                    };
+                    s.push(
+                        Role::Segment {
+                            seg: k as u32,
+                            left,
+                        },
+                        tk,
+                        half.clone(),
+                        true,
+                    );
                 }
             }
         }
@@ -91,6 +128,11 @@ impl Sites {
 
     fn push(&mut self, role: Role, track: Track, frac: Q, movable: bool) {
         let (pos, weight) = self.at(&track, &frac);
+        self.approx.push([
+            crate::exact::f(&pos[0]),
+            crate::exact::f(&pos[1]),
+            crate::exact::f(&weight),
+        ]);
         self.pos.push(pos);
         self.weight.push(weight);
         self.role.push(role);
@@ -106,7 +148,11 @@ impl Sites {
         let exact_t = &tk.ta + (&tk.tb - &tk.ta) * frac;
         let short = round(&exact_t);
         let inside = |t: &Q| {
-            let (lo, hi) = if tk.ta < tk.tb { (&tk.ta, &tk.tb) } else { (&tk.tb, &tk.ta) };
+            let (lo, hi) = if tk.ta < tk.tb {
+                (&tk.ta, &tk.tb)
+            } else {
+                (&tk.tb, &tk.ta)
+            };
             t > lo && t < hi
         };
         let t = if inside(&short) { short } else { exact_t };
@@ -119,7 +165,12 @@ impl Sites {
     /// The radical line of (i, j) as base + t n, with n the left normal of
     /// i -> j, and the parameters of the power centres of the triangles left
     /// and right of i -> j (None: that side is a ray).
-    fn dual_line(&self, rt: &Triangulation, i: u32, j: u32) -> (QPoint, QPoint, Option<Q>, Option<Q>) {
+    fn dual_line(
+        &self,
+        rt: &Triangulation,
+        i: u32,
+        j: u32,
+    ) -> (QPoint, QPoint, Option<Q>, Option<Q>) {
         let (pi, pj) = (&self.points[i as usize], &self.points[j as usize]);
         let (wi, wj) = (&self.weights[i as usize], &self.weights[j as usize]);
         let u = sub(pj, pi);
@@ -143,8 +194,11 @@ impl Sites {
             .entry(t)
             .or_insert_with(|| {
                 let [a, b, c] = rt.triangles[t as usize].map(|v| v as usize);
-                power_centre([&self.points[a], &self.points[b], &self.points[c]], [&self.weights[a], &self.weights[b], &self.weights[c]])
-                    .expect("triangles of a regular triangulation are not flat")
+                power_centre(
+                    [&self.points[a], &self.points[b], &self.points[c]],
+                    [&self.weights[a], &self.weights[b], &self.weights[c]],
+                )
+                .expect("triangles of a regular triangulation are not flat")
             })
             .clone()
     }
@@ -155,8 +209,11 @@ impl Sites {
         let degree = cx.degrees();
         let n = cx.points.len();
         let nb = rt.neighbours(n);
-        let segs: std::collections::HashSet<(u32, u32)> =
-            cx.segments.iter().map(|s| (s[0].min(s[1]), s[0].max(s[1]))).collect();
+        let segs: std::collections::HashSet<(u32, u32)> = cx
+            .segments
+            .iter()
+            .map(|s| (s[0].min(s[1]), s[0].max(s[1])))
+            .collect();
         let mut other_end = vec![u32::MAX; n];
         for &[a, b] in &cx.segments {
             other_end[a as usize] = b;
@@ -186,9 +243,21 @@ impl Sites {
                     (None, Some(b)) => (b.clone() - one(), b),
                     (None, None) => continue,
                 };
-                cands.push((k, Track { base, dir, ta, tb, anchor: i }));
+                cands.push((
+                    k,
+                    Track {
+                        base,
+                        dir,
+                        ta,
+                        tb,
+                        anchor: i,
+                    },
+                ));
             }
-            let dirs: Vec<QPoint> = cands.iter().map(|(k, _)| sub(&self.points[*k as usize], pi)).collect();
+            let dirs: Vec<QPoint> = cands
+                .iter()
+                .map(|(k, _)| sub(&self.points[*k as usize], pi))
+                .collect();
             let chosen: Vec<usize> = if want == 1 {
                 // The edge pointing most away from the segment.
                 let away = sub(&self.points[other_end[i as usize] as usize], pi);
@@ -196,16 +265,29 @@ impl Sites {
                     let c = crate::exact::f(&dot(d, &away));
                     c / (crate::exact::f(&norm2(d)).sqrt() + f64::MIN_POSITIVE)
                 };
-                (0..cands.len()).min_by(|&a, &b| score(&dirs[a]).total_cmp(&score(&dirs[b]))).into_iter().collect()
+                (0..cands.len())
+                    .min_by(|&a, &b| score(&dirs[a]).total_cmp(&score(&dirs[b])))
+                    .into_iter()
+                    .collect()
             } else {
-                spanning_triple(&dirs).map(|t| t.to_vec()).unwrap_or_default()
+                spanning_triple(&dirs)
+                    .map(|t| t.to_vec())
+                    .unwrap_or_default()
             };
             if chosen.is_empty() {
                 // No usable dual edges (a vertex where diagonals cross, or all
                 // its edges are constraints): points inside its power cell
                 // serve it just as well (Theorem 1 only needs them in the cell).
                 for tk in self.in_cell_tracks(rt, i, want) {
-                    self.push(Role::Vertex { edge: (i, i), serves: vec![i] }, tk, ratio(1, 2), true);
+                    self.push(
+                        Role::Vertex {
+                            edge: (i, i),
+                            serves: vec![i],
+                        },
+                        tk,
+                        ratio(1, 2),
+                        true,
+                    );
                 }
                 continue;
             }
@@ -219,7 +301,15 @@ impl Sites {
                     continue;
                 }
                 on_edge.insert(key, self.pos.len());
-                self.push(Role::Vertex { edge: key, serves: vec![i] }, tk, ratio(1, 2), true);
+                self.push(
+                    Role::Vertex {
+                        edge: key,
+                        serves: vec![i],
+                    },
+                    tk,
+                    ratio(1, 2),
+                    true,
+                );
             }
         }
     }
@@ -241,18 +331,36 @@ impl Sites {
             return vec![];
         }
         let k = qi(corners.len() as i64);
-        let g = [corners.iter().map(|c| &c[0]).sum::<Q>() / &k, corners.iter().map(|c| &c[1]).sum::<Q>() / &k];
+        let g = [
+            corners.iter().map(|c| &c[0]).sum::<Q>() / &k,
+            corners.iter().map(|c| &c[1]).sum::<Q>() / &k,
+        ];
         // the first corner, the farthest from it, and the farthest from their line
-        let far = |from: &QPoint| (0..corners.len()).max_by_key(|&c| norm2(&sub(&corners[c], from))).unwrap();
+        let far = |from: &QPoint| {
+            (0..corners.len())
+                .max_by_key(|&c| norm2(&sub(&corners[c], from)))
+                .unwrap()
+        };
         let a = 0;
         let b = far(&corners[a]);
         let c = (0..corners.len())
-            .max_by_key(|&c| crate::exact::abs(&cross(&sub(&corners[b], &corners[a]), &sub(&corners[c], &corners[a]))))
+            .max_by_key(|&c| {
+                crate::exact::abs(&cross(
+                    &sub(&corners[b], &corners[a]),
+                    &sub(&corners[c], &corners[a]),
+                ))
+            })
             .unwrap();
         [a, b, c]
             .iter()
             .take(count)
-            .map(|&k| Track { base: g.clone(), dir: sub(&corners[k], &g), ta: zero(), tb: one(), anchor: i })
+            .map(|&k| Track {
+                base: g.clone(),
+                dir: sub(&corners[k], &g),
+                ta: zero(),
+                tb: one(),
+                anchor: i,
+            })
             .collect()
     }
 
@@ -272,7 +380,9 @@ impl Sites {
                 f
             }
             Role::Vertex { .. } => {
-                let at = VERTEX_FRACS.iter().position(|&(a, b)| ratio(a, b) == self.frac[s]);
+                let at = VERTEX_FRACS
+                    .iter()
+                    .position(|&(a, b)| ratio(a, b) == self.frac[s]);
                 match at.map(|k| k + 1).filter(|&k| k < VERTEX_FRACS.len()) {
                     Some(k) => ratio(VERTEX_FRACS[k].0, VERTEX_FRACS[k].1),
                     None => return false,
@@ -280,6 +390,11 @@ impl Sites {
             }
         };
         let (pos, weight) = self.at(&self.track[s], &next);
+        self.approx[s] = [
+            crate::exact::f(&pos[0]),
+            crate::exact::f(&pos[1]),
+            crate::exact::f(&weight),
+        ];
         self.pos[s] = pos;
         self.weight[s] = weight;
         self.frac[s] = next;
@@ -295,7 +410,10 @@ impl Sites {
                 cx.segment_ids[*seg as usize]
             ),
             Role::Vertex { serves, .. } => {
-                let ids: Vec<String> = serves.iter().map(|&v| cx.vertex_ids[v as usize].to_string()).collect();
+                let ids: Vec<String> = serves
+                    .iter()
+                    .map(|&v| cx.vertex_ids[v as usize].to_string())
+                    .collect();
                 format!("site {s} (extra site of vertex {})", ids.join(", "))
             }
         }
@@ -323,7 +441,10 @@ impl Sites {
 
 /// Three directions that positively span the plane, as spread as possible.
 fn spanning_triple(dirs: &[QPoint]) -> Option<[usize; 3]> {
-    let ang: Vec<f64> = dirs.iter().map(|d| crate::exact::f(&d[1]).atan2(crate::exact::f(&d[0]))).collect();
+    let ang: Vec<f64> = dirs
+        .iter()
+        .map(|d| crate::exact::f(&d[1]).atan2(crate::exact::f(&d[0])))
+        .collect();
     let mut best: Option<([usize; 3], f64)> = None;
     for a in 0..dirs.len() {
         for b in a + 1..dirs.len() {
@@ -331,13 +452,18 @@ fn spanning_triple(dirs: &[QPoint]) -> Option<[usize; 3]> {
                 // Positively spanning iff the origin is strictly inside the
                 // triangle of the three directions (exact).
                 let o = [zero(), zero()];
-                let sides = [(a, b), (b, c), (c, a)].map(|(x, y)| cross(&sub(&dirs[y], &dirs[x]), &sub(&o, &dirs[x])).cmp(&zero()));
-                if !(sides.iter().all(|&s| s == Ordering::Greater) || sides.iter().all(|&s| s == Ordering::Less)) {
+                let sides = [(a, b), (b, c), (c, a)]
+                    .map(|(x, y)| cross(&sub(&dirs[y], &dirs[x]), &sub(&o, &dirs[x])).cmp(&zero()));
+                if !(sides.iter().all(|&s| s == Ordering::Greater)
+                    || sides.iter().all(|&s| s == Ordering::Less))
+                {
                     continue;
                 }
                 let mut t = [ang[a], ang[b], ang[c]];
                 t.sort_by(f64::total_cmp);
-                let gap = (t[1] - t[0]).max(t[2] - t[1]).max(t[0] + std::f64::consts::TAU - t[2]);
+                let gap = (t[1] - t[0])
+                    .max(t[2] - t[1])
+                    .max(t[0] + std::f64::consts::TAU - t[2]);
                 if best.as_ref().is_none_or(|(_, g)| gap < *g) {
                     best = Some(([a, b, c], gap));
                 }
@@ -348,8 +474,20 @@ fn spanning_triple(dirs: &[QPoint]) -> Option<[usize; 3]> {
 }
 
 /// Whether site a lies strictly inside its cell with respect to neighbour b:
-/// |a - b|^2 + omega_a - omega_b > 0.
+/// |a - b|^2 + omega_a - omega_b > 0. Decided in doubles when a bound on
+/// their error allows it, exactly otherwise.
 pub fn inside_wrt(sites: &Sites, a: usize, b: usize) -> bool {
+    let ([xa, ya, wa], [xb, yb, wb]) = (sites.approx[a], sites.approx[b]);
+    let v = (xa - xb) * (xa - xb) + (ya - yb) * (ya - yb) + wa - wb;
+    // Each input is within a relative 2^-53 of its exact value; 16 ulps of
+    // the magnitudes involved bound the error of v generously.
+    let bound = 16.0
+        * f64::EPSILON
+        * ((xa.abs() + xb.abs()).powi(2) + (ya.abs() + yb.abs()).powi(2) + wa.abs() + wb.abs());
+    // (Tiny magnitudes could be subnormal, where that bound fails: exact.)
+    if v.is_finite() && bound.is_finite() && bound > 1e-280 && v.abs() > bound {
+        return v > 0.0;
+    }
     let d = norm2(&sub(&sites.pos[a], &sites.pos[b]));
     is_pos(&(d + &sites.weight[a] - &sites.weight[b]))
 }

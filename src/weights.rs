@@ -71,12 +71,29 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
     let n = cx.points.len();
     let zero = vec![0.0; n];
     let rt0 = backend.regular(&cx.points, &zero)?;
-    if conforms(cx, &rt0).is_ok() && cx.segments.iter().all(|s| strictly_gabriel(cx, &rt0, s[0], s[1])) {
-        let report = WeightsReport { method: "zero".into(), system3_feasible: true, ..Default::default() };
-        return Ok(Weights { w: zero, rt: rt0, report, sys3_failed: vec![] });
+    if conforms(cx, &rt0).is_ok()
+        && cx
+            .segments
+            .iter()
+            .all(|s| strictly_gabriel(cx, &rt0, s[0], s[1]))
+    {
+        let report = WeightsReport {
+            method: "zero".into(),
+            system3_feasible: true,
+            ..Default::default()
+        };
+        return Ok(Weights {
+            w: zero,
+            rt: rt0,
+            report,
+            sys3_failed: vec![],
+        });
     }
     let l2 = shortest_edge2(cx, &dom.cdt);
-    let mut report = WeightsReport { method: "local".into(), ..Default::default() };
+    let mut report = WeightsReport {
+        method: "local".into(),
+        ..Default::default()
+    };
     let local = local_system(cx, &dom.cdt, &l2);
     // The local form fixes the triangulation, so its failures are no verdict.
     if let Attempt::Found(found) = attempt(backend, cx, &local, &mut report)? {
@@ -100,7 +117,12 @@ struct Found {
 fn finish(found: Found, mut report: WeightsReport) -> Result<Weights> {
     report.max_abs_weight = found.w.iter().fold(0.0, |m, w| m.max(w.abs()));
     report.system3_feasible = found.sys3_failed.is_empty();
-    Ok(Weights { w: found.w, rt: found.rt, report, sys3_failed: found.sys3_failed })
+    Ok(Weights {
+        w: found.w,
+        rt: found.rt,
+        report,
+        sys3_failed: found.sys3_failed,
+    })
 }
 
 /// Which rows a row belongs to.
@@ -132,9 +154,15 @@ struct System {
 /// every segment against the apexes of `t` beside it.
 fn local_system(cx: &Complex, t: &Triangulation, l2: &[f64]) -> System {
     let p = &cx.points;
-    let mut sys = System { n: p.len(), l2: l2.to_vec(), ..Default::default() };
+    let mut sys = System {
+        n: p.len(),
+        l2: l2.to_vec(),
+        ..Default::default()
+    };
     for (a, b) in t.edges() {
-        let (Some(tl), Some(tr)) = (t.left_of(a, b), t.left_of(b, a)) else { continue };
+        let (Some(tl), Some(tr)) = (t.left_of(a, b), t.left_of(b, a)) else {
+            continue;
+        };
         let c = t.apex(tl, a, b);
         let d = t.apex(tr, b, a);
         sys.rows.push(convexity_row(p, a, b, c, d));
@@ -182,15 +210,27 @@ fn sys3_rows(sys: &mut System, p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &
     let l = u[0] * u[0] + u[1] * u[1];
     let fam = Family::Sys3(s);
     let (i, j) = (i as usize, j as usize);
-    sys.rows.push(Row { terms: vec![(i, -1.0 / l), (j, 1.0 / l)], rhs: -1.0, family: fam });
-    sys.rows.push(Row { terms: vec![(i, 1.0 / l), (j, -1.0 / l)], rhs: -1.0, family: fam });
+    sys.rows.push(Row {
+        terms: vec![(i, -1.0 / l), (j, 1.0 / l)],
+        rhs: -1.0,
+        family: fam,
+    });
+    sys.rows.push(Row {
+        terms: vec![(i, 1.0 / l), (j, -1.0 / l)],
+        rhs: -1.0,
+        family: fam,
+    });
     for &m in others {
         let pm = p[m as usize];
         let r = [pm[0] - pi[0], pm[1] - pi[1]];
         let ur = u[0] * r[0] + u[1] * r[1];
         let rr = r[0] * r[0] + r[1] * r[1];
         sys.rows.push(Row {
-            terms: vec![(i, (1.0 - ur / l) / l), (j, ur / l / l), (m as usize, -1.0 / l)],
+            terms: vec![
+                (i, (1.0 - ur / l) / l),
+                (j, ur / l / l),
+                (m as usize, -1.0 / l),
+            ],
             rhs: -(rr - ur) / l,
             family: fam,
         });
@@ -200,7 +240,14 @@ fn sys3_rows(sys: &mut System, p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &
 /// The supporting-plane rows of segment s = (i, j) (or, with j == i, of an
 /// isolated vertex): the plane through the lifts of i (and j), relative to
 /// p_i, has free slopes in two auxiliary columns; every m lies above it.
-fn plane_rows(sys: &mut System, p: &[[f64; 2]], i: u32, j: Option<u32>, others: &[u32], scale2: f64) -> usize {
+fn plane_rows(
+    sys: &mut System,
+    p: &[[f64; 2]],
+    i: u32,
+    j: Option<u32>,
+    others: &[u32],
+    scale2: f64,
+) -> usize {
     let a0 = sys.n + sys.aux;
     sys.aux += 2;
     let pi = p[i as usize];
@@ -209,7 +256,12 @@ fn plane_rows(sys: &mut System, p: &[[f64; 2]], i: u32, j: Option<u32>, others: 
         // a.u + w_j - w_i = |u|^2, scaled by 1/L.
         let u = rel(j);
         sys.eqs.push(Row {
-            terms: vec![(a0, u[0] / scale2), (a0 + 1, u[1] / scale2), (j as usize, 1.0 / scale2), (i as usize, -1.0 / scale2)],
+            terms: vec![
+                (a0, u[0] / scale2),
+                (a0 + 1, u[1] / scale2),
+                (j as usize, 1.0 / scale2),
+                (i as usize, -1.0 / scale2),
+            ],
             rhs: (u[0] * u[0] + u[1] * u[1]) / scale2,
             family: Family::Sys1,
         });
@@ -218,7 +270,12 @@ fn plane_rows(sys: &mut System, p: &[[f64; 2]], i: u32, j: Option<u32>, others: 
         let r = rel(m);
         // |r|^2 - w_m + w_i - a.r >= delta * scale2
         sys.rows.push(Row {
-            terms: vec![(m as usize, -1.0 / scale2), (i as usize, 1.0 / scale2), (a0, -r[0] / scale2), (a0 + 1, -r[1] / scale2)],
+            terms: vec![
+                (m as usize, -1.0 / scale2),
+                (i as usize, 1.0 / scale2),
+                (a0, -r[0] / scale2),
+                (a0 + 1, -r[1] / scale2),
+            ],
             rhs: -(r[0] * r[0] + r[1] * r[1]) / scale2,
             family: Family::Sys1,
         });
@@ -240,7 +297,13 @@ struct Solution {
     w: Vec<f64>,
 }
 
-fn run(sys: &System, with3: bool, k: Option<f64>, mode: &Mode, report: &mut WeightsReport) -> Result<Solution> {
+fn run(
+    sys: &System,
+    with3: bool,
+    k: Option<f64>,
+    mode: &Mode,
+    report: &mut WeightsReport,
+) -> Result<Solution> {
     let mut pb = RowProblem::default();
     let bound = |b: f64| (Bound::Included(-b), Bound::Included(b));
     let free = (Bound::<f64>::Unbounded, Bound::<f64>::Unbounded);
@@ -250,10 +313,14 @@ fn run(sys: &System, with3: bool, k: Option<f64>, mode: &Mode, report: &mut Weig
     let aux: Vec<_> = (0..sys.aux).map(|_| pb.add_column(0.0, free)).collect();
     let col = |c: usize| if c < sys.n { w[c] } else { aux[c - sys.n] };
     let (delta, sense) = match mode {
-        Mode::Margin => (pb.add_column(1.0, (Bound::Unbounded, Bound::Included(1.0))), Sense::Maximise),
-        Mode::Regularise { delta_min } | Mode::Elastic { delta_min } => {
-            (pb.add_column(0.0, *delta_min..=1.0f64.max(*delta_min)), Sense::Minimise)
-        }
+        Mode::Margin => (
+            pb.add_column(1.0, (Bound::Unbounded, Bound::Included(1.0))),
+            Sense::Maximise,
+        ),
+        Mode::Regularise { delta_min } | Mode::Elastic { delta_min } => (
+            pb.add_column(0.0, *delta_min..=1.0f64.max(*delta_min)),
+            Sense::Minimise,
+        ),
     };
     if let Mode::Regularise { .. } = mode {
         for i in 0..sys.n {
@@ -286,21 +353,31 @@ fn run(sys: &System, with3: bool, k: Option<f64>, mode: &Mode, report: &mut Weig
     report.lp_cols = report.lp_cols.max(pb.num_cols());
     report.lp_solves += 1;
     let big = pb.num_rows() > 20_000;
-    let mut model = pb.try_optimise(sense).map_err(|e| Error::Lp(format!("building the LP: {e:?}")))?;
+    let mut model = pb
+        .try_optimise(sense)
+        .map_err(|e| Error::Lp(format!("building the LP: {e:?}")))?;
     model.make_quiet();
     // Measured: dual simplex stalls on large sparse systems of this shape
     // where interior point finishes in seconds (method.md section 2).
     model.set_option("solver", if big { "ipm" } else { "simplex" });
     model.set_option("time_limit", 600.0);
-    let solved = model.try_solve().map_err(|e| Error::Lp(format!("HiGHS: {e:?}")))?;
+    let solved = model
+        .try_solve()
+        .map_err(|e| Error::Lp(format!("HiGHS: {e:?}")))?;
     let status = solved.status();
     report.lp_status = format!("{status:?}");
     match status {
         HighsModelStatus::Optimal => {
             let cols = solved.get_solution().columns().to_vec();
-            Ok(Solution { delta: cols[delta.index()], w: cols[..sys.n].to_vec() })
+            Ok(Solution {
+                delta: cols[delta.index()],
+                w: cols[..sys.n].to_vec(),
+            })
         }
-        HighsModelStatus::Infeasible => Ok(Solution { delta: f64::NEG_INFINITY, w: vec![] }),
+        HighsModelStatus::Infeasible => Ok(Solution {
+            delta: f64::NEG_INFINITY,
+            w: vec![],
+        }),
         s => Err(Error::Lp(format!("HiGHS ended with status {s:?}"))),
     }
 }
@@ -330,12 +407,29 @@ enum Attempt {
 
 /// One attempt on a row system: system 1 + 3; else system 1 with system 3
 /// elastic (as few segments as possible missing their duals).
-fn attempt<B: Backend + ?Sized>(backend: &B, cx: &Complex, sys: &System, report: &mut WeightsReport) -> Result<Attempt> {
+fn attempt<B: Backend + ?Sized>(
+    backend: &B,
+    cx: &Complex,
+    sys: &System,
+    report: &mut WeightsReport,
+) -> Result<Attempt> {
     let (m3, k3) = margin(sys, true, report)?;
     let (w, lp_sys3) = if m3 > TRUST {
         report.margin = Some(m3);
         report.bound_k = k3;
-        (run(sys, true, k3, &Mode::Regularise { delta_min: m3 / 2.0 }, report)?.w, true)
+        (
+            run(
+                sys,
+                true,
+                k3,
+                &Mode::Regularise {
+                    delta_min: m3 / 2.0,
+                },
+                report,
+            )?
+            .w,
+            true,
+        )
     } else {
         let (m1, k1) = margin(sys, false, report)?;
         report.margin = Some(m1);
@@ -343,20 +437,38 @@ fn attempt<B: Backend + ?Sized>(backend: &B, cx: &Complex, sys: &System, report:
         if m1 <= TRUST {
             return Ok(Attempt::Sys1Infeasible);
         }
-        (run(sys, true, k1, &Mode::Elastic { delta_min: m1 / 2.0 }, report)?.w, false)
+        (
+            run(
+                sys,
+                true,
+                k1,
+                &Mode::Elastic {
+                    delta_min: m1 / 2.0,
+                },
+                report,
+            )?
+            .w,
+            false,
+        )
     };
     let rt = backend.regular(&cx.points, &w)?;
     if conforms(cx, &rt).is_err() {
         return Ok(Attempt::NotConforming(w));
     }
     let sys3_failed = sys3_failures(cx, &w, &rt);
-    Ok(Attempt::Found(Found { w, rt, sys3_failed, lp_sys3 }))
+    Ok(Attempt::Found(Found {
+        w,
+        rt,
+        sys3_failed,
+        lp_sys3,
+    }))
 }
 
 /// Ok, or the segments missing from `rt` (and hidden vertices as Err too).
 fn conforms(cx: &Complex, rt: &Triangulation) -> std::result::Result<(), (Vec<u32>, Vec<u32>)> {
-    let missing: Vec<u32> =
-        (0..cx.segments.len() as u32).filter(|&s| !rt.has_edge(cx.segments[s as usize][0], cx.segments[s as usize][1])).collect();
+    let missing: Vec<u32> = (0..cx.segments.len() as u32)
+        .filter(|&s| !rt.has_edge(cx.segments[s as usize][0], cx.segments[s as usize][1]))
+        .collect();
     if missing.is_empty() && rt.hidden.is_empty() {
         Ok(())
     } else {
@@ -368,10 +480,14 @@ fn conforms(cx: &Complex, rt: &Triangulation) -> std::result::Result<(), (Vec<u3
 /// triangulation: both apexes outside the closed diametral disc.
 fn strictly_gabriel(cx: &Complex, dt: &Triangulation, i: u32, j: u32) -> bool {
     let p = &cx.points;
-    [(i, j), (j, i)].iter().all(|&(a, b)| match dt.left_of(a, b) {
-        Some(t) => !in_diametral_disc(p[i as usize], p[j as usize], p[dt.apex(t, a, b) as usize]),
-        None => true,
-    })
+    [(i, j), (j, i)]
+        .iter()
+        .all(|&(a, b)| match dt.left_of(a, b) {
+            Some(t) => {
+                !in_diametral_disc(p[i as usize], p[j as usize], p[dt.apex(t, a, b) as usize])
+            }
+            None => true,
+        })
 }
 
 /// Segments of `rt` that do not cross their dual edge, decided exactly:
@@ -391,7 +507,8 @@ pub fn sys3_failures(cx: &Complex, w: &[f64], rt: &Triangulation) -> Vec<u32> {
                 let m = rt.apex(t, a, b);
                 let r = sub(&qp(p[m as usize]), &pi);
                 // L * (pi(q; m) - pi(q; i)) > 0
-                let v: Q = &l * norm2(&r) - (&l + &d) * dot(&u, &r) + &l * (q(w[i as usize]) - q(w[m as usize]));
+                let v: Q = &l * norm2(&r) - (&l + &d) * dot(&u, &r)
+                    + &l * (q(w[i as usize]) - q(w[m as usize]));
                 ok &= is_pos(&v);
             }
         }
@@ -413,13 +530,20 @@ fn shortest_edge2(cx: &Complex, t: &Triangulation) -> Vec<f64> {
             l2[v as usize] = l2[v as usize].min(d);
         }
     }
-    l2.iter().map(|&d| if d.is_finite() && d > 0.0 { d } else { 1.0 }).collect()
+    l2.iter()
+        .map(|&d| if d.is_finite() && d > 0.0 { d } else { 1.0 })
+        .collect()
 }
 
 /// The lazy global form: a supporting plane per segment and per isolated
 /// vertex, with rows for the points near it; rows are added where RT(w)
 /// disagrees. A restricted LP that is infeasible proves the full one so.
-fn global<B: Backend + ?Sized>(backend: &B, dom: &Domain, l2: &[f64], mut report: WeightsReport) -> Result<Weights> {
+fn global<B: Backend + ?Sized>(
+    backend: &B,
+    dom: &Domain,
+    l2: &[f64],
+    mut report: WeightsReport,
+) -> Result<Weights> {
     let cx = &dom.complex;
     let p = &cx.points;
     let n = p.len();
@@ -430,7 +554,11 @@ fn global<B: Backend + ?Sized>(backend: &B, dom: &Domain, l2: &[f64], mut report
         .segments
         .iter()
         .map(|s| (s[0], Some(s[1])))
-        .chain((0..n as u32).filter(|&v| degree[v as usize] == 0).map(|v| (v, None)))
+        .chain(
+            (0..n as u32)
+                .filter(|&v| degree[v as usize] == 0)
+                .map(|v| (v, None)),
+        )
         .collect();
     let mut sets: Vec<BTreeSet<u32>> = owners
         .iter()
@@ -447,7 +575,11 @@ fn global<B: Backend + ?Sized>(backend: &B, dom: &Domain, l2: &[f64], mut report
     let mut last_missing: Vec<u32> = vec![];
     for round in 1..=GLOBAL_ROUNDS + 2 {
         report.global_rounds = round;
-        let mut sys = System { n, l2: l2.to_vec(), ..Default::default() };
+        let mut sys = System {
+            n,
+            l2: l2.to_vec(),
+            ..Default::default()
+        };
         for (o, &(i, j)) in owners.iter().enumerate() {
             let others: Vec<u32> = sets[o].iter().copied().collect();
             let scale2 = match j {
@@ -465,14 +597,20 @@ fn global<B: Backend + ?Sized>(backend: &B, dom: &Domain, l2: &[f64], mut report
         let (found, w) = match attempt(backend, cx, &sys, &mut report)? {
             Attempt::Sys1Infeasible => {
                 // Infeasible on a subset of the rows: infeasible outright.
-                let ids = if last_missing.is_empty() { (0..cx.segments.len() as u32).collect() } else { last_missing };
+                let ids = if last_missing.is_empty() {
+                    (0..cx.segments.len() as u32).collect()
+                } else {
+                    last_missing
+                };
                 return Err(Error::NoRegularConstrainedTriangulation {
                     segments: ids.iter().map(|&s| cx.segment_ids[s as usize]).collect(),
                 });
             }
             // Elastic: system 3 is infeasible on a subset of its rows, hence
             // outright; keep these weights.
-            Attempt::Found(f) if f.sys3_failed.is_empty() || !f.lp_sys3 => return finish(f, report),
+            Attempt::Found(f) if f.sys3_failed.is_empty() || !f.lp_sys3 => {
+                return finish(f, report)
+            }
             Attempt::Found(f) => {
                 let w = f.w.clone();
                 (Some(f), w)
@@ -484,12 +622,20 @@ fn global<B: Backend + ?Sized>(backend: &B, dom: &Domain, l2: &[f64], mut report
             None => backend.regular(p, &w)?,
         };
         let (missing, hidden) = conforms(cx, &rt).err().unwrap_or_default();
-        let sys3_bad = if missing.is_empty() && hidden.is_empty() { sys3_failures(cx, &w, &rt) } else { vec![] };
+        let sys3_bad = if missing.is_empty() && hidden.is_empty() {
+            sys3_failures(cx, &w, &rt)
+        } else {
+            vec![]
+        };
         last_missing = missing.clone();
         let rt_nb = rt.neighbours(n);
         let widen = round > GLOBAL_ROUNDS / 2;
         let mut grew = false;
-        let mut bad_owners: BTreeSet<usize> = missing.iter().chain(&sys3_bad).map(|&s| s as usize).collect();
+        let mut bad_owners: BTreeSet<usize> = missing
+            .iter()
+            .chain(&sys3_bad)
+            .map(|&s| s as usize)
+            .collect();
         for h in &hidden {
             if let Some(o) = owners.iter().position(|&(i, j)| i == *h || j == Some(*h)) {
                 bad_owners.insert(o);
@@ -558,14 +704,23 @@ mod tests {
         // Segment (0,0)-(2,0), apex (1,1): q = (1,0) with zero weights;
         // pi(q; m) - pi(q; i) = 1 - 1 = 0, scaled by L = 4 -> row value 0.
         let p = [[0.0, 0.0], [2.0, 0.0], [1.0, 1.0]];
-        let mut sys = System { n: 3, l2: vec![1.0; 3], ..Default::default() };
+        let mut sys = System {
+            n: 3,
+            l2: vec![1.0; 3],
+            ..Default::default()
+        };
         sys3_rows(&mut sys, &p, 0, 0, 1, &[2]);
         assert_eq!(sys.rows.len(), 3);
         let apex = &sys.rows[2];
         assert_eq!(apex.rhs, -(2.0 - 2.0) / 4.0);
         // raising w_i by 1 moves q towards j: lambda = (1 + 1/4)/2, value
         // |r|^2 - 2 lambda u.r - w_m + w_i = 2 - 2.5 + 1 = 0.5 -> 0.125 scaled
-        let v: f64 = apex.terms.iter().map(|&(c, k)| k * if c == 0 { 1.0 } else { 0.0 }).sum::<f64>() - apex.rhs;
+        let v: f64 = apex
+            .terms
+            .iter()
+            .map(|&(c, k)| k * if c == 0 { 1.0 } else { 0.0 })
+            .sum::<f64>()
+            - apex.rhs;
         assert!((v - 0.125).abs() < 1e-15, "{v}");
     }
 }

@@ -13,7 +13,10 @@ use orthomesh::{Complex, Error};
 fn mother_of_all_examples_has_no_regular_constrained_triangulation() {
     let outer = [[0.0, 0.0], [4.0, 0.0], [2.0, 3.5]];
     let c = [2.0, 3.5 / 3.0];
-    let inner: Vec<[f64; 2]> = outer.iter().map(|p| [c[0] + 0.3 * (p[0] - c[0]), c[1] + 0.3 * (p[1] - c[1])]).collect();
+    let inner: Vec<[f64; 2]> = outer
+        .iter()
+        .map(|p| [c[0] + 0.3 * (p[0] - c[0]), c[1] + 0.3 * (p[1] - c[1])])
+        .collect();
     let points: Vec<[f64; 2]> = outer.iter().copied().chain(inner).collect();
     let mut segs = vec![];
     for i in 0..3u32 {
@@ -27,7 +30,10 @@ fn mother_of_all_examples_has_no_regular_constrained_triangulation() {
     cx.validate().unwrap();
     match run(&default_backend(), &cx, "mother", true) {
         Err(Error::NoRegularConstrainedTriangulation { segments }) => assert!(!segments.is_empty()),
-        other => panic!("expected no regular constrained triangulation, got {:?}", other.map(|o| o.report.weights)),
+        other => panic!(
+            "expected no regular constrained triangulation, got {:?}",
+            other.map(|o| o.report.weights)
+        ),
     }
     // Untwisting one diagonal makes it regular again.
     let mut cx2 = cx.clone();
@@ -41,7 +47,10 @@ fn mother_of_all_examples_has_no_regular_constrained_triangulation() {
 /// ends in its cell.
 #[test]
 fn a_non_delaunay_segment_needs_the_lp() {
-    let cx = Complex::new(vec![[0.0, 0.0], [4.0, 0.0], [2.0, 1.0], [2.0, -1.0]], vec![[0, 1]]);
+    let cx = Complex::new(
+        vec![[0.0, 0.0], [4.0, 0.0], [2.0, 1.0], [2.0, -1.0]],
+        vec![[0, 1]],
+    );
     let out = run(&default_backend(), &cx, "rhombus", false).unwrap();
     assert_certified(&out, "rhombus");
     assert_ne!(out.report.weights.method, "zero");
@@ -54,7 +63,15 @@ fn a_non_delaunay_segment_needs_the_lp() {
 #[test]
 fn free_ends_and_isolated_vertices_get_extra_sites() {
     let cx = Complex::new(
-        vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0], [3.0, 3.0], [5.0, 4.0], [7.0, 7.0]],
+        vec![
+            [0.0, 0.0],
+            [10.0, 0.0],
+            [10.0, 10.0],
+            [0.0, 10.0],
+            [3.0, 3.0],
+            [5.0, 4.0],
+            [7.0, 7.0],
+        ],
         vec![[0, 1], [1, 2], [2, 3], [3, 0], [4, 5]],
     );
     let out = run(&default_backend(), &cx, "free-ends", true).unwrap();
@@ -67,8 +84,25 @@ fn free_ends_and_isolated_vertices_get_extra_sites() {
 fn bad_inputs_get_errors_naming_items() {
     let b = default_backend();
     let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-    let e = run(&b, &Complex::new(square.clone(), vec![[0, 2], [1, 3]]), "x", true).err().unwrap();
-    assert_eq!(e.to_string(), "segments that cross, overlap or touch other than at a shared endpoint: 0 x 1");
-    let e = run(&b, &Complex::new(vec![[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], vec![[0, 1]]), "x", true).err().unwrap();
+    let e = run(
+        &b,
+        &Complex::new(square.clone(), vec![[0, 2], [1, 3]]),
+        "x",
+        true,
+    )
+    .err()
+    .unwrap();
+    assert_eq!(
+        e.to_string(),
+        "segments that cross, overlap or touch other than at a shared endpoint: 0 x 1"
+    );
+    let e = run(
+        &b,
+        &Complex::new(vec![[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], vec![[0, 1]]),
+        "x",
+        true,
+    )
+    .err()
+    .unwrap();
     assert!(matches!(e, Error::Degenerate(_)), "{e}");
 }

@@ -11,13 +11,21 @@ use proptest::prelude::*;
 /// degeneracies are common) and a random subset of their Delaunay edges
 /// (which never cross and never pass through a vertex).
 fn complex<B: Backend>(b: &B, pts: Vec<(i8, i8)>, keep: Vec<bool>) -> Option<Complex> {
-    let mut points: Vec<[f64; 2]> = pts.iter().map(|&(x, y)| [x as f64, y as f64 * 0.75]).collect();
+    let mut points: Vec<[f64; 2]> = pts
+        .iter()
+        .map(|&(x, y)| [x as f64, y as f64 * 0.75])
+        .collect();
     points.sort_by(|a, b| a.partial_cmp(b).unwrap());
     points.dedup();
     let dt = b.regular(&points, &vec![0.0; points.len()]).ok()?;
     let mut edges: Vec<(u32, u32)> = dt.edges().map(|(a, b)| (a.min(b), a.max(b))).collect();
     edges.sort();
-    let segments = edges.iter().zip(keep.iter().cycle()).filter(|(_, &k)| k).map(|(&(a, b), _)| [a, b]).collect();
+    let segments = edges
+        .iter()
+        .zip(keep.iter().cycle())
+        .filter(|(_, &k)| k)
+        .map(|(&(a, b), _)| [a, b])
+        .collect();
     Some(Complex::new(points, segments))
 }
 

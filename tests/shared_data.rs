@@ -26,9 +26,21 @@ fn sites_inside<B: Backend>(b: &B) {
         let out = run(b, &read(name), name, false).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_certified(&out, name);
         let c = &out.report.certificate;
-        assert!(c.sites_inside_cells && c.sites_outside == 0, "{name}: {c:?}");
-        assert!(out.report.min_site_margin > 0.0, "{name}: margin {}", out.report.min_site_margin);
-        eprintln!("{name}: {} cells, weights {}, margin {:.3e}", out.mesh.cells.len(), out.report.weights.method, out.report.min_site_margin);
+        assert!(
+            c.sites_inside_cells && c.sites_outside == 0,
+            "{name}: {c:?}"
+        );
+        assert!(
+            out.report.min_site_margin > 0.0,
+            "{name}: margin {}",
+            out.report.min_site_margin
+        );
+        eprintln!(
+            "{name}: {} cells, weights {}, margin {:.3e}",
+            out.mesh.cells.len(),
+            out.report.weights.method,
+            out.report.min_site_margin
+        );
     }
 }
 
@@ -38,12 +50,19 @@ fn sys3_infeasible<B: Backend>(b: &B) {
         match run(b, &cx, name, false) {
             Err(Error::SegmentsMissTheirDuals { segments }) => {
                 assert!(!segments.is_empty());
-                let msg = Error::SegmentsMissTheirDuals { segments: segments.clone() }.to_string();
+                let msg = Error::SegmentsMissTheirDuals {
+                    segments: segments.clone(),
+                }
+                .to_string();
                 assert!(msg.contains("--allow-sites-outside"), "{msg}");
             }
-            other => panic!("{name}: expected the sites-in-cells error, got {:?}", other.map(|o| o.report.certificate)),
+            other => panic!(
+                "{name}: expected the sites-in-cells error, got {:?}",
+                other.map(|o| o.report.certificate)
+            ),
         }
-        let out = run(b, &cx, name, true).unwrap_or_else(|e| panic!("{name} with --allow-sites-outside: {e}"));
+        let out = run(b, &cx, name, true)
+            .unwrap_or_else(|e| panic!("{name} with --allow-sites-outside: {e}"));
         assert_certified(&out, name);
         assert!(out.report.certificate.sites_outside > 0, "{name}");
         assert!(!out.report.segments_missing_dual.is_empty(), "{name}");
@@ -77,9 +96,22 @@ fn closed_polygons_end_with_every_site_inside() {
 /// inside. (With them, a dense solver finds system 3 infeasible.)
 #[test]
 fn constraints_inside_holes_play_no_role() {
-    let out = run(&default_backend(), &read("fish-and-rectangle.poly"), "fish-holes", false).unwrap();
-    assert_eq!((out.report.dropped_vertices, out.report.dropped_segments), (2, 4));
-    assert!(out.report.notes.iter().any(|n| n.contains("outside the domain")));
+    let out = run(
+        &default_backend(),
+        &read("fish-and-rectangle.poly"),
+        "fish-holes",
+        false,
+    )
+    .unwrap();
+    assert_eq!(
+        (out.report.dropped_vertices, out.report.dropped_segments),
+        (2, 4)
+    );
+    assert!(out
+        .report
+        .notes
+        .iter()
+        .any(|n| n.contains("outside the domain")));
 }
 
 /// clusters.edg: eight segments meeting at one point, enclosing nothing, so
@@ -88,7 +120,9 @@ fn constraints_inside_holes_play_no_role() {
 #[test]
 fn clusters_gets_a_clear_answer() {
     let cx = read("clusters.edg");
-    let e = run(&default_backend(), &cx, "clusters", false).err().expect("system 3 is infeasible here");
+    let e = run(&default_backend(), &cx, "clusters", false)
+        .err()
+        .expect("system 3 is infeasible here");
     assert!(matches!(e, Error::SegmentsMissTheirDuals { .. }), "{e}");
     let out = run(&default_backend(), &cx, "clusters", true).unwrap();
     assert_certified(&out, "clusters");
@@ -97,7 +131,11 @@ fn clusters_gets_a_clear_answer() {
 
 #[test]
 fn demo_data_is_certified_with_zero_weights() {
-    let cx = orthomesh::io::poly::parse(include_str!("../data/demo.poly"), std::path::Path::new("demo.poly")).unwrap();
+    let cx = orthomesh::io::poly::parse(
+        include_str!("../data/demo.poly"),
+        std::path::Path::new("demo.poly"),
+    )
+    .unwrap();
     let out = run(&default_backend(), &cx, "demo", false).unwrap();
     assert_certified(&out, "demo");
     assert_eq!(out.report.weights.method, "zero");
@@ -116,6 +154,10 @@ fn test_data_copies_are_unmodified() {
     for e in entries {
         let path = e.unwrap().path();
         let name = path.file_name().unwrap().to_str().unwrap().to_string();
-        assert_eq!(std::fs::read(&path).unwrap(), std::fs::read(shared(&name)).unwrap(), "{name} differs from the shared original");
+        assert_eq!(
+            std::fs::read(&path).unwrap(),
+            std::fs::read(shared(&name)).unwrap(),
+            "{name} differs from the shared original"
+        );
     }
 }

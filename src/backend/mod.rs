@@ -17,7 +17,11 @@ pub trait Backend: Sync {
     /// Regular triangulation of weighted double points, exact predicates.
     fn regular(&self, points: &[[f64; 2]], weights: &[f64]) -> Result<Triangulation>;
     /// Constrained Delaunay triangulation of a validated complex.
-    fn constrained_delaunay(&self, points: &[[f64; 2]], segments: &[[u32; 2]]) -> Result<Triangulation>;
+    fn constrained_delaunay(
+        &self,
+        points: &[[f64; 2]],
+        segments: &[[u32; 2]],
+    ) -> Result<Triangulation>;
     /// Regular triangulation of exact rational weighted points.
     fn regular_exact(&self, points: &[[Q; 2]], weights: &[Q]) -> Result<Triangulation>;
 }
@@ -48,7 +52,11 @@ impl Triangulation {
                 left.insert((tri[k], tri[(k + 1) % 3]), t as u32);
             }
         }
-        Triangulation { triangles, hidden, left }
+        Triangulation {
+            triangles,
+            hidden,
+            left,
+        }
     }
 
     /// The triangle on the left of the directed edge a->b, if any.
@@ -59,7 +67,9 @@ impl Triangulation {
     /// The vertex of triangle `t` opposite its edge a->b (which must be in it).
     pub fn apex(&self, t: u32, a: u32, b: u32) -> u32 {
         let tri = self.triangles[t as usize];
-        *tri.iter().find(|&&v| v != a && v != b).expect("edge belongs to triangle")
+        *tri.iter()
+            .find(|&&v| v != a && v != b)
+            .expect("edge belongs to triangle")
     }
 
     /// Whether {a, b} is an edge.

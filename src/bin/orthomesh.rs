@@ -65,33 +65,72 @@ fn main() -> ExitCode {
 
 fn run(cmd: Command) -> Result<()> {
     match cmd {
-        Command::Conform { input, output, svg, report, allow_sites_outside } => {
+        Command::Conform {
+            input,
+            output,
+            svg,
+            report,
+            allow_sites_outside,
+        } => {
             let cx = io::read_complex(&input)?;
-            let opts = Options { allow_sites_outside };
+            let opts = Options {
+                allow_sites_outside,
+            };
             let out = conform(&default_backend(), &cx, &opts)?;
-            write_all(&out, &cx, &input, &output, svg.as_deref(), report.as_deref())
+            write_all(
+                &out,
+                &cx,
+                &input,
+                &output,
+                svg.as_deref(),
+                report.as_deref(),
+            )
         }
         Command::Demo { out_dir } => {
             let name = Path::new("demo.poly");
             let cx = io::poly::parse(DEMO, name)?;
             let out = conform(&default_backend(), &cx, &Options::default())?;
-            std::fs::create_dir_all(&out_dir).map_err(|e| Error::Io { path: out_dir.clone(), message: e.to_string() })?;
-            let (vtu, svg, json) = (out_dir.join("demo.vtu"), out_dir.join("demo.svg"), out_dir.join("demo.json"));
+            std::fs::create_dir_all(&out_dir).map_err(|e| Error::Io {
+                path: out_dir.clone(),
+                message: e.to_string(),
+            })?;
+            let (vtu, svg, json) = (
+                out_dir.join("demo.vtu"),
+                out_dir.join("demo.svg"),
+                out_dir.join("demo.json"),
+            );
             write_all(&out, &cx, name, &vtu, Some(&svg), Some(&json))
         }
     }
 }
 
 /// Writes every output whole (temporary file, then rename), then a summary.
-fn write_all(out: &Outcome, cx: &Complex, input: &Path, vtu: &Path, svg: Option<&Path>, report: Option<&Path>) -> Result<()> {
-    let mut texts = vec![(vtu.to_path_buf(), io::vtu::to_string(&out.mesh, &out.site_inside))];
+fn write_all(
+    out: &Outcome,
+    cx: &Complex,
+    input: &Path,
+    vtu: &Path,
+    svg: Option<&Path>,
+    report: Option<&Path>,
+) -> Result<()> {
+    let mut texts = vec![(
+        vtu.to_path_buf(),
+        io::vtu::to_string(&out.mesh, &out.site_inside),
+    )];
     if let Some(p) = svg {
-        texts.push((p.to_path_buf(), io::svg::to_string(&out.mesh, &out.site_inside, &out.domain.complex)));
+        texts.push((
+            p.to_path_buf(),
+            io::svg::to_string(&out.mesh, &out.site_inside, &out.domain.complex),
+        ));
     }
     if let Some(p) = report {
-        let mut value = serde_json::to_value(&out.report).map_err(|e| Error::Usage(e.to_string()))?;
+        let mut value =
+            serde_json::to_value(&out.report).map_err(|e| Error::Usage(e.to_string()))?;
         value["input"] = serde_json::Value::String(input.display().to_string());
-        texts.push((p.to_path_buf(), serde_json::to_string_pretty(&value).unwrap_or_default() + "\n"));
+        texts.push((
+            p.to_path_buf(),
+            serde_json::to_string_pretty(&value).unwrap_or_default() + "\n",
+        ));
     }
     for (p, t) in &texts {
         io::write_atomic(p, t.as_bytes())?;

@@ -20,11 +20,17 @@ pub fn parse(text: &str, path: &Path) -> Result<Complex> {
     for k in 0..n {
         let (line, t) = r.next_record(&format!("segment {} of {n}", k + 1))?;
         if t.len() < 4 {
-            return Err(r.error(line, format!("segment {} needs 4 numbers, found {}", k + 1, t.len())));
+            return Err(r.error(
+                line,
+                format!("segment {} needs 4 numbers, found {}", k + 1, t.len()),
+            ));
         }
         let mut ends = [0u32; 2];
         for e in 0..2 {
-            let p: [f64; 2] = [r.num(line, &t, 2 * e, "x")?, r.num(line, &t, 2 * e + 1, "y")?];
+            let p: [f64; 2] = [
+                r.num(line, &t, 2 * e, "x")?,
+                r.num(line, &t, 2 * e + 1, "y")?,
+            ];
             let key = [(p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits()];
             let next = cx.points.len() as u32;
             ends[e] = *index.entry(key).or_insert_with(|| {

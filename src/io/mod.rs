@@ -12,7 +12,12 @@ use std::path::{Path, PathBuf};
 /// Reads a constraint complex, choosing the reader by extension.
 pub fn read_complex(path: &Path) -> Result<Complex> {
     let text = read_text(path)?;
-    match path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .as_deref()
+    {
         Some("poly") => poly::parse(&text, path),
         Some("edg") => edg::parse(&text, path),
         _ => Err(Error::Usage(format!(
@@ -24,17 +29,26 @@ pub fn read_complex(path: &Path) -> Result<Complex> {
 
 pub(crate) fn read_text(path: &Path) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, e))?;
-    String::from_utf8(bytes).map_err(|_| Error::Io { path: path.into(), message: "not UTF-8 text".into() })
+    String::from_utf8(bytes).map_err(|_| Error::Io {
+        path: path.into(),
+        message: "not UTF-8 text".into(),
+    })
 }
 
 pub(crate) fn io_err(path: &Path, e: std::io::Error) -> Error {
-    Error::Io { path: path.into(), message: e.to_string() }
+    Error::Io {
+        path: path.into(),
+        message: e.to_string(),
+    }
 }
 
 /// Writes a file whole or not at all: to a temporary sibling, then renamed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let mut tmp: PathBuf = path.into();
-    let name = format!(".{}.partial", path.file_name().and_then(|n| n.to_str()).unwrap_or("out"));
+    let name = format!(
+        ".{}.partial",
+        path.file_name().and_then(|n| n.to_str()).unwrap_or("out")
+    );
     tmp.set_file_name(name);
     std::fs::write(&tmp, bytes).map_err(|e| io_err(path, e))?;
     std::fs::rename(&tmp, path).map_err(|e| {
@@ -53,7 +67,11 @@ pub(crate) struct Records<'a> {
 
 impl<'a> Records<'a> {
     pub fn new(text: &'a str, path: &'a Path) -> Self {
-        Records { lines: text.lines().enumerate(), path, last_line: 0 }
+        Records {
+            lines: text.lines().enumerate(),
+            path,
+            last_line: 0,
+        }
     }
 
     /// The next record, or a parse error saying what was expected.
@@ -66,7 +84,10 @@ impl<'a> Records<'a> {
                 return Ok((i + 1, toks));
             }
         }
-        Err(self.error(self.last_line + 1, format!("file ends where {what} was expected (truncated?)")))
+        Err(self.error(
+            self.last_line + 1,
+            format!("file ends where {what} was expected (truncated?)"),
+        ))
     }
 
     /// Whether any record is left.
@@ -81,12 +102,25 @@ impl<'a> Records<'a> {
     }
 
     pub fn error(&self, line: usize, message: String) -> Error {
-        Error::Parse { path: self.path.into(), line, message }
+        Error::Parse {
+            path: self.path.into(),
+            line,
+            message,
+        }
     }
 
     /// Parses token `k` of a record.
-    pub fn num<T: std::str::FromStr>(&self, line: usize, toks: &[&str], k: usize, what: &str) -> Result<T> {
-        let t = toks.get(k).ok_or_else(|| self.error(line, format!("missing {what}")))?;
-        t.parse().map_err(|_| self.error(line, format!("{what}: cannot read '{t}' as a number")))
+    pub fn num<T: std::str::FromStr>(
+        &self,
+        line: usize,
+        toks: &[&str],
+        k: usize,
+        what: &str,
+    ) -> Result<T> {
+        let t = toks
+            .get(k)
+            .ok_or_else(|| self.error(line, format!("missing {what}")))?;
+        t.parse()
+            .map_err(|_| self.error(line, format!("{what}: cannot read '{t}' as a number")))
     }
 }

@@ -22,7 +22,12 @@ pub fn parse(text: &str, path: &Path) -> Result<Complex> {
     } else {
         read_vertex_list(&mut r, line, &head, &mut cx)?;
     }
-    let index: HashMap<i64, u32> = cx.vertex_ids.iter().enumerate().map(|(i, &id)| (id, i as u32)).collect();
+    let index: HashMap<i64, u32> = cx
+        .vertex_ids
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (id, i as u32))
+        .collect();
 
     let (line, head) = r.next_record("the segment header 'count markers'")?;
     let ns: usize = r.num(line, &head, 0, "segment count")?;
@@ -32,7 +37,12 @@ pub fn parse(text: &str, path: &Path) -> Result<Complex> {
         let mut ends = [0u32; 2];
         for e in 0..2 {
             let v: i64 = r.num(line, &t, 1 + e, "segment endpoint")?;
-            ends[e] = *index.get(&v).ok_or_else(|| r.error(line, format!("segment {id} refers to vertex {v}, which does not exist")))?;
+            ends[e] = *index.get(&v).ok_or_else(|| {
+                r.error(
+                    line,
+                    format!("segment {id} refers to vertex {v}, which does not exist"),
+                )
+            })?;
         }
         cx.segments.push(ends);
         cx.segment_ids.push(id);
@@ -45,7 +55,8 @@ pub fn parse(text: &str, path: &Path) -> Result<Complex> {
     let nh: usize = r.num(line, &head, 0, "hole count")?;
     for k in 0..nh {
         let (line, t) = r.next_record(&format!("hole {} of {nh}", k + 1))?;
-        cx.holes.push([r.num(line, &t, 1, "hole x")?, r.num(line, &t, 2, "hole y")?]);
+        cx.holes
+            .push([r.num(line, &t, 1, "hole x")?, r.num(line, &t, 2, "hole y")?]);
     }
     Ok(cx)
 }
@@ -59,7 +70,10 @@ fn read_vertex_list(r: &mut Records, line: usize, head: &[&str], cx: &mut Comple
     let nv: usize = r.num(line, head, 0, "vertex count")?;
     let dim: usize = r.num(line, head, 1, "dimension").unwrap_or(2);
     if dim != 2 {
-        return Err(r.error(line, format!("dimension {dim}: this reader takes 2D .poly files")));
+        return Err(r.error(
+            line,
+            format!("dimension {dim}: this reader takes 2D .poly files"),
+        ));
     }
     for k in 0..nv {
         let (line, t) = r.next_record(&format!("vertex {} of {nv}", k + 1))?;
@@ -68,7 +82,10 @@ fn read_vertex_list(r: &mut Records, line: usize, head: &[&str], cx: &mut Comple
         let y: f64 = r.num(line, &t, 2, "y coordinate")?;
         if let Some(prev) = cx.vertex_ids.last() {
             if id != prev + 1 {
-                return Err(r.error(line, format!("vertex id {id} after {prev}: ids must be consecutive")));
+                return Err(r.error(
+                    line,
+                    format!("vertex id {id} after {prev}: ids must be consecutive"),
+                ));
             }
         }
         cx.points.push([x, y]);

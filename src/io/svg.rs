@@ -19,7 +19,10 @@ pub fn to_string(mesh: &Mesh, site_inside: &[bool], cx: &Complex) -> String {
     let size = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
     let pad = 0.03 * size;
     let px = 1000.0 / (size + 2.0 * pad);
-    let (w, h) = ((hi[0] - lo[0] + 2.0 * pad) * px, (hi[1] - lo[1] + 2.0 * pad) * px);
+    let (w, h) = (
+        (hi[0] - lo[0] + 2.0 * pad) * px,
+        (hi[1] - lo[1] + 2.0 * pad) * px,
+    );
     // pixel coordinates, y up
     let x = |p: [f64; 2]| ((p[0] - lo[0] + pad) * px, (hi[1] - p[1] + pad) * px);
     let mut s = String::new();
@@ -30,16 +33,27 @@ pub fn to_string(mesh: &Mesh, site_inside: &[bool], cx: &Complex) -> String {
     s.push_str("<g stroke=\"#555\" stroke-width=\"0.6\" stroke-linejoin=\"round\">\n");
     for (c, cell) in mesh.cells.iter().enumerate() {
         let hue = (c * 47) % 360;
-        let path: Vec<String> = cell.iter().map(|&v| {
-            let (a, b) = x(mesh.points[v as usize]);
-            format!("{a:.2},{b:.2}")
-        }).collect();
-        let _ = writeln!(s, "<polygon points=\"{}\" fill=\"hsl({hue},55%,88%)\"/>", path.join(" "));
+        let path: Vec<String> = cell
+            .iter()
+            .map(|&v| {
+                let (a, b) = x(mesh.points[v as usize]);
+                format!("{a:.2},{b:.2}")
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "<polygon points=\"{}\" fill=\"hsl({hue},55%,88%)\"/>",
+            path.join(" ")
+        );
     }
     s.push_str("</g>\n<g stroke=\"#c00\" stroke-width=\"2.4\" stroke-linecap=\"round\">\n");
     for &[a, b] in &cx.segments {
         let (p, q) = (x(cx.points[a as usize]), x(cx.points[b as usize]));
-        let _ = writeln!(s, "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\"/>", p.0, p.1, q.0, q.1);
+        let _ = writeln!(
+            s,
+            "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\"/>",
+            p.0, p.1, q.0, q.1
+        );
     }
     s.push_str("</g>\n<g fill=\"black\">\n");
     for p in &cx.points {
@@ -49,9 +63,20 @@ pub fn to_string(mesh: &Mesh, site_inside: &[bool], cx: &Complex) -> String {
     s.push_str("</g>\n<g>\n");
     for (c, site) in mesh.sites.iter().enumerate() {
         let (a, b) = x(*site);
-        let colour = if site_inside.get(c).copied().unwrap_or(true) { "#1f4fbf" } else { "#ff2020" };
-        let r = if site_inside.get(c).copied().unwrap_or(true) { 1.8 } else { 4.0 };
-        let _ = writeln!(s, "<circle cx=\"{a:.2}\" cy=\"{b:.2}\" r=\"{r}\" fill=\"{colour}\"/>");
+        let colour = if site_inside.get(c).copied().unwrap_or(true) {
+            "#1f4fbf"
+        } else {
+            "#ff2020"
+        };
+        let r = if site_inside.get(c).copied().unwrap_or(true) {
+            1.8
+        } else {
+            4.0
+        };
+        let _ = writeln!(
+            s,
+            "<circle cx=\"{a:.2}\" cy=\"{b:.2}\" r=\"{r}\" fill=\"{colour}\"/>"
+        );
     }
     s.push_str("</g>\n</svg>\n");
     s

@@ -38,7 +38,9 @@ pub fn to_string(mesh: &Mesh, site_inside: &[bool]) -> String {
         s.push_str("7\n");
     }
     s.push_str("</DataArray>\n</Cells>\n<CellData Scalars=\"weight\">\n");
-    s.push_str("<DataArray type=\"Float64\" Name=\"site\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+    s.push_str(
+        "<DataArray type=\"Float64\" Name=\"site\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+    );
     for p in &mesh.sites {
         let _ = writeln!(s, "{:e} {:e} 0", p[0], p[1]);
     }
@@ -69,8 +71,14 @@ mod tests {
             ..Default::default()
         };
         let text = to_string(&mesh, &[true]);
-        let line = text.lines().find(|l| l.ends_with(" 0") && l.contains("e-300")).unwrap();
-        let v: Vec<f64> = line.split_whitespace().map(|t| t.parse().unwrap()).collect();
+        let line = text
+            .lines()
+            .find(|l| l.ends_with(" 0") && l.contains("e-300"))
+            .unwrap();
+        let v: Vec<f64> = line
+            .split_whitespace()
+            .map(|t| t.parse().unwrap())
+            .collect();
         assert_eq!(v[0], x);
         assert_eq!(v[1], 1e-300);
         assert!(text.contains("<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n7\n"));

@@ -8,7 +8,9 @@ use std::path::{Path, PathBuf};
 
 /// A constraint set from the copy of the shared data in tests/data/pslg.
 pub fn shared(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pslg").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/pslg")
+        .join(name)
 }
 
 pub fn read(name: &str) -> Complex {
@@ -18,10 +20,19 @@ pub fn read(name: &str) -> Complex {
 /// Runs the pipeline; on success writes the mesh where the reader checks
 /// (scripts/test.sh) will find it.
 pub fn run<B: Backend>(b: &B, cx: &Complex, tag: &str, allow: bool) -> Result<Outcome> {
-    let out = conform(b, cx, &Options { allow_sites_outside: allow })?;
+    let out = conform(
+        b,
+        cx,
+        &Options {
+            allow_sites_outside: allow,
+        },
+    )?;
     if let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") {
         let name = format!("{tag}-{}.vtu", b.name());
-        io::write_atomic(&Path::new(&dir).join(name), io::vtu::to_string(&out.mesh, &out.site_inside).as_bytes())?;
+        io::write_atomic(
+            &Path::new(&dir).join(name),
+            io::vtu::to_string(&out.mesh, &out.site_inside).as_bytes(),
+        )?;
     }
     Ok(out)
 }
@@ -30,8 +41,20 @@ pub fn run<B: Backend>(b: &B, cx: &Complex, tag: &str, allow: bool) -> Result<Ou
 pub fn assert_certified(out: &Outcome, tag: &str) {
     let c = &out.report.certificate;
     assert!(c.conforms(), "{tag}: certificate {c:?}");
-    assert!(c.area_relative_error < 1e-9, "{tag}: area error {}", c.area_relative_error);
-    assert!(c.max_orthogonality_defect < 1e-6, "{tag}: orthogonality defect {}", c.max_orthogonality_defect);
+    assert!(
+        c.area_relative_error < 1e-9,
+        "{tag}: area error {}",
+        c.area_relative_error
+    );
+    assert!(
+        c.max_orthogonality_defect < 1e-6,
+        "{tag}: orthogonality defect {}",
+        c.max_orthogonality_defect
+    );
     assert_eq!(out.mesh.cells.len(), out.site_inside.len());
-    assert_eq!(c.sites_outside, out.site_inside.iter().filter(|&&i| !i).count(), "{tag}");
+    assert_eq!(
+        c.sites_outside,
+        out.site_inside.iter().filter(|&&i| !i).count(),
+        "{tag}"
+    );
 }

@@ -13,7 +13,9 @@ use std::fmt::Write;
 #[derive(Debug, Default, Clone, Copy)]
 pub struct Cgal;
 
-fn convert(r: std::result::Result<ffi::bridge::TriangulationOut, cxx::Exception>) -> Result<Triangulation> {
+fn convert(
+    r: std::result::Result<ffi::bridge::TriangulationOut, cxx::Exception>,
+) -> Result<Triangulation> {
     let out = r.map_err(|e| Error::Backend(format!("CGAL: {}", e.what())))?;
     Ok(Triangulation::from_flat(&out.triangles, out.hidden))
 }
@@ -24,11 +26,19 @@ impl Backend for Cgal {
     }
 
     fn regular(&self, points: &[[f64; 2]], weights: &[f64]) -> Result<Triangulation> {
-        let xyw: Vec<f64> = points.iter().zip(weights).flat_map(|(p, w)| [p[0], p[1], *w]).collect();
+        let xyw: Vec<f64> = points
+            .iter()
+            .zip(weights)
+            .flat_map(|(p, w)| [p[0], p[1], *w])
+            .collect();
         convert(ffi::bridge::regular_triangulation_2(&xyw))
     }
 
-    fn constrained_delaunay(&self, points: &[[f64; 2]], segments: &[[u32; 2]]) -> Result<Triangulation> {
+    fn constrained_delaunay(
+        &self,
+        points: &[[f64; 2]],
+        segments: &[[u32; 2]],
+    ) -> Result<Triangulation> {
         let xy: Vec<f64> = points.iter().flatten().copied().collect();
         let segs: Vec<u32> = segments.iter().flatten().copied().collect();
         convert(ffi::bridge::constrained_delaunay_2(&xy, &segs))
