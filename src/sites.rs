@@ -73,53 +73,45 @@ impl Sites {
         let failed: std::collections::HashSet<u32> = sys3_failed.iter().copied().collect();
         for (k, &[i, j]) in cx.segments.iter().enumerate() {
             let (base, dir, tl, tr) = s.dual_line(rt, i, j);
-            let one = one();
-            if failed.contains(&(k as u32)) {
+            // (left, ta, tb, fraction, movable) of the two sites
+            let placements = if failed.contains(&(k as u32)) {
                 // The dual edge misses the segment: both sites on it, fixed.
                 let ta = tr.unwrap_or_else(|| tl.clone().unwrap() - qi(2));
                 let tb = tl.unwrap_or_else(|| ta.clone() + qi(2));
-                for (left, fr) in [(true, (2i64, 3i64)), (false, (1, 3))] {
-                    let tk = Track {
-                        base: base.clone(),
-                        dir: dir.clone(),
-                        ta: ta.clone(),
-                        tb: tb.clone(),
-                        anchor: i,
-                    };
-                    s.push(
-                        Role::Segment {
-                            seg: k as u32,
-                            left,
-                        },
-                        tk,
-                        ratio(fr.0, fr.1),
-                        false,
-                    );
-                }
+                [
+                    (true, ta.clone(), tb.clone(), ratio(2, 3), false),
+                    (false, ta, tb, ratio(1, 3), false),
+                ]
             } else {
                 // Left site in (0, tl), right in (tr, 0); a ray is cut at |e|.
-                let zero = zero();
-                let tb_left = tl.unwrap_or_else(|| one.clone());
-                let tb_right = tr.unwrap_or_else(|| -one.clone());
-                let half = ratio(1, 2);
-                for (left, tb) in [(true, tb_left), (false, tb_right)] {
-                    let tk = Track {
-                        base: base.clone(),
-                        dir: dir.clone(),
-                        ta: zero.clone(),
-                        tb,
-                        anchor: i,
-                    };
-                    s.push(
-                        Role::Segment {
-                            seg: k as u32,
-                            left,
-                        },
-                        tk,
-                        half.clone(),
+                [
+                    (true, zero(), tl.unwrap_or_else(one), ratio(1, 2), true),
+                    (
+                        false,
+                        zero(),
+                        tr.unwrap_or_else(|| -one()),
+                        ratio(1, 2),
                         true,
-                    );
-                }
+                    ),
+                ]
+            };
+            for (left, ta, tb, frac, movable) in placements {
+                let tk = Track {
+                    base: base.clone(),
+                    dir: dir.clone(),
+                    ta,
+                    tb,
+                    anchor: i,
+                };
+                s.push(
+                    Role::Segment {
+                        seg: k as u32,
+                        left,
+                    },
+                    tk,
+                    frac,
+                    movable,
+                );
             }
         }
         s.place_vertex_sites(cx, rt);

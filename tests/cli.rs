@@ -1,0 +1,137 @@
+//! The command line: exit codes, messages, and no partial output on error.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn orthomesh(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_orthomesh"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("cli")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn data(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/pslg")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+#[test]
+fn infeasible_sites_fail_without_output_and_succeed_when_allowed() {
+    let dir = scratch("a");
+    let vtu = dir.join("a.vtu");
+    let report = dir.join("a.json");
+    let (code, err) = orthomesh(&[
+        "conform",
+        &data("A.poly"),
+        "-o",
+        vtu.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("system 3 is infeasible") && err.contains("segment ids"),
+        "{err}"
+    );
+    assert!(
+        !vtu.exists() && !report.exists(),
+        "no partial output on error"
+    );
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "no temporary files left"
+    );
+    let (code, err) = orthomesh(&[
+        "conform",
+        &data("A.poly"),
+        "-o",
+        vtu.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+        "--allow-sites-outside",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(json["certificate"]["segments_are_single_edges"], true);
+    assert!(json["certificate"]["sites_outside"].as_u64().unwrap() > 0);
+    assert!(std::fs::read_to_string(&vtu)
+        .unwrap()
+        .contains("UnstructuredGrid"));
+}
+
+#[test]
+fn bad_files_name_the_line_and_exit_non_zero() {
+    let dir = scratch("bad");
+    let bad = dir.join("bad.poly");
+    std::fs::write(&bad, "3 2 0 0\n1 0 0\n2 1 zero\n3 0 1\n").unwrap();
+    let vtu = dir.join("bad.vtu");
+    let (code, err) = orthomesh(&[
+        "conform",
+        bad.to_str().unwrap(),
+        "-o",
+        vtu.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("bad.poly:3:"), "{err}");
+    assert!(!vtu.exists());
+    let nan = dir.join("nan.edg");
+    std::fs::write(&nan, "2\n0 0 1 0\n1 0 NaN 1\n").unwrap();
+    let (code, err) = orthomesh(&[
+        "conform",
+        nan.to_str().unwrap(),
+        "-o",
+        vtu.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("NaN") && err.contains(": 2"), "{err}");
+    let (code, err) = orthomesh(&["conform", "missing.poly", "-o", vtu.to_str().unwrap()]);
+    assert_ne!(code, 0);
+    assert!(err.contains("missing.poly"), "{err}");
+}
+
+#[test]
+fn demo_writes_mesh_picture_and_report() {
+    let dir = scratch("demo");
+    let (code, err) = orthomesh(&["demo", "--out-dir", dir.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    for f in ["demo.vtu", "demo.svg", "demo.json"] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    assert!(
+        err.contains("certificate: vertices ok segments ok tiling ok sites-inside ok"),
+        "{err}"
+    );
+    let (code, help) = {
+        let out = Command::new(env!("CARGO_BIN_EXE_orthomesh"))
+            .args(["conform", "--help"])
+            .output()
+            .unwrap();
+        (
+            out.status.code().unwrap(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+        )
+    };
+    assert_eq!(code, 0);
+    assert!(
+        help.contains("--allow-sites-outside") && help.contains("Triangle"),
+        "{help}"
+    );
+}
