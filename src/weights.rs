@@ -11,10 +11,10 @@
 //! built with exact predicates and checked segment by segment.
 //!
 //! Objective (method.md section 2): phase 1 maximises a common margin `delta`
-//! over rows scaled to be dimensionless, with |w_i| <= k l_i^2, k raised
-//! stepwise and free weights last (only the unbounded try may declare
-//! infeasibility); phase 2 keeps delta >= delta*/2 and minimises
-//! sum |w_i| / l_i^2, so weights stay small and sites stay near the segments'
+//! over rows scaled to be dimensionless: first with free weights (only that
+//! try may declare infeasibility), then with |w_i| <= k l_i^2 for k raised
+//! stepwise (1, 16) until the margin is trusted; phase 2 keeps delta >= delta*/2
+//! and minimises sum |w_i| / l_i^2, so weights stay small and sites stay near the segments'
 //! midpoints. When system 3 cannot hold, an elastic phase keeps system 1 and
 //! minimises the total violation of system 3, so that as few segments as
 //! possible miss their duals.
@@ -31,8 +31,8 @@ use std::ops::Bound;
 
 /// Margins below this are inside HiGHS' tolerances: not trusted.
 const TRUST: f64 = 1e-6;
-/// Bounds |w_i| <= k l_i^2 tried in turn; the last try is unbounded.
-const K_LADDER: [Option<f64>; 5] = [Some(0.25), Some(1.0), Some(4.0), Some(16.0), None];
+/// Bounds |w_i| <= k l_i^2 tried in turn after the unbounded try.
+const K_LADDER: [f64; 2] = [1.0, 16.0];
 /// Rounds of the lazy global form before giving up on adding rows locally.
 const GLOBAL_ROUNDS: usize = 40;
 
@@ -96,7 +96,7 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
     };
     let local = local_system(cx, &dom.cdt, &l2);
     // The local form fixes the triangulation, so its failures are no verdict.
-    if let Attempt::Found(found) = attempt(backend, cx, &local, &mut report)? {
+    if let Attempt::Found(found) = attempt(backend, cx, &local, false, &mut report)? {
         if found.sys3_failed.is_empty() {
             return finish(found, report);
         }
@@ -352,7 +352,7 @@ fn run(
     report.lp_rows = report.lp_rows.max(pb.num_rows());
     report.lp_cols = report.lp_cols.max(pb.num_cols());
     report.lp_solves += 1;
-    let big = pb.num_rows() > 20_000;
+    let big = pb.num_rows() > 5_000;
     let mut model = pb
         .try_optimise(sense)
         .map_err(|e| Error::Lp(format!("building the LP: {e:?}")))?;
@@ -383,16 +383,21 @@ fn run(
 }
 
 /// Phase 1 up the k ladder: the best margin and the k that reached it.
+/// The unbounded try first: only it may declare infeasibility, and an
+/// infeasible system then costs one solve. When feasible, the smallest k of
+/// the ladder with a trusted margin keeps the weights small.
 fn margin(sys: &System, with3: bool, report: &mut WeightsReport) -> Result<(f64, Option<f64>)> {
-    let mut best = f64::NEG_INFINITY;
+    let free = run(sys, with3, None, &Mode::Margin, report)?.delta;
+    if free <= TRUST {
+        return Ok((free, None));
+    }
     for k in K_LADDER {
-        let sol = run(sys, with3, k, &Mode::Margin, report)?;
-        best = best.max(sol.delta);
+        let sol = run(sys, with3, Some(k), &Mode::Margin, report)?;
         if sol.delta > TRUST {
-            return Ok((sol.delta, k));
+            return Ok((sol.delta, Some(k)));
         }
     }
-    Ok((best, None))
+    Ok((free, None))
 }
 
 /// The outcome of one LP attempt on a row system.
@@ -403,6 +408,8 @@ enum Attempt {
     NotConforming(Vec<f64>),
     /// System 1 has no trusted margin on these rows.
     Sys1Infeasible,
+    /// Systems 1 and 3 together have none (asked not to go elastic).
+    Sys3Infeasible,
 }
 
 /// One attempt on a row system: system 1 + 3; else system 1 with system 3
@@ -411,9 +418,13 @@ fn attempt<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex,
     sys: &System,
+    elastic: bool,
     report: &mut WeightsReport,
 ) -> Result<Attempt> {
     let (m3, k3) = margin(sys, true, report)?;
+    if m3 <= TRUST && !elastic {
+        return Ok(Attempt::Sys3Infeasible);
+    }
     let (w, lp_sys3) = if m3 > TRUST {
         report.margin = Some(m3);
         report.bound_k = k3;
@@ -594,7 +605,7 @@ fn global<B: Backend + ?Sized>(
                 sys3_rows(&mut sys, p, o as u32, i, j, &others);
             }
         }
-        let (found, w) = match attempt(backend, cx, &sys, &mut report)? {
+        let (found, w) = match attempt(backend, cx, &sys, true, &mut report)? {
             Attempt::Sys1Infeasible => {
                 // Infeasible on a subset of the rows: infeasible outright.
                 let ids = if last_missing.is_empty() {
@@ -616,6 +627,7 @@ fn global<B: Backend + ?Sized>(
                 (Some(f), w)
             }
             Attempt::NotConforming(w) => (None, w),
+            Attempt::Sys3Infeasible => unreachable!("the global form goes elastic"),
         };
         let rt = match &found {
             Some(f) => f.rt.clone(),
