@@ -4,7 +4,7 @@
 
 use crate::diagram::Diagram;
 use crate::domain::Domain;
-use crate::exact::{orient_q, qp, QPoint};
+use crate::exact::{orient_filtered, qp, QPoint};
 use crate::mesh::Mesh;
 use crate::sites::Sites;
 use serde::Serialize;
@@ -96,7 +96,9 @@ pub fn certify(
             let (a, b, d) = (cell[e], cell[(e + 1) % k], cell[(e + 2) % k]);
             *edges.entry((a, b)).or_default() += 1;
             let p = &diagram.points;
-            if orient_q(&p[a as usize], &p[b as usize], &p[d as usize]) != Ordering::Greater {
+            let (a, b, d) = (a as usize, b as usize, d as usize);
+            let f = &diagram.approx;
+            if orient_filtered([&p[a], &p[b], &p[d]], [f[a], f[b], f[d]]) != Ordering::Greater {
                 convex = false;
                 c.problems.push(format!(
                     "cell of site {s} is not strictly convex and counter-clockwise"

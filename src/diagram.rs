@@ -24,6 +24,8 @@ impl CentreCache {
 pub struct Diagram {
     /// Distinct power vertices.
     pub points: Vec<QPoint>,
+    /// Their nearest doubles.
+    pub approx: Vec<[f64; 2]>,
     /// Per site: its cell as ccw vertex ids (distinct consecutive), or None
     /// when the cell is unbounded or the site hidden.
     pub cells: Vec<Option<Vec<u32>>>,
@@ -94,8 +96,10 @@ impl Diagram {
                 Some(ring)
             })
             .collect();
+        let approx = points.iter().map(crate::exact::fp).collect();
         let mut d = Diagram {
             points,
+            approx,
             cells,
             in_domain: vec![],
         };

@@ -6,6 +6,7 @@ use malachite_base::num::arithmetic::traits::{Abs, Sign};
 use malachite_base::num::basic::traits::{One, Zero};
 use malachite_base::num::conversion::traits::RoundingFrom;
 use malachite_base::rounding_modes::RoundingMode;
+use malachite_nz::integer::Integer;
 use malachite_q::Rational;
 use std::cmp::Ordering;
 
@@ -91,6 +92,23 @@ pub fn orient_q(a: &QPoint, b: &QPoint, c: &QPoint) -> Ordering {
     cross(&sub(b, a), &sub(c, a)).sign()
 }
 
+/// Orientation of exact points given with their nearest doubles: decided in
+/// doubles when an error bound allows it, exactly otherwise.
+pub fn orient_filtered(p: [&QPoint; 3], a: [[f64; 2]; 3]) -> Ordering {
+    let [x, y, z] = a;
+    let det = (y[0] - x[0]) * (z[1] - x[1]) - (y[1] - x[1]) * (z[0] - x[0]);
+    // Inputs within a relative 2^-53; 16 ulps of the magnitudes bound the
+    // error generously (subnormal magnitudes go to the exact path).
+    let bound = 16.0
+        * f64::EPSILON
+        * ((x[0].abs() + y[0].abs()) * (x[1].abs() + z[1].abs())
+            + (x[1].abs() + y[1].abs()) * (x[0].abs() + z[0].abs()));
+    if det.is_finite() && bound.is_finite() && bound > 1e-280 && det.abs() > bound {
+        return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
+    }
+    orient_q(p[0], p[1], p[2])
+}
+
 /// Exact orientation of double points (Shewchuk's adaptive predicate).
 pub fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
     let d = robust::orient2d(
@@ -117,21 +135,96 @@ pub fn power(x: &QPoint, p: &QPoint, w: &Q) -> Q {
     norm2(&sub(x, p)) - w
 }
 
+/// A fraction kept unreduced: sums and products without gcds, which
+/// dominate rational arithmetic; reduced once when turned back into a `Q`.
+#[derive(Clone)]
+struct Fr {
+    n: Integer,
+    d: Integer,
+}
+
+impl Fr {
+    fn of(x: &Q) -> Fr {
+        let n = Integer::from_sign_and_abs(x.sign() != Ordering::Less, x.numerator_ref().clone());
+        Fr {
+            n,
+            d: Integer::from(x.denominator_ref().clone()),
+        }
+    }
+
+    fn add(&self, o: &Fr, sign: bool) -> Fr {
+        let (a, b) = if self.d == o.d {
+            (self.n.clone(), o.n.clone())
+        } else {
+            (&self.n * &o.d, &o.n * &self.d)
+        };
+        let n = if sign { a + b } else { a - b };
+        let d = if self.d == o.d {
+            self.d.clone()
+        } else {
+            &self.d * &o.d
+        };
+        Fr { n, d }
+    }
+
+    fn plus(&self, o: &Fr) -> Fr {
+        self.add(o, true)
+    }
+
+    fn minus(&self, o: &Fr) -> Fr {
+        self.add(o, false)
+    }
+
+    fn times(&self, o: &Fr) -> Fr {
+        Fr {
+            n: &self.n * &o.n,
+            d: &self.d * &o.d,
+        }
+    }
+
+    fn over(&self, o: &Fr) -> Fr {
+        Fr {
+            n: &self.n * &o.d,
+            d: &self.d * &o.n,
+        }
+    }
+
+    fn q(self) -> Q {
+        Rational::from_integers(self.n, self.d)
+    }
+}
+
 /// The power centre of three weighted points (equal power to all three), or
 /// None when they are collinear.
 pub fn power_centre(p: [&QPoint; 3], w: [&Q; 3]) -> Option<QPoint> {
-    // x = p0 + y with 2 y.(pk - p0) = |pk - p0|^2 - wk + w0 for k = 1, 2.
-    let u = sub(p[1], p[0]);
-    let v = sub(p[2], p[0]);
-    let det = cross(&u, &v);
-    if det == Rational::ZERO {
+    // x = p0 + y with 2 y.(pk - p0) = |pk - p0|^2 - wk + w0 for k = 1, 2,
+    // in unreduced fractions: two gcds per centre instead of dozens.
+    let f = |x: &Q| Fr::of(x);
+    let (x0, y0) = (f(&p[0][0]), f(&p[0][1]));
+    let u = [f(&p[1][0]).minus(&x0), f(&p[1][1]).minus(&y0)];
+    let v = [f(&p[2][0]).minus(&x0), f(&p[2][1]).minus(&y0)];
+    let det = u[0].times(&v[1]).minus(&u[1].times(&v[0]));
+    if det.n == 0 {
         return None;
     }
-    let ru = (norm2(&u) - w[1] + w[0]) / qi(2);
-    let rv = (norm2(&v) - w[2] + w[0]) / qi(2);
-    let y0 = (&ru * &v[1] - &rv * &u[1]) / &det;
-    let y1 = (&rv * &u[0] - &ru * &v[0]) / &det;
-    Some([&p[0][0] + y0, &p[0][1] + y1])
+    let w0 = f(w[0]);
+    let ru = u[0]
+        .times(&u[0])
+        .plus(&u[1].times(&u[1]))
+        .minus(&f(w[1]))
+        .plus(&w0);
+    let rv = v[0]
+        .times(&v[0])
+        .plus(&v[1].times(&v[1]))
+        .minus(&f(w[2]))
+        .plus(&w0);
+    let two_det = Fr {
+        n: det.n * Integer::from(2),
+        d: det.d,
+    };
+    let c0 = ru.times(&v[1]).minus(&rv.times(&u[1])).over(&two_det);
+    let c1 = rv.times(&u[0]).minus(&ru.times(&v[0])).over(&two_det);
+    Some([x0.plus(&c0).q(), y0.plus(&c1).q()])
 }
 
 /// The double nearest to x, back as an exact value: a short rational.
