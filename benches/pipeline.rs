@@ -72,7 +72,7 @@ fn ratios() {
     // Sizes grow until one takes over a minute.
     for (nx, ny) in [(2, 2), (6, 6), (12, 12), (20, 20)] {
         if row(
-            format!("{}/cavities {nx}x{ny} r=21 (LP)", b.name()),
+            format!("{}/cavities {nx}x{ny} r=21", b.name()),
             &cavities(nx, ny, 21.0),
         ) > 60e3
         {

@@ -119,10 +119,8 @@ pub fn conform<B: Backend + ?Sized>(
     let domain_sites: Vec<usize> = (0..sites.len())
         .filter(|&s| rel.diagram.in_domain[s])
         .collect();
-    let site_inside: Vec<bool> = domain_sites
-        .iter()
-        .map(|s| !rel.outside.contains(s))
-        .collect();
+    let outside: std::collections::HashSet<usize> = rel.outside.iter().copied().collect();
+    let site_inside: Vec<bool> = domain_sites.iter().map(|s| !outside.contains(s)).collect();
     let min_site_margin = if rel.outside.is_empty() {
         site_margin(&sites, &rel.rt, &mesh, &domain_sites)
     } else {

@@ -25,16 +25,11 @@ pub struct Relocated {
 }
 
 /// Domain sites that are hidden or not strictly inside their cell.
-pub fn outside(
-    sites: &Sites,
-    rt: &Triangulation,
-    diagram: &Diagram,
-    dom_sites_only: bool,
-) -> Vec<usize> {
+pub fn outside(sites: &Sites, rt: &Triangulation, diagram: &Diagram) -> Vec<usize> {
     let nb = rt.neighbours(sites.len());
     let hidden: std::collections::HashSet<u32> = rt.hidden.iter().copied().collect();
     (0..sites.len())
-        .filter(|&a| !dom_sites_only || diagram.in_domain[a] || hidden.contains(&(a as u32)))
+        .filter(|&a| diagram.in_domain[a] || hidden.contains(&(a as u32)))
         .filter(|&a| {
             hidden.contains(&(a as u32)) || nb[a].iter().any(|&b| !inside_wrt(sites, a, b as usize))
         })
@@ -53,7 +48,7 @@ pub fn relocate<B: Backend + ?Sized>(
     loop {
         let rt = backend.regular_exact(&sites.pos, &sites.weight)?;
         let diagram = Diagram::build_cached(dom, sites, &rt, &mut cache);
-        let out = outside(sites, &rt, &diagram, true);
+        let out = outside(sites, &rt, &diagram);
         let mut moved = std::collections::HashSet::new();
         if round < MAX_ROUNDS {
             for &s in &out {
