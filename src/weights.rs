@@ -61,6 +61,8 @@ pub struct WeightsReport {
     /// The k of |w_i| <= k l_i^2 that gave a positive margin (None: unbounded).
     pub bound_k: Option<f64>,
     pub global_rounds: usize,
+    /// How many weights were LP unknowns (the others stayed zero).
+    pub free_weights: usize,
     pub max_abs_weight: f64,
     pub system3_feasible: bool,
 }
@@ -94,13 +96,26 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
         method: "local".into(),
         ..Default::default()
     };
-    let local = local_system(cx, &dom.cdt, &l2);
-    // The local form fixes the triangulation, so its failures are no verdict.
-    if let Attempt::Found(found) = attempt(backend, cx, &local, false, &mut report)? {
-        if found.sys3_failed.is_empty() {
-            return finish(found, report);
+    // The local form fixes the triangulation, so its failures are no
+    // verdict. First with weights free only near the segments that need
+    // them (method.md section 2), then with all free.
+    let near = near_failures(cx, &rt0, &dom.cdt);
+    let all = vec![true; n];
+    let tries = if near.iter().all(|&f| f) {
+        vec![all]
+    } else {
+        vec![near, all]
+    };
+    for free in tries {
+        report.free_weights = free.iter().filter(|&&f| f).count();
+        let local = local_system(cx, &dom.cdt, &l2, free);
+        if let Attempt::Found(found) = attempt(backend, cx, &local, false, &mut report)? {
+            if found.sys3_failed.is_empty() {
+                return finish(found, report);
+            }
         }
     }
+    report.free_weights = n;
     report.method = "global".into();
     global(backend, dom, &l2, report)
 }
@@ -144,6 +159,10 @@ struct Row {
 #[derive(Debug, Clone, Default)]
 struct System {
     n: usize,
+    /// Which weights are unknowns; the others stay zero.
+    free: Vec<bool>,
+    /// Whether infeasibility of these rows proves infeasibility (global form).
+    verdict: bool,
     aux: usize,
     l2: Vec<f64>,
     rows: Vec<Row>,
@@ -152,8 +171,11 @@ struct System {
 
 /// Power-test rows for every interior edge of `t`, and system 3 rows for
 /// every segment against the apexes of `t` beside it.
-fn local_system(cx: &Complex, t: &Triangulation, l2: &[f64]) -> System {
+/// Only rows with a free weight are written: a row over zero weights alone
+/// is a fixed Delaunay property that the exact verification checks anyway.
+fn local_system(cx: &Complex, t: &Triangulation, l2: &[f64], free: Vec<bool>) -> System {
     let p = &cx.points;
+    let any_free = |vs: &[u32]| vs.iter().any(|&v| free[v as usize]);
     let mut sys = System {
         n: p.len(),
         l2: l2.to_vec(),
@@ -165,7 +187,9 @@ fn local_system(cx: &Complex, t: &Triangulation, l2: &[f64]) -> System {
         };
         let c = t.apex(tl, a, b);
         let d = t.apex(tr, b, a);
-        sys.rows.push(convexity_row(p, a, b, c, d));
+        if any_free(&[a, b, c, d]) {
+            sys.rows.push(convexity_row(p, a, b, c, d));
+        }
     }
     for (s, &[i, j]) in cx.segments.iter().enumerate() {
         let mut apexes = vec![];
@@ -174,9 +198,36 @@ fn local_system(cx: &Complex, t: &Triangulation, l2: &[f64]) -> System {
                 apexes.push(t.apex(tri, x, y));
             }
         }
-        sys3_rows(&mut sys, p, s as u32, i, j, &apexes);
+        if any_free(&[i, j]) || any_free(&apexes) {
+            sys3_rows(&mut sys, p, s as u32, i, j, &apexes);
+        }
     }
+    sys.free = free;
     sys
+}
+
+/// Endpoints of the segments that zero weights do not serve (not strictly
+/// Gabriel edges of the Delaunay triangulation), and two rings of
+/// constrained-Delaunay neighbours around them: the weights that may move.
+fn near_failures(cx: &Complex, dt: &Triangulation, cdt: &Triangulation) -> Vec<bool> {
+    let nb = cdt.neighbours(cx.points.len());
+    let mut free = vec![false; cx.points.len()];
+    let mut ring: Vec<u32> = cx
+        .segments
+        .iter()
+        .filter(|s| !(dt.has_edge(s[0], s[1]) && strictly_gabriel(cx, dt, s[0], s[1])))
+        .flat_map(|s| [s[0], s[1]])
+        .collect();
+    for _ in 0..3 {
+        let mut next = vec![];
+        for v in ring {
+            if !std::mem::replace(&mut free[v as usize], true) {
+                next.extend(nb[v as usize].iter().copied());
+            }
+        }
+        ring = next;
+    }
+    free
 }
 
 /// Lifted edge (a, b) of ccw triangle (a, b, c), apex d across: locally
@@ -308,7 +359,11 @@ fn run(
     let bound = |b: f64| (Bound::Included(-b), Bound::Included(b));
     let free = (Bound::<f64>::Unbounded, Bound::<f64>::Unbounded);
     let w: Vec<_> = (0..sys.n)
-        .map(|i| pb.add_column(0.0, k.map_or(free, |k| bound(k * sys.l2[i]))))
+        .map(|i| match (sys.free[i], k) {
+            (false, _) => pb.add_column(0.0, 0.0..=0.0),
+            (true, None) => pb.add_column(0.0, free),
+            (true, Some(k)) => pb.add_column(0.0, bound(k * sys.l2[i])),
+        })
         .collect();
     let aux: Vec<_> = (0..sys.aux).map(|_| pb.add_column(0.0, free)).collect();
     let col = |c: usize| if c < sys.n { w[c] } else { aux[c - sys.n] };
@@ -323,7 +378,7 @@ fn run(
         ),
     };
     if let Mode::Regularise { .. } = mode {
-        for i in 0..sys.n {
+        for i in (0..sys.n).filter(|&i| sys.free[i]) {
             let t = pb.add_column(1.0 / sys.l2[i], 0.0..);
             pb.add_row(0.0.., [(t, 1.0), (w[i], -1.0)]);
             pb.add_row(0.0.., [(t, 1.0), (w[i], 1.0)]);
@@ -383,10 +438,21 @@ fn run(
 }
 
 /// Phase 1 up the k ladder: the best margin and the k that reached it.
-/// The unbounded try first: only it may declare infeasibility, and an
-/// infeasible system then costs one solve. When feasible, the smallest k of
-/// the ladder with a trusted margin keeps the weights small.
+/// Where a failure is a verdict (the global form), the unbounded try comes
+/// first: only it may declare infeasibility, and an infeasible system then
+/// costs one solve. The local form's failures are no verdict: its ladder
+/// starts small and the unbounded try comes last. The smallest k with a
+/// trusted margin keeps the weights small.
 fn margin(sys: &System, with3: bool, report: &mut WeightsReport) -> Result<(f64, Option<f64>)> {
+    if !sys.verdict {
+        for k in K_LADDER {
+            let sol = run(sys, with3, Some(k), &Mode::Margin, report)?;
+            if sol.delta > TRUST {
+                return Ok((sol.delta, Some(k)));
+            }
+        }
+        return Ok((run(sys, with3, None, &Mode::Margin, report)?.delta, None));
+    }
     let free = run(sys, with3, None, &Mode::Margin, report)?.delta;
     if free <= TRUST {
         return Ok((free, None));
@@ -588,6 +654,8 @@ fn global<B: Backend + ?Sized>(
         report.global_rounds = round;
         let mut sys = System {
             n,
+            free: vec![true; n],
+            verdict: true,
             l2: l2.to_vec(),
             ..Default::default()
         };
