@@ -4,8 +4,8 @@ use crate::complex::Complex;
 
 /// `nx` x `ny` square cavities of side 50 (10 m cells), each with a 16-gon
 /// well boundary of the given radius and a hole inside it: the paper's
-/// setting. At radius 14 zero weights suffice; at radius 21 the well
-/// polygon comes close to the cavity sides and the weights need the LP.
+/// setting. At radius 14 zero weights suffice; at radius 24.5 the well
+/// polygon nearly touches the cavity sides and the weights need the LP.
 /// Adjacent cavities share their sides.
 pub fn cavities(nx: usize, ny: usize, radius: f64) -> Complex {
     let mut cx = Complex::default();
