@@ -106,10 +106,8 @@ fn regular_triangulation(c: &mut Criterion) {
     g.finish();
 }
 
-/// The whole pipeline: cavities around wells (zero weights; with the wells
-/// close to the sides, the LP's local form), and staggered chains of
-/// non-Gabriel segments (the lazy global form; system 3 is infeasible there,
-/// so sites outside are allowed).
+/// The whole pipeline on cavities around wells: zero weights, and, with the
+/// wells close to the cavity sides, the LP's local form.
 fn conform_pipeline(c: &mut Criterion) {
     let b = default_backend();
     let cases: [(&str, Vec<Complex>); 2] = [
@@ -119,7 +117,7 @@ fn conform_pipeline(c: &mut Criterion) {
         ),
         (
             "conform_lp",
-            vec![staggered_chains(4, 26, 0.3), staggered_chains(10, 101, 0.3)],
+            vec![cavities(2, 2, 24.5), cavities(6, 6, 24.5)],
         ),
     ];
     for (group, inputs) in cases {
