@@ -9,9 +9,15 @@ use std::process::ExitCode;
 
 /// Conforming orthogonal meshes: power diagrams whose edges contain your
 /// constraint segments exactly, with sites inside their cells, and an exact
-/// certificate. Exit code 0 only when the certificate holds.
+/// certificate.
 #[derive(Parser)]
-#[command(name = "orthomesh", version, about, long_about = None)]
+#[command(
+    name = "orthomesh",
+    version,
+    after_help = "Examples:\n  orthomesh demo --out-dir out\n  orthomesh conform A.poly -o A.vtu --svg A.svg --report A.json\n\n\
+Exit status: 0 when the mesh is written and its exact certificate holds; 1 on\n\
+any error (bad input, no conforming mesh, sites outside cells), with nothing written."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
