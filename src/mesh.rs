@@ -7,6 +7,7 @@ use crate::diagram::Diagram;
 use crate::error::{Error, Result};
 use crate::exact::{f, fp};
 use crate::sites::Sites;
+use nalgebra::Vector2;
 use std::collections::HashMap;
 
 /// Edges shorter than this fraction of the mesh size are collapsed.
@@ -169,14 +170,11 @@ impl Mesh {
             let Some(&d) = owner.get(&(b, a)) else {
                 continue;
             };
-            let (pa, pb) = (self.points[a as usize], self.points[b as usize]);
-            let (sc, sd) = (self.sites[c], self.sites[d]);
-            let e = [pb[0] - pa[0], pb[1] - pa[1]];
-            let s = [sd[0] - sc[0], sd[1] - sc[1]];
-            let ne = e[0].hypot(e[1]);
-            let ns = s[0].hypot(s[1]);
-            if ne > MEASURE * self.size && ns > 0.0 {
-                worst = worst.max(((e[0] * s[0] + e[1] * s[1]) / (ne * ns)).abs());
+            let v = |p: [f64; 2]| Vector2::from(p);
+            let e = v(self.points[b as usize]) - v(self.points[a as usize]);
+            let s = v(self.sites[d]) - v(self.sites[c]);
+            if e.norm() > MEASURE * self.size && s.norm() > 0.0 {
+                worst = worst.max((e.dot(&s) / (e.norm() * s.norm())).abs());
             }
         }
         worst

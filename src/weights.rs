@@ -25,6 +25,7 @@ use crate::domain::Domain;
 use crate::error::{Error, Result};
 use crate::exact::{abs, dot, in_diametral_disc, is_pos, norm2, q, qp, sub, Q};
 use highs::{HighsModelStatus, RowProblem, Sense};
+use nalgebra::Vector2;
 use serde::Serialize;
 use std::collections::BTreeSet;
 use std::ops::Bound;
@@ -230,17 +231,18 @@ fn near_failures(cx: &Complex, dt: &Triangulation, cdt: &Triangulation) -> Vec<b
     free
 }
 
+/// p_to - p_from.
+fn rel(p: &[[f64; 2]], from: u32, to: u32) -> Vector2<f64> {
+    Vector2::from(p[to as usize]) - Vector2::from(p[from as usize])
+}
+
 /// Lifted edge (a, b) of ccw triangle (a, b, c), apex d across: locally
 /// convex iff det[[b-a, Zb], [c-a, Zc], [d-a, Zd]] > 0, Z relative to a.
 fn convexity_row(p: &[[f64; 2]], a: u32, b: u32, c: u32, d: u32) -> Row {
-    let pa = p[a as usize];
-    let rel = |v: u32| [p[v as usize][0] - pa[0], p[v as usize][1] - pa[1]];
-    let (u, v, r) = (rel(b), rel(c), rel(d));
-    let cr = |x: [f64; 2], y: [f64; 2]| x[0] * y[1] - x[1] * y[0];
-    let n2 = |x: [f64; 2]| x[0] * x[0] + x[1] * x[1];
-    let (ca, cb, cc) = (cr(v, r), cr(u, r), cr(u, v));
-    let c0 = n2(u) * ca - n2(v) * cb + n2(r) * cc;
-    let norm = n2(u) * (cc.abs() + cb.abs()) / 2.0;
+    let (u, v, r) = (rel(p, a, b), rel(p, a, c), rel(p, a, d));
+    let (ca, cb, cc) = (v.perp(&r), u.perp(&r), u.perp(&v));
+    let c0 = u.norm_squared() * ca - v.norm_squared() * cb + r.norm_squared() * cc;
+    let norm = u.norm_squared() * (cc.abs() + cb.abs()) / 2.0;
     Row {
         terms: vec![
             (a as usize, (ca - cb + cc) / norm),
@@ -256,9 +258,8 @@ fn convexity_row(p: &[[f64; 2]], a: u32, b: u32, c: u32, d: u32) -> Row {
 /// System 3 for segment s = (i, j): |w_i - w_j| < L and, for each m, the
 /// radical point q of i, j on the segment has smaller power for i than for m.
 fn sys3_rows(sys: &mut System, p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &[u32]) {
-    let (pi, pj) = (p[i as usize], p[j as usize]);
-    let u = [pj[0] - pi[0], pj[1] - pi[1]];
-    let l = u[0] * u[0] + u[1] * u[1];
+    let u = rel(p, i, j);
+    let l = u.norm_squared();
     let fam = Family::Sys3(s);
     let (i, j) = (i as usize, j as usize);
     sys.rows.push(Row {
@@ -272,10 +273,8 @@ fn sys3_rows(sys: &mut System, p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &
         family: fam,
     });
     for &m in others {
-        let pm = p[m as usize];
-        let r = [pm[0] - pi[0], pm[1] - pi[1]];
-        let ur = u[0] * r[0] + u[1] * r[1];
-        let rr = r[0] * r[0] + r[1] * r[1];
+        let r = rel(p, i as u32, m);
+        let (ur, rr) = (u.dot(&r), r.norm_squared());
         sys.rows.push(Row {
             terms: vec![
                 (i, (1.0 - ur / l) / l),
@@ -301,11 +300,9 @@ fn plane_rows(
 ) -> usize {
     let a0 = sys.n + sys.aux;
     sys.aux += 2;
-    let pi = p[i as usize];
-    let rel = |v: u32| [p[v as usize][0] - pi[0], p[v as usize][1] - pi[1]];
     if let Some(j) = j {
         // a.u + w_j - w_i = |u|^2, scaled by 1/L.
-        let u = rel(j);
+        let u = rel(p, i, j);
         sys.eqs.push(Row {
             terms: vec![
                 (a0, u[0] / scale2),
@@ -313,12 +310,12 @@ fn plane_rows(
                 (j as usize, 1.0 / scale2),
                 (i as usize, -1.0 / scale2),
             ],
-            rhs: (u[0] * u[0] + u[1] * u[1]) / scale2,
+            rhs: u.norm_squared() / scale2,
             family: Family::Sys1,
         });
     }
     for &m in others {
-        let r = rel(m);
+        let r = rel(p, i, m);
         // |r|^2 - w_m + w_i - a.r >= delta * scale2
         sys.rows.push(Row {
             terms: vec![
@@ -327,7 +324,7 @@ fn plane_rows(
                 (a0, -r[0] / scale2),
                 (a0 + 1, -r[1] / scale2),
             ],
-            rhs: -(r[0] * r[0] + r[1] * r[1]) / scale2,
+            rhs: -r.norm_squared() / scale2,
             family: Family::Sys1,
         });
     }
@@ -601,8 +598,7 @@ fn shortest_edge2(cx: &Complex, t: &Triangulation) -> Vec<f64> {
     let p = &cx.points;
     let mut l2 = vec![f64::INFINITY; p.len()];
     for (a, b) in t.edges() {
-        let (pa, pb) = (p[a as usize], p[b as usize]);
-        let d = (pa[0] - pb[0]).powi(2) + (pa[1] - pb[1]).powi(2);
+        let d = rel(p, a, b).norm_squared();
         for v in [a, b] {
             l2[v as usize] = l2[v as usize].min(d);
         }
@@ -661,13 +657,7 @@ fn global<B: Backend + ?Sized>(
         };
         for (o, &(i, j)) in owners.iter().enumerate() {
             let others: Vec<u32> = sets[o].iter().copied().collect();
-            let scale2 = match j {
-                Some(j) => {
-                    let (a, b) = (p[i as usize], p[j as usize]);
-                    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)
-                }
-                None => l2[i as usize],
-            };
+            let scale2 = j.map_or(l2[i as usize], |j| rel(p, i, j).norm_squared());
             plane_rows(&mut sys, p, i, j, &others, scale2);
             if let Some(j) = j {
                 sys3_rows(&mut sys, p, o as u32, i, j, &others);
