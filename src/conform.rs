@@ -103,7 +103,17 @@ pub fn conform<B: Backend + ?Sized>(
     clock.lap("sites");
     let rel = relocate(backend, &dom, &mut sites)?;
     clock.lap("relocate");
-    let outside_names: Vec<String> = rel.outside.iter().map(|&s| sites.describe(s, cx)).collect();
+    let outside_names: Vec<String> = rel
+        .outside
+        .iter()
+        .map(|&s| {
+            format!(
+                "{}: {}",
+                sites.describe(s, cx),
+                crate::relocate::why(&sites, &rel.rt, s, cx)
+            )
+        })
+        .collect();
     if !rel.outside.is_empty() && !opts.allow_sites_outside {
         return Err(Error::SitesOutsideCells {
             sites: outside_names,

@@ -36,6 +36,24 @@ pub fn outside(sites: &Sites, rt: &Triangulation, diagram: &Diagram) -> Vec<usiz
         .collect()
 }
 
+/// Why a site is outside its cell, for messages.
+pub fn why(sites: &Sites, rt: &Triangulation, s: usize, cx: &crate::complex::Complex) -> String {
+    if rt.hidden.contains(&(s as u32)) {
+        return "hidden: other sites' power is lower everywhere, it has no cell".into();
+    }
+    if !sites.movable[s] {
+        return "its segment misses its dual edge, so it cannot be on the segment's side".into();
+    }
+    let nb = rt.neighbours(sites.len());
+    match nb[s].iter().find(|&&b| !inside_wrt(sites, s, b as usize)) {
+        Some(&b) => format!(
+            "no position tried on its dual edge puts it inside; it lies beyond its face with {}",
+            sites.describe(b as usize, cx)
+        ),
+        None => "outside".into(),
+    }
+}
+
 /// Builds the site diagram, moving sites until all domain sites are inside
 /// their cells or no site can move.
 pub fn relocate<B: Backend + ?Sized>(
