@@ -6,6 +6,11 @@ use crate::exact::{in_box, orient};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
+/// Largest coordinate magnitude: squared lengths stay far below f64::MAX.
+pub const MAX_COORD: f64 = 1e150;
+/// Smallest extent: squared lengths stay normal doubles.
+pub const MIN_EXTENT: f64 = 1e-150;
+
 /// A 2D simplicial complex of constraints, with the ids its file gave.
 #[derive(Debug, Clone, Default)]
 pub struct Complex {
@@ -48,6 +53,28 @@ impl Complex {
             .collect();
         if !bad.is_empty() {
             return Err(Error::NonFinite { vertices: bad });
+        }
+        // Weights are squared lengths in doubles: squares must neither
+        // overflow nor vanish.
+        let big: Vec<i64> = (0..self.points.len())
+            .filter(|&i| self.points[i].iter().any(|c| c.abs() > MAX_COORD))
+            .map(|i| self.vertex_ids[i])
+            .collect();
+        if !big.is_empty() {
+            return Err(Error::OutOfRange(format!(
+                "vertices beyond +-{MAX_COORD:e} (rescale the input): {big:?}"
+            )));
+        }
+        let extent = (0..2)
+            .map(|k| {
+                let it = self.points.iter().map(|p| p[k]);
+                it.clone().fold(f64::NEG_INFINITY, f64::max) - it.fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max);
+        if self.points.len() > 1 && extent < MIN_EXTENT {
+            return Err(Error::OutOfRange(format!(
+                "the input spans {extent:e}, below {MIN_EXTENT:e} (rescale the input)"
+            )));
         }
         if let Some(h) = self
             .holes
@@ -245,6 +272,24 @@ mod tests {
             .validate()
             .unwrap_err();
         assert!(matches!(e, Error::VertexOnSegment { ref pairs } if pairs == &[(2, 0)]));
+    }
+
+    #[test]
+    fn squares_must_fit_in_doubles() {
+        let e = cx(&[[0., 0.], [1e200, 0.], [0., 1.]], &[])
+            .validate()
+            .unwrap_err();
+        assert!(
+            matches!(e, Error::OutOfRange(ref m) if m.contains("[1]")),
+            "{e}"
+        );
+        let e = cx(&[[0., 0.], [1e-200, 0.], [0., 1e-200]], &[])
+            .validate()
+            .unwrap_err();
+        assert!(matches!(e, Error::OutOfRange(_)), "{e}");
+        cx(&[[6e6, 6e6], [6e6 + 1e-3, 6e6], [6e6, 6e6 + 1e-3]], &[])
+            .validate()
+            .unwrap();
     }
 
     #[test]

@@ -30,6 +30,8 @@ pub enum Error {
     CrossingSegments { pairs: Vec<(i64, i64)> },
     /// (vertex, segment): a vertex inside a segment.
     VertexOnSegment { pairs: Vec<(i64, i64)> },
+    /// Coordinates whose squares do not fit in a double (weights are squared lengths).
+    OutOfRange(String),
     /// The input has no area to mesh (fewer than 3 points, all collinear, empty domain).
     Degenerate(String),
     /// System 1 infeasible: no regular constrained triangulation exists.
@@ -90,6 +92,7 @@ impl fmt::Display for Error {
             Error::VertexOnSegment { pairs: p } => {
                 write!(f, "vertices lying inside a segment (vertex on segment): {}", pairs(p, " on "))
             }
+            Error::OutOfRange(m) => write!(f, "coordinates out of range: {m}"),
             Error::Degenerate(m) => write!(f, "nothing to mesh: {m}"),
             Error::NoRegularConstrainedTriangulation { segments } => write!(
                 f,

@@ -92,7 +92,7 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
             sys3_failed: vec![],
         });
     }
-    let l2 = shortest_edge2(cx, &dom.cdt);
+    let units = Units::new(cx, &dom.cdt);
     let mut report = WeightsReport {
         method: "local".into(),
         ..Default::default()
@@ -109,7 +109,7 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
     };
     for free in tries {
         report.free_weights = free.iter().filter(|&&f| f).count();
-        let local = local_system(cx, &dom.cdt, &l2, free);
+        let local = local_system(cx, &dom.cdt, &units, free);
         if let Attempt::Found(found) = attempt(backend, cx, &local, false, &mut report)? {
             if found.sys3_failed.is_empty() {
                 return finish(found, report);
@@ -118,7 +118,7 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
     }
     report.free_weights = n;
     report.method = "global".into();
-    global(backend, dom, &l2, report)
+    global(backend, dom, &units, report)
 }
 
 /// A candidate from one LP attempt, verified to conform.
@@ -164,6 +164,10 @@ struct System {
     free: Vec<bool>,
     /// Whether infeasibility of these rows proves infeasibility (global form).
     verdict: bool,
+    /// Rows are written for points divided by a power of two near the
+    /// input's extent (so HiGHS' absolute tolerances mean the same at any
+    /// scale); weights come back multiplied by its square, exactly.
+    unit2: f64,
     aux: usize,
     l2: Vec<f64>,
     rows: Vec<Row>,
@@ -174,12 +178,13 @@ struct System {
 /// every segment against the apexes of `t` beside it.
 /// Only rows with a free weight are written: a row over zero weights alone
 /// is a fixed Delaunay property that the exact verification checks anyway.
-fn local_system(cx: &Complex, t: &Triangulation, l2: &[f64], free: Vec<bool>) -> System {
-    let p = &cx.points;
+fn local_system(cx: &Complex, t: &Triangulation, units: &Units, free: Vec<bool>) -> System {
+    let p = &units.points;
     let any_free = |vs: &[u32]| vs.iter().any(|&v| free[v as usize]);
     let mut sys = System {
         n: p.len(),
-        l2: l2.to_vec(),
+        l2: units.l2.clone(),
+        unit2: units.unit2,
         ..Default::default()
     };
     for (a, b) in t.edges() {
@@ -421,9 +426,16 @@ fn run(
     match status {
         HighsModelStatus::Optimal => {
             let cols = solved.get_solution().columns().to_vec();
+            if cols.iter().any(|c| !c.is_finite())
+                || !(cols[..sys.n].iter().all(|w| (w * sys.unit2).is_finite()))
+            {
+                return Err(Error::Lp(
+                    "the LP returned weights that are not finite doubles".into(),
+                ));
+            }
             Ok(Solution {
                 delta: cols[delta.index()],
-                w: cols[..sys.n].to_vec(),
+                w: cols[..sys.n].iter().map(|w| w * sys.unit2).collect(),
             })
         }
         HighsModelStatus::Infeasible => Ok(Solution {
@@ -593,19 +605,69 @@ pub fn sys3_failures(cx: &Complex, w: &[f64], rt: &Triangulation) -> Vec<u32> {
     out
 }
 
-/// Squared length of the shortest edge of `t` at each vertex (its scale).
-fn shortest_edge2(cx: &Complex, t: &Triangulation) -> Vec<f64> {
-    let p = &cx.points;
-    let mut l2 = vec![f64::INFINITY; p.len()];
-    for (a, b) in t.edges() {
-        let d = rel(p, a, b).norm_squared();
-        for v in [a, b] {
-            l2[v as usize] = l2[v as usize].min(d);
+/// Vertices of triangles of `t` whose height is below 1e-9 of their longest
+/// edge: the LP's tolerances cannot resolve their lifts.
+fn slivers(p: &[[f64; 2]], t: &Triangulation) -> Vec<u32> {
+    let mut out: Vec<u32> = vec![];
+    for tri in &t.triangles {
+        let [a, b, c] = *tri;
+        let (u, v) = (rel(p, a, b), rel(p, a, c));
+        let longest2 = u
+            .norm_squared()
+            .max(v.norm_squared())
+            .max((v - u).norm_squared());
+        if u.perp(&v).abs() < 1e-9 * longest2 {
+            out.extend(tri);
         }
     }
-    l2.iter()
-        .map(|&d| if d.is_finite() && d > 0.0 { d } else { 1.0 })
-        .collect()
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// The input in LP units.
+struct Units {
+    /// Points divided by the power of two nearest the input's extent.
+    points: Vec<[f64; 2]>,
+    /// That power of two, squared: the unit of weights.
+    unit2: f64,
+    /// Squared length of the shortest CDT edge at each vertex, in LP units.
+    l2: Vec<f64>,
+}
+
+impl Units {
+    fn new(cx: &Complex, t: &Triangulation) -> Units {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in &cx.points {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        let scale = 2f64.powi(extent.log2().round() as i32);
+        let points: Vec<[f64; 2]> = cx
+            .points
+            .iter()
+            .map(|p| [p[0] / scale, p[1] / scale])
+            .collect();
+        let mut l2 = vec![f64::INFINITY; points.len()];
+        for (a, b) in t.edges() {
+            let d = rel(&points, a, b).norm_squared();
+            for v in [a, b] {
+                l2[v as usize] = l2[v as usize].min(d);
+            }
+        }
+        let l2 = l2
+            .iter()
+            .map(|&d| if d.is_finite() && d > 0.0 { d } else { 1.0 })
+            .collect();
+        Units {
+            points,
+            unit2: scale * scale,
+            l2,
+        }
+    }
 }
 
 /// The lazy global form: a supporting plane per segment and per isolated
@@ -614,11 +676,12 @@ fn shortest_edge2(cx: &Complex, t: &Triangulation) -> Vec<f64> {
 fn global<B: Backend + ?Sized>(
     backend: &B,
     dom: &Domain,
-    l2: &[f64],
+    units: &Units,
     mut report: WeightsReport,
 ) -> Result<Weights> {
     let cx = &dom.complex;
-    let p = &cx.points;
+    let p = &units.points;
+    let l2 = &units.l2;
     let n = p.len();
     let cdt_nb = dom.cdt.neighbours(n);
     let degree = cx.degrees();
@@ -652,6 +715,7 @@ fn global<B: Backend + ?Sized>(
             n,
             free: vec![true; n],
             verdict: true,
+            unit2: units.unit2,
             l2: l2.to_vec(),
             ..Default::default()
         };
@@ -665,6 +729,16 @@ fn global<B: Backend + ?Sized>(
         }
         let (found, w) = match attempt(backend, cx, &sys, true, &mut report)? {
             Attempt::Sys1Infeasible => {
+                // The verdict is the LP's, in floating point: triangles far
+                // thinner than its tolerances make it no verdict at all.
+                let thin = slivers(&cx.points, &dom.cdt);
+                if !thin.is_empty() {
+                    let ids: Vec<i64> = thin.iter().map(|&v| cx.vertex_ids[v as usize]).collect();
+                    return Err(Error::Lp(format!(
+                        "cannot decide whether a regular constrained triangulation exists: the LP finds none, \
+                         but triangles of nearly collinear vertices are beyond its precision (vertices {ids:?})"
+                    )));
+                }
                 // Infeasible on a subset of the rows: infeasible outright.
                 let ids = if last_missing.is_empty() {
                     (0..cx.segments.len() as u32).collect()
@@ -689,7 +763,7 @@ fn global<B: Backend + ?Sized>(
         };
         let rt = match &found {
             Some(f) => f.rt.clone(),
-            None => backend.regular(p, &w)?,
+            None => backend.regular(&cx.points, &w)?,
         };
         let (missing, hidden) = conforms(cx, &rt).err().unwrap_or_default();
         let sys3_bad = if missing.is_empty() && hidden.is_empty() {
