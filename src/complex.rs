@@ -65,17 +65,6 @@ impl Complex {
                 "vertices beyond +-{MAX_COORD:e} (rescale the input): {big:?}"
             )));
         }
-        let extent = (0..2)
-            .map(|k| {
-                let it = self.points.iter().map(|p| p[k]);
-                it.clone().fold(f64::NEG_INFINITY, f64::max) - it.fold(f64::INFINITY, f64::min)
-            })
-            .fold(0.0, f64::max);
-        if self.points.len() > 1 && extent < MIN_EXTENT {
-            return Err(Error::OutOfRange(format!(
-                "the input spans {extent:e}, below {MIN_EXTENT:e} (rescale the input)"
-            )));
-        }
         if let Some(h) = self
             .holes
             .iter()
@@ -100,6 +89,17 @@ impl Complex {
         }
         if !dups.is_empty() {
             return Err(Error::DuplicateVertices { pairs: dups });
+        }
+        let extent = (0..2)
+            .map(|k| {
+                let it = self.points.iter().map(|p| p[k]);
+                it.clone().fold(f64::NEG_INFINITY, f64::max) - it.fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max);
+        if self.points.len() > 1 && extent < MIN_EXTENT {
+            return Err(Error::OutOfRange(format!(
+                "the input spans {extent:e}, below {MIN_EXTENT:e} (rescale the input)"
+            )));
         }
 
         let zero: Vec<i64> = (0..self.segments.len())
