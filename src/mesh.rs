@@ -144,16 +144,12 @@ impl Mesh {
     }
 
     /// Signed area of a cell (shoelace).
+    /// Relative to the first vertex: far from the origin (map coordinates)
+    /// absolute products would cancel catastrophically.
     pub fn area(&self, cell: &[u32]) -> f64 {
-        let k = cell.len();
-        (0..k)
-            .map(|e| {
-                let a = self.points[cell[e] as usize];
-                let b = self.points[cell[(e + 1) % k] as usize];
-                a[0] * b[1] - a[1] * b[0]
-            })
-            .sum::<f64>()
-            / 2.0
+        let o = Vector2::from(self.points[cell[0] as usize]);
+        let v = |i: u32| Vector2::from(self.points[i as usize]) - o;
+        cell.windows(2).map(|e| v(e[0]).perp(&v(e[1]))).sum::<f64>() / 2.0
     }
 
     /// Largest |cos| between an interior face and the line joining the two
