@@ -69,8 +69,14 @@ pub fn relocate<B: Backend + ?Sized>(
         let out = outside(sites, &rt, &diagram);
         let mut moved = std::collections::HashSet::new();
         if round < MAX_ROUNDS {
+            let nb = rt.neighbours(sites.len());
             for &s in &out {
-                if sites.step(s) {
+                let against: Vec<usize> = nb[s]
+                    .iter()
+                    .map(|&b| b as usize)
+                    .filter(|&b| !inside_wrt(sites, s, b))
+                    .collect();
+                if sites.step(s, &against) {
                     moved.insert(s as u32);
                 }
             }

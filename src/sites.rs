@@ -356,20 +356,27 @@ impl Sites {
             .collect()
     }
 
-    /// Moves a site one step: a segment site halves its distance to the
-    /// segment; a vertex site tries the next fraction of its dual edge.
-    /// Returns false when the site cannot move further.
-    pub fn step(&mut self, s: usize) -> bool {
+    /// Moves a site that is outside its cell because of the sites in
+    /// `against`: a segment site moves towards its segment, at least halfway
+    /// and, when the power difference with those sites (a quadratic in its
+    /// position, solved in doubles) says so, straight to 4/5 of the way to
+    /// where it would be inside; a vertex site tries the next fraction of its
+    /// dual edge. Returns false when the site cannot move further. Whether
+    /// the new position is inside is decided exactly afterwards.
+    pub fn step(&mut self, s: usize, against: &[usize]) -> bool {
         if !self.movable[s] {
             return false;
         }
         let next = match &self.role[s] {
             Role::Segment { .. } => {
-                let f = &self.frac[s] / qi(2);
-                if f < ratio(1, 1i64 << 40) {
+                let cur = crate::exact::f(&self.frac[s]);
+                let target = against
+                    .iter()
+                    .fold(cur / 2.0, |t, &b| t.min(0.8 * self.inside_below(s, b, cur)));
+                if target < 1.0 / (1u64 << 40) as f64 {
                     return false;
                 }
-                f
+                q(target)
             }
             Role::Vertex { .. } => {
                 let at = VERTEX_FRACS
@@ -391,6 +398,38 @@ impl Sites {
         self.weight[s] = weight;
         self.frac[s] = next;
         true
+    }
+
+    /// For segment site a on its track a(f) = base + f (tb - ta) dir (ta = 0),
+    /// the smallest positive root of g(f) = |a(f) - b|^2 + omega_a(f) - omega_b
+    /// below `cur` (a is inside with respect to b where g > 0), or `cur`
+    /// when g has none there or is not positive at the segment itself.
+    fn inside_below(&self, a: usize, b: usize, cur: f64) -> f64 {
+        let tk = &self.track[a];
+        let fv =
+            |p: &QPoint| nalgebra::Vector2::new(crate::exact::f(&p[0]), crate::exact::f(&p[1]));
+        let d = fv(&tk.dir) * crate::exact::f(&(&tk.tb - &tk.ta));
+        let base = fv(&tk.base);
+        let anchor = fv(&self.points[tk.anchor as usize]);
+        let sb = nalgebra::Vector2::new(self.approx[b][0], self.approx[b][1]);
+        let (wa, wb) = (
+            crate::exact::f(&self.weights[tk.anchor as usize]),
+            self.approx[b][2],
+        );
+        // g(f) = 2|d|^2 f^2 + 2 f d.(2 base - b - p) + |base - b|^2 + |base - p|^2 - w - omega_b
+        let qa = 2.0 * d.norm_squared();
+        let qb = 2.0 * d.dot(&(2.0 * base - sb - anchor));
+        let qc = (base - sb).norm_squared() + (base - anchor).norm_squared() - wa - wb;
+        let disc = qb * qb - 4.0 * qa * qc;
+        if !(qc > 0.0 && qa > 0.0 && disc > 0.0) {
+            return cur;
+        }
+        let r1 = (-qb - disc.sqrt()) / (2.0 * qa);
+        if r1 > 0.0 && r1 < cur {
+            r1
+        } else {
+            cur
+        }
     }
 
     /// Human-readable name of a site, with the input's ids.
