@@ -67,8 +67,15 @@ pub fn certify(
         .map(|&p| index.get(&qp(p)).copied())
         .collect();
 
+    // A mesh vertex is a corner of some domain cell.
+    let corners: HashSet<u32> = (0..diagram.cells.len())
+        .filter(|&s| diagram.in_domain[s])
+        .filter_map(|s| diagram.cells[s].as_ref())
+        .flatten()
+        .copied()
+        .collect();
     let missing: Vec<i64> = (0..cx.points.len())
-        .filter(|&v| vid[v].is_none())
+        .filter(|&v| vid[v].is_none_or(|id| !corners.contains(&id)))
         .map(|v| cx.vertex_ids[v])
         .collect();
     c.vertices_are_mesh_vertices = missing.is_empty();

@@ -49,10 +49,33 @@ impl Diagram {
     ) -> Diagram {
         let mut index: HashMap<QPoint, u32> = HashMap::new();
         let mut points = vec![];
+        let served: Vec<[u32; 2]> = (0..sites.len())
+            .map(|s| sites.served(s, &dom.complex))
+            .collect();
+        let mut vertex_id: Vec<Option<u32>> = vec![None; dom.complex.points.len()];
+        let mut id_of = |c: &QPoint, points: &mut Vec<QPoint>| match index.get(c) {
+            Some(&id) => id,
+            None => {
+                points.push(c.clone());
+                index.insert(c.clone(), points.len() as u32 - 1);
+                points.len() as u32 - 1
+            }
+        };
         let centre_id: Vec<u32> = rt
             .triangles
             .iter()
             .map(|tri| {
+                // Three sites serving one input vertex have equal power
+                // there by construction: their centre is that vertex.
+                let [a, b, c] = tri.map(|v| served[v as usize]);
+                if let Some(&v) = a.iter().find(|v| b.contains(v) && c.contains(v)) {
+                    if let Some(id) = vertex_id[v as usize] {
+                        return id;
+                    }
+                    let id = id_of(&qp(dom.complex.points[v as usize]), &mut points);
+                    vertex_id[v as usize] = Some(id);
+                    return id;
+                }
                 let mut key = *tri;
                 key.sort_unstable();
                 let c = cache.0.entry(key).or_insert_with(|| {
@@ -63,14 +86,7 @@ impl Diagram {
                     )
                     .expect("triangles of a regular triangulation are not flat")
                 });
-                match index.get(c) {
-                    Some(&id) => id,
-                    None => {
-                        points.push(c.clone());
-                        index.insert(c.clone(), points.len() as u32 - 1);
-                        points.len() as u32 - 1
-                    }
-                }
+                id_of(c, &mut points)
             })
             .collect();
         let around = rt.vertex_triangles(sites.len());

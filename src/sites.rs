@@ -432,6 +432,15 @@ impl Sites {
         }
     }
 
+    /// The input vertices at which this site has the power of that vertex's
+    /// weight by construction (both ends of its segment, or of its edge).
+    pub fn served(&self, s: usize, cx: &Complex) -> [u32; 2] {
+        match &self.role[s] {
+            Role::Segment { seg, .. } => cx.segments[*seg as usize],
+            Role::Vertex { edge, .. } => [edge.0, edge.1],
+        }
+    }
+
     /// Human-readable name of a site, with the input's ids.
     pub fn describe(&self, s: usize, cx: &Complex) -> String {
         match &self.role[s] {
