@@ -34,6 +34,8 @@ use std::ops::Bound;
 const TRUST: f64 = 1e-6;
 /// Bounds |w_i| <= k l_i^2 tried in turn after the unbounded try.
 const K_LADDER: [f64; 2] = [1.0, 16.0];
+/// System 1 margin tried first by the elastic phase.
+const ELASTIC_MARGIN: f64 = 1e-3;
 /// Rounds of the lazy global form before giving up on adding rows locally.
 const GLOBAL_ROUNDS: usize = 40;
 
@@ -517,25 +519,43 @@ fn attempt<B: Backend + ?Sized>(
             true,
         )
     } else {
-        let (m1, k1) = margin(sys, false, report)?;
-        report.margin = Some(m1);
-        report.bound_k = k1;
-        if m1 <= TRUST {
-            return Ok(Attempt::Sys1Infeasible);
+        // Usually system 1 alone has a comfortable margin: one elastic solve
+        // at a fixed margin settles it; only when that fails is the margin of
+        // system 1 searched (and its absence a verdict).
+        let quick = run(
+            sys,
+            true,
+            None,
+            &Mode::Elastic {
+                delta_min: ELASTIC_MARGIN,
+            },
+            report,
+        )?;
+        if quick.delta >= ELASTIC_MARGIN {
+            report.margin = Some(quick.delta);
+            report.bound_k = None;
+            (quick.w, false)
+        } else {
+            let (m1, k1) = margin(sys, false, report)?;
+            report.margin = Some(m1);
+            report.bound_k = k1;
+            if m1 <= TRUST {
+                return Ok(Attempt::Sys1Infeasible);
+            }
+            (
+                run(
+                    sys,
+                    true,
+                    k1,
+                    &Mode::Elastic {
+                        delta_min: m1 / 2.0,
+                    },
+                    report,
+                )?
+                .w,
+                false,
+            )
         }
-        (
-            run(
-                sys,
-                true,
-                k1,
-                &Mode::Elastic {
-                    delta_min: m1 / 2.0,
-                },
-                report,
-            )?
-            .w,
-            false,
-        )
     };
     let rt = backend.regular(&cx.points, &w)?;
     if conforms(cx, &rt).is_err() {
