@@ -6,6 +6,11 @@ use crate::exact::{in_box, orient};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
+/// Two segments (indices) that cross.
+type SegmentPair = (usize, usize);
+/// A vertex (index) inside a segment (index).
+type VertexOnSegment = (u32, usize);
+
 /// Largest coordinate magnitude: squared lengths stay far below f64::MAX.
 pub const MAX_COORD: f64 = 1e150;
 /// Smallest extent: squared lengths stay normal doubles.
@@ -145,7 +150,7 @@ impl Complex {
     /// Proper crossings (segment pairs) and vertices inside segments, found by
     /// a sweep over x with exact orientation tests. Touching, T-junctions and
     /// collinear overlaps all put a vertex inside a segment.
-    fn intersections(&self) -> (Vec<(usize, usize)>, Vec<(u32, usize)>) {
+    fn intersections(&self) -> (Vec<SegmentPair>, Vec<VertexOnSegment>) {
         let p = &self.points;
         let seg = |s: usize| {
             (

@@ -120,9 +120,8 @@ fn constraints_inside_holes_play_no_role() {
 #[test]
 fn clusters_gets_a_clear_answer() {
     let cx = read("clusters.edg");
-    let e = run(&default_backend(), &cx, "clusters", false)
-        .err()
-        .expect("system 3 is infeasible here");
+    let e =
+        run(&default_backend(), &cx, "clusters", false).expect_err("system 3 is infeasible here");
     assert!(matches!(e, Error::SegmentsMissTheirDuals { .. }), "{e}");
     let out = run(&default_backend(), &cx, "clusters", true).unwrap();
     assert_certified(&out, "clusters");

@@ -26,14 +26,14 @@ pub fn parse(text: &str, path: &Path) -> Result<Complex> {
             ));
         }
         let mut ends = [0u32; 2];
-        for e in 0..2 {
+        for (e, end) in ends.iter_mut().enumerate() {
             let p: [f64; 2] = [
                 r.num(line, &t, 2 * e, "x")?,
                 r.num(line, &t, 2 * e + 1, "y")?,
             ];
             let key = [(p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits()];
             let next = cx.points.len() as u32;
-            ends[e] = *index.entry(key).or_insert_with(|| {
+            *end = *index.entry(key).or_insert_with(|| {
                 cx.points.push(p);
                 cx.vertex_ids.push(next as i64);
                 next

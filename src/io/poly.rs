@@ -35,9 +35,9 @@ pub fn parse(text: &str, path: &Path) -> Result<Complex> {
         let (line, t) = r.next_record(&format!("segment {} of {ns}", k + 1))?;
         let id: i64 = r.num(line, &t, 0, "segment id")?;
         let mut ends = [0u32; 2];
-        for e in 0..2 {
+        for (e, end) in ends.iter_mut().enumerate() {
             let v: i64 = r.num(line, &t, 1 + e, "segment endpoint")?;
-            ends[e] = *index.get(&v).ok_or_else(|| {
+            *end = *index.get(&v).ok_or_else(|| {
                 r.error(
                     line,
                     format!("segment {id} refers to vertex {v}, which does not exist"),

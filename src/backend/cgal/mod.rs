@@ -47,8 +47,8 @@ impl Backend for Cgal {
     fn regular_exact(&self, points: &[[Q; 2]], weights: &[Q]) -> Result<Triangulation> {
         let mut text = String::with_capacity(points.len() * 96);
         for (p, w) in points.iter().zip(weights) {
-            // num-rational prints "n/d" or "n", which GMP's mpq parser reads.
-            let _ = write!(text, "{} {} {}\n", p[0], p[1], w);
+            // malachite prints "n/d" or "n", which GMP's mpq parser reads.
+            let _ = writeln!(text, "{} {} {}", p[0], p[1], w);
         }
         convert(ffi::bridge::regular_triangulation_2_exact(&text))
     }
