@@ -34,6 +34,8 @@ use std::ops::Bound;
 const TRUST: f64 = 1e-6;
 /// Bounds |w_i| <= k l_i^2 tried in turn after the unbounded try.
 const K_LADDER: [f64; 2] = [1.0, 16.0];
+/// Largest number of point rows the lazy global form may grow to.
+const MAX_GLOBAL_ROWS: usize = 5_000_000;
 /// System 1 margin tried first by the elastic phase.
 const ELASTIC_MARGIN: f64 = 1e-3;
 /// Rounds of the lazy global form before giving up on adding rows locally.
@@ -826,6 +828,19 @@ fn global<B: Backend + ?Sized>(
             }
             sets[o].extend(ring);
             grew |= sets[o].len() > before;
+        }
+        let rows: usize = sets.iter().map(BTreeSet::len).sum();
+        if rows > MAX_GLOBAL_ROWS {
+            // Dense rows for many owners would not fit; better a clear stop.
+            return Err(Error::Lp(format!(
+                "the lazy global form needs more than {MAX_GLOBAL_ROWS} rows without converging \
+                 (segments still missing: {:?})",
+                missing
+                    .iter()
+                    .take(20)
+                    .map(|&s| cx.segment_ids[s as usize])
+                    .collect::<Vec<_>>()
+            )));
         }
         if !grew {
             // Every violated owner has all its rows, yet RT(w) disagrees:
