@@ -37,7 +37,7 @@ def check(path):
     for block in mm.cells:
         for cell in block.data:
             assert len(set(cell)) == len(cell), f"{path}: repeated vertex in {cell}"
-            xy = mm.points[cell, :2]
+            xy = mm.points[cell, :2] - mm.points[cell[0], :2]  # relative: map coordinates cancel
             area = 0.5 * np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1])
             assert area > 0, f"{path}: clockwise or flat polygon {cell}"
     return n
