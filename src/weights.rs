@@ -905,4 +905,32 @@ mod tests {
             - apex.rhs;
         assert!((v - 0.125).abs() < 1e-15, "{v}");
     }
+
+    #[test]
+    fn plane_rows_by_hand() {
+        // Segment (0,0)-(2,0) and a point (1,1): the plane through the lifts
+        // of the segment's ends has slopes a (two auxiliary columns).
+        let p = [[0.0, 0.0], [2.0, 0.0], [1.0, 1.0]];
+        let mut sys = System {
+            n: 3,
+            l2: vec![1.0; 3],
+            ..Default::default()
+        };
+        let a0 = plane_rows(&mut sys, &p, 0, Some(1), &[2], 4.0);
+        assert_eq!((a0, sys.aux), (3, 2));
+        // a.u + w_1 - w_0 = |u|^2, over L = 4
+        let eq = &sys.eqs[0];
+        assert_eq!(eq.terms, vec![(3, 0.5), (4, 0.0), (1, 0.25), (0, -0.25)]);
+        assert_eq!(eq.rhs, 1.0);
+        // |r|^2 - w_2 + w_0 - a.r >= delta L: with zero weights and
+        // a = (2, -1) the row value is (2 - (2 - 1)) / 4 = 1/4.
+        let row = &sys.rows[0];
+        assert_eq!(row.rhs, -0.5);
+        let x = [0.0, 0.0, 0.0, 2.0, -1.0];
+        let value: f64 = row.terms.iter().map(|&(c, k)| k * x[c]).sum::<f64>() - row.rhs;
+        assert_eq!(value, 0.25);
+        // and the equality holds for those slopes
+        let lhs: f64 = eq.terms.iter().map(|&(c, k)| k * x[c]).sum();
+        assert_eq!(lhs, eq.rhs);
+    }
 }
