@@ -5,6 +5,7 @@ use crate::backend::Triangulation;
 use crate::domain::Domain;
 use crate::exact::{orient_q, power_centre, qi, qp, zero, QPoint};
 use crate::sites::Sites;
+use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::collections::{HashMap, VecDeque};
 
@@ -61,32 +62,45 @@ impl Diagram {
                 points.len() as u32 - 1
             }
         };
+        // Three sites serving one input vertex have equal power there by
+        // construction: their centre is that vertex.
+        let vertex_of = |tri: &[u32; 3]| {
+            let [a, b, c] = tri.map(|v| served[v as usize]);
+            a.into_iter().find(|v| b.contains(v) && c.contains(v))
+        };
+        let key = |tri: &[u32; 3]| {
+            let mut k = *tri;
+            k.sort_unstable();
+            k
+        };
+        // The other centres not cached yet, constructed in parallel.
+        let todo: Vec<[u32; 3]> = rt
+            .triangles
+            .iter()
+            .filter(|tri| vertex_of(tri).is_none() && !cache.0.contains_key(&key(tri)))
+            .copied()
+            .collect();
+        let fresh: Vec<QPoint> = todo
+            .par_iter()
+            .map(|tri| {
+                let [a, b, c] = tri.map(|v| v as usize);
+                power_centre(
+                    [&sites.pos[a], &sites.pos[b], &sites.pos[c]],
+                    [&sites.weight[a], &sites.weight[b], &sites.weight[c]],
+                )
+                .expect("triangles of a regular triangulation are not flat")
+            })
+            .collect();
+        for (tri, c) in todo.iter().zip(fresh) {
+            cache.0.insert(key(tri), c);
+        }
         let centre_id: Vec<u32> = rt
             .triangles
             .iter()
-            .map(|tri| {
-                // Three sites serving one input vertex have equal power
-                // there by construction: their centre is that vertex.
-                let [a, b, c] = tri.map(|v| served[v as usize]);
-                if let Some(&v) = a.iter().find(|v| b.contains(v) && c.contains(v)) {
-                    if let Some(id) = vertex_id[v as usize] {
-                        return id;
-                    }
-                    let id = id_of(&qp(dom.complex.points[v as usize]), &mut points);
-                    vertex_id[v as usize] = Some(id);
-                    return id;
-                }
-                let mut key = *tri;
-                key.sort_unstable();
-                let c = cache.0.entry(key).or_insert_with(|| {
-                    let [a, b, c] = tri.map(|v| v as usize);
-                    power_centre(
-                        [&sites.pos[a], &sites.pos[b], &sites.pos[c]],
-                        [&sites.weight[a], &sites.weight[b], &sites.weight[c]],
-                    )
-                    .expect("triangles of a regular triangulation are not flat")
-                });
-                id_of(c, &mut points)
+            .map(|tri| match vertex_of(tri) {
+                Some(v) => *vertex_id[v as usize]
+                    .get_or_insert_with(|| id_of(&qp(dom.complex.points[v as usize]), &mut points)),
+                None => id_of(&cache.0[&key(tri)], &mut points),
             })
             .collect();
         let around = rt.vertex_triangles(sites.len());

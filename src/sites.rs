@@ -10,6 +10,7 @@ use crate::exact::{
     add, cross, dot, is_pos, norm2, one, power_centre, q, qi, qp, ratio, round, scale, sub, zero,
     QPoint, Q,
 };
+use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
@@ -49,8 +50,8 @@ pub struct Sites {
     pub movable: Vec<bool>,
     points: Vec<QPoint>,
     weights: Vec<Q>,
-    /// Power centres of the triangles of RT(w), computed once each.
-    centres: std::cell::RefCell<HashMap<u32, QPoint>>,
+    /// Power centres of the triangles of RT(w), computed in parallel.
+    centres: Vec<QPoint>,
 }
 
 /// Shortest dual edge, relative to its primal edge, that carries a vertex site.
@@ -65,9 +66,22 @@ impl Sites {
     pub fn place(cx: &Complex, w: &[f64], rt: &Triangulation, sys3_failed: &[u32]) -> Sites {
         let points: Vec<QPoint> = cx.points.iter().map(|&p| qp(p)).collect();
         let weights: Vec<Q> = w.iter().map(|&x| q(x)).collect();
+        let centres = rt
+            .triangles
+            .par_iter()
+            .map(|tri| {
+                let [a, b, c] = tri.map(|v| v as usize);
+                power_centre(
+                    [&points[a], &points[b], &points[c]],
+                    [&weights[a], &weights[b], &weights[c]],
+                )
+                .expect("triangles of a regular triangulation are not flat")
+            })
+            .collect();
         let mut s = Sites {
             points,
             weights,
+            centres,
             ..Default::default()
         };
         let failed: std::collections::HashSet<u32> = sys3_failed.iter().copied().collect();
@@ -173,26 +187,15 @@ impl Sites {
         let dir = [-u[1].clone(), u[0].clone()];
         let param = |a: u32, b: u32| {
             rt.left_of(a, b).map(|t| {
-                let c = self.centre(rt, t);
+                let c = self.centre(t);
                 dot(&sub(&c, &base), &dir) / &l
             })
         };
         (base.clone(), dir.clone(), param(i, j), param(j, i))
     }
 
-    fn centre(&self, rt: &Triangulation, t: u32) -> QPoint {
-        self.centres
-            .borrow_mut()
-            .entry(t)
-            .or_insert_with(|| {
-                let [a, b, c] = rt.triangles[t as usize].map(|v| v as usize);
-                power_centre(
-                    [&self.points[a], &self.points[b], &self.points[c]],
-                    [&self.weights[a], &self.weights[b], &self.weights[c]],
-                )
-                .expect("triangles of a regular triangulation are not flat")
-            })
-            .clone()
+    fn centre(&self, t: u32) -> QPoint {
+        self.centres[t as usize].clone()
     }
 
     /// Extra sites: one for a free end, three for an isolated vertex, on
@@ -313,7 +316,7 @@ impl Sites {
         let mut corners: Vec<QPoint> = vec![];
         for (t, tri) in rt.triangles.iter().enumerate() {
             if tri.contains(&i) {
-                let c = self.centre(rt, t as u32);
+                let c = self.centre(t as u32);
                 if !corners.contains(&c) {
                     corners.push(c);
                 }
