@@ -1,11 +1,22 @@
-// Shared by the CGAL translation units (not by the bridge): turns a CGAL 2D
-// triangulation whose vertices carry their input index into flat arrays.
+// Shared by the CGAL translation units (never by the bridge header): the
+// regular triangulation whose vertices carry their input index, and its
+// conversion into flat arrays.
 #pragma once
 #include "orthomesh/src/backend/cgal/ffi.rs.h"
+#include <CGAL/Regular_triangulation_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace orthomesh {
+
+// Regular_triangulation_2 over kernel K, vertices tagged with input indices.
+template <class K>
+using RegularWithIndex2 = CGAL::Regular_triangulation_2<
+    K, CGAL::Triangulation_data_structure_2<
+           CGAL::Triangulation_vertex_base_with_info_2<uint32_t, K, CGAL::Regular_triangulation_vertex_base_2<K>>,
+           CGAL::Regular_triangulation_face_base_2<K>>>;
 
 // Finite faces as ccw index triples, plus the indices that are no vertex
 // (hidden points of a regular triangulation, merged duplicates).

@@ -17,11 +17,7 @@ namespace {
 
 typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
 
-typedef CGAL::Regular_triangulation_vertex_base_2<K> RVbb;
-typedef CGAL::Triangulation_vertex_base_with_info_2<uint32_t, K, RVbb> RVb;
-typedef CGAL::Regular_triangulation_face_base_2<K> RFb;
-typedef CGAL::Triangulation_data_structure_2<RVb, RFb> RTds;
-typedef CGAL::Regular_triangulation_2<K, RTds> RT;
+typedef RegularWithIndex2<K> RT;
 
 typedef CGAL::Triangulation_vertex_base_with_info_2<uint32_t, K> CVb;
 typedef CGAL::Constrained_triangulation_face_base_2<K> CFb;

@@ -20,11 +20,7 @@ typedef CGAL::Exact_predicates_exact_constructions_kernel K;
 typedef K::FT FT;
 typedef FT::Exact_type ET;
 
-typedef CGAL::Regular_triangulation_vertex_base_2<K> Vbb;
-typedef CGAL::Triangulation_vertex_base_with_info_2<uint32_t, K, Vbb> Vb;
-typedef CGAL::Regular_triangulation_face_base_2<K> Fb;
-typedef CGAL::Triangulation_data_structure_2<Vb, Fb> Tds;
-typedef CGAL::Regular_triangulation_2<K, Tds> RT;
+typedef RegularWithIndex2<K> RT;
 
 FT parse(const std::string& tok) {
   if (tok.empty() || tok.find_first_not_of("+-0123456789/") != std::string::npos)
