@@ -36,14 +36,20 @@ fn infeasible_sites_fail_without_output_and_succeed_when_allowed() {
     let dir = scratch("a");
     let vtu = dir.join("a.vtu");
     let report = dir.join("a.json");
-    let (code, err) = orthomesh(&[
-        "conform",
-        &data("A.poly"),
-        "-o",
-        vtu.to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-    ]);
+    let a = data("A.poly");
+    let conform_a = |extra: &[&str]| {
+        let mut args = vec![
+            "conform",
+            &a,
+            "-o",
+            vtu.to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        orthomesh(&args)
+    };
+    let (code, err) = conform_a(&[]);
     assert_ne!(code, 0);
     assert!(
         err.contains("system 3 is infeasible") && err.contains("segment ids"),
@@ -58,15 +64,7 @@ fn infeasible_sites_fail_without_output_and_succeed_when_allowed() {
         0,
         "no temporary files left"
     );
-    let (code, err) = orthomesh(&[
-        "conform",
-        &data("A.poly"),
-        "-o",
-        vtu.to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-        "--allow-sites-outside",
-    ]);
+    let (code, err) = conform_a(&["--allow-sites-outside"]);
     assert_eq!(code, 0, "{err}");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
