@@ -61,6 +61,8 @@ pub struct Report {
     pub total_ms: f64,
     /// The backend's raw regular triangulation of the same vertices.
     pub raw_triangulation_ms: f64,
+    /// total_ms / raw_triangulation_ms (the speed measure).
+    pub ratio_to_raw: f64,
 }
 
 struct Clock(Instant, Vec<(String, f64)>);
@@ -137,6 +139,7 @@ pub fn conform<B: Backend + ?Sized>(
         0.0
     };
 
+    let total_ms = start.elapsed().as_secs_f64() * 1e3;
     let t0 = Instant::now();
     backend.regular(&input.points, &vec![0.0; input.points.len()])?;
     let raw_triangulation_ms = t0.elapsed().as_secs_f64() * 1e3;
@@ -169,9 +172,10 @@ pub fn conform<B: Backend + ?Sized>(
         mesh_vertices: mesh.points.len(),
         collapsed_vertices: mesh.collapsed,
         certificate: cert,
-        total_ms: start.elapsed().as_secs_f64() * 1e3,
+        total_ms,
         timings_ms: clock.1,
         raw_triangulation_ms,
+        ratio_to_raw: total_ms / raw_triangulation_ms,
     };
     Ok(Outcome {
         mesh,
