@@ -8,4 +8,5 @@ python3 -m pip install -q --disable-pip-version-check -r scripts/requirements-re
 export ORTHOMESH_TEST_OUT="$PWD/target/test-meshes"
 rm -rf "$ORTHOMESH_TEST_OUT" && mkdir -p "$ORTHOMESH_TEST_OUT"
 cargo test --all-targets "$@"
+cargo test --doc "$@"
 python3 tests/readers.py "$ORTHOMESH_TEST_OUT"

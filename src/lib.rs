@@ -6,16 +6,23 @@
 //! Balaven, Bennis, Boissonnat and Yvinec, "Conforming orthogonal meshes"
 //! (IMR 2002), with exact predicates and an exact certificate.
 //!
-//! ```no_run
-//! use orthomesh::{backend::default_backend, conform, io};
-//! let input = io::read_complex(std::path::Path::new("A.poly")).unwrap();
+//! ```
+//! use orthomesh::{backend::default_backend, conform, generate};
+//! // A square cavity around a well polygon (its interior a hole).
+//! let input = generate::cavities(1, 1, 14.0);
 //! let out = conform::conform(&default_backend(), &input, &Default::default()).unwrap();
 //! assert!(out.report.certificate.conforms());
+//! assert_eq!(out.report.certificate.sites_outside, 0);
+//! let vtu = orthomesh::io::vtu::to_string(&out.mesh, &out.site_inside);
+//! assert!(vtu.contains("UnstructuredGrid"));
 //! ```
 //!
 //! | feature | default | what |
 //! |---|---|---|
 //! | `cgal` | yes | CGAL backend (`Regular_triangulation_2`, exact kernels) via a C++ shim |
+//!
+//! Inputs come from files ([`io::read_complex`]: Triangle `.poly`, CGAL `.edg`) or are
+//! built in code ([`Complex::new`], [`generate`]).
 //!
 //! Pipeline stages, one module each: [`complex`] (input and validation),
 //! [`domain`], [`weights`] (LP), [`sites`], [`relocate`], [`diagram`],
