@@ -362,8 +362,9 @@ impl Sites {
     /// Moves a site that is outside its cell because of the sites in
     /// `against`: a segment site moves towards its segment, at least halfway
     /// and, when the power difference with those sites (a quadratic in its
-    /// position, solved in doubles) says so, straight to 4/5 of the way to
-    /// where it would be inside; a vertex site tries the next fraction of its
+    /// position, solved in doubles) says so, to half the position where it
+    /// turns positive (of the fractions tried, the one with the largest
+    /// smallest margin on the shared inputs); a vertex site tries the next fraction of its
     /// dual edge. Returns false when the site cannot move further. Whether
     /// the new position is inside is decided exactly afterwards.
     pub fn step(&mut self, s: usize, against: &[usize]) -> bool {
@@ -375,7 +376,7 @@ impl Sites {
                 let cur = crate::exact::f(&self.frac[s]);
                 let target = against
                     .iter()
-                    .fold(cur / 2.0, |t, &b| t.min(0.8 * self.inside_below(s, b, cur)));
+                    .fold(cur / 2.0, |t, &b| t.min(0.5 * self.inside_below(s, b, cur)));
                 if target < 1.0 / (1u64 << 40) as f64 {
                     return false;
                 }
