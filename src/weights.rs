@@ -34,6 +34,8 @@ use std::ops::Bound;
 const TRUST: f64 = 1e-6;
 /// Bounds |w_i| <= k l_i^2 tried in turn after the unbounded try.
 const K_LADDER: [f64; 2] = [1.0, 16.0];
+/// Time all LP solves of one run may take together.
+const LP_BUDGET: std::time::Duration = std::time::Duration::from_secs(1800);
 /// Largest number of point rows the lazy global form may grow to.
 const MAX_GLOBAL_ROWS: usize = 5_000_000;
 /// System 1 margin tried first by the elastic phase.
@@ -55,6 +57,9 @@ pub struct Weights {
 /// What the weights step did, for the report.
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct WeightsReport {
+    /// When the LP work must stop (never a hang).
+    #[serde(skip)]
+    deadline: Option<std::time::Instant>,
     /// "zero", "local", or "global".
     pub method: String,
     pub lp_solves: usize,
@@ -99,6 +104,7 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
     let units = Units::new(cx, &dom.cdt);
     let mut report = WeightsReport {
         method: "local".into(),
+        deadline: Some(std::time::Instant::now() + LP_BUDGET),
         ..Default::default()
     };
     // The local form fixes the triangulation, so its failures are no
@@ -424,7 +430,16 @@ fn run(
     // Measured: dual simplex stalls on large sparse systems of this shape
     // where interior point finishes in seconds (method.md section 2).
     model.set_option("solver", if big { "ipm" } else { "simplex" });
-    model.set_option("time_limit", 600.0);
+    let left = report.deadline.map_or(LP_BUDGET, |d| {
+        d.saturating_duration_since(std::time::Instant::now())
+    });
+    if left.is_zero() {
+        return Err(Error::Lp(format!(
+            "the LP time budget of {} s ran out",
+            LP_BUDGET.as_secs()
+        )));
+    }
+    model.set_option("time_limit", left.as_secs_f64());
     let solved = model
         .try_solve()
         .map_err(|e| Error::Lp(format!("HiGHS: {e:?}")))?;
@@ -449,6 +464,12 @@ fn run(
             delta: f64::NEG_INFINITY,
             w: vec![],
         }),
+        HighsModelStatus::ReachedTimeLimit => Err(Error::Lp(format!(
+            "the LP time budget of {} s ran out ({} solves of up to {} rows)",
+            LP_BUDGET.as_secs(),
+            report.lp_solves,
+            report.lp_rows
+        ))),
         s => Err(Error::Lp(format!("HiGHS ended with status {s:?}"))),
     }
 }
