@@ -228,8 +228,14 @@ pub fn power_centre(p: [&QPoint; 3], w: [&Q; 3]) -> Option<QPoint> {
 }
 
 /// The double nearest to x, back as an exact value: a short rational.
+/// (x itself when it is beyond the range of doubles).
 pub fn round(x: &Q) -> Q {
-    q(f(x))
+    let d = f(x);
+    if d.is_finite() {
+        q(d)
+    } else {
+        x.clone()
+    }
 }
 
 /// |x| as a double, for reports.

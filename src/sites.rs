@@ -90,7 +90,11 @@ impl Sites {
             // (left, ta, tb, fraction, movable) of the two sites
             let placements = if failed.contains(&(k as u32)) {
                 // The dual edge misses the segment: both sites on it, fixed.
-                let ta = tr.unwrap_or_else(|| tl.clone().unwrap() - qi(2));
+                let ta = tr.unwrap_or_else(|| {
+                    tl.clone()
+                        .expect("a segment of RT(w) has a triangle beside it")
+                        - qi(2)
+                });
                 let tb = tl.unwrap_or_else(|| ta.clone() + qi(2));
                 [
                     (true, ta.clone(), tb.clone(), ratio(2, 3), false),
