@@ -43,7 +43,13 @@ fn check<B: Backend>(b: &B, cx: &Complex) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    // A fixed seed keeps CI reproducible; raise the cases (and change the
+    // seed) locally to explore: 1000 cases passed when this was written.
+    #![proptest_config(ProptestConfig {
+        cases: 64,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(2026),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn random_delaunay_subcomplexes_are_certified_cgal(
