@@ -27,7 +27,7 @@ use crate::exact::{abs, dot, in_diametral_disc, is_pos, norm2, q, qp, sub, Q};
 use highs::{HighsModelStatus, RowProblem, Sense};
 use nalgebra::Vector2;
 use serde::Serialize;
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 use std::ops::Bound;
 
 /// Margins below this are inside HiGHS' tolerances: not trusted.
@@ -351,13 +351,16 @@ enum Mode {
     Margin,
     /// delta >= min, minimise sum |w_i| / l_i^2.
     Regularise { delta_min: f64 },
-    /// System 1 with delta >= min; system 3 rows elastic, minimise violation.
-    Elastic { delta_min: f64 },
+    /// System 1 with delta >= min; system 3 rows elastic, minimise the
+    /// violation, segment s weighted by costs[s] (1 where empty).
+    Elastic { delta_min: f64, costs: Vec<f64> },
 }
 
 struct Solution {
     delta: f64,
     w: Vec<f64>,
+    /// Elastic mode: the violation of system 3 per segment.
+    slack: HashMap<u32, f64>,
 }
 
 fn run(
@@ -384,7 +387,7 @@ fn run(
             pb.add_column(1.0, (Bound::Unbounded, Bound::Included(1.0))),
             Sense::Maximise,
         ),
-        Mode::Regularise { delta_min } | Mode::Elastic { delta_min } => (
+        Mode::Regularise { delta_min } | Mode::Elastic { delta_min, .. } => (
             pb.add_column(0.0, *delta_min..=1.0f64.max(*delta_min)),
             Sense::Minimise,
         ),
@@ -408,9 +411,10 @@ fn run(
         let mut terms: Vec<_> = r.terms.iter().map(|&(c, v)| (col(c), v)).collect();
         match (r.family, mode) {
             (Family::Sys3(_), _) if !with3 => continue,
-            (Family::Sys3(s), Mode::Elastic { .. }) => {
+            (Family::Sys3(s), Mode::Elastic { costs, .. }) => {
                 // sum(terms) + slack_s >= rhs + small positive margin
-                let sl = *slack.entry(s).or_insert_with(|| pb.add_column(1.0, 0.0..));
+                let cost = costs.get(s as usize).copied().unwrap_or(1.0);
+                let sl = *slack.entry(s).or_insert_with(|| pb.add_column(cost, 0.0..));
                 terms.push((sl, 1.0));
                 pb.add_row((r.rhs + 1e-3).., terms);
                 continue;
@@ -456,6 +460,7 @@ fn run(
                 ));
             }
             Ok(Solution {
+                slack: slack.iter().map(|(&s, c)| (s, cols[c.index()])).collect(),
                 delta: cols[delta.index()],
                 w: cols[..sys.n].iter().map(|w| w * sys.unit2).collect(),
             })
@@ -463,6 +468,7 @@ fn run(
         HighsModelStatus::Infeasible => Ok(Solution {
             delta: f64::NEG_INFINITY,
             w: vec![],
+            slack: HashMap::new(),
         }),
         HighsModelStatus::ReachedTimeLimit => Err(Error::Lp(format!(
             "the LP time budget of {} s ran out ({} solves of up to {} rows)",
@@ -548,19 +554,28 @@ fn attempt<B: Backend + ?Sized>(
         // Usually system 1 alone has a comfortable margin: one elastic solve
         // at a fixed margin settles it; only when that fails is the margin of
         // system 1 searched (and its absence a verdict).
-        let quick = run(
-            sys,
-            true,
-            None,
-            &Mode::Elastic {
-                delta_min: ELASTIC_MARGIN,
-            },
-            report,
-        )?;
+        let elastic = |costs| Mode::Elastic {
+            delta_min: ELASTIC_MARGIN,
+            costs,
+        };
+        let quick = run(sys, true, None, &elastic(vec![]), report)?;
         if quick.delta >= ELASTIC_MARGIN {
+            // Reweighted once (cost 1 / (violation + eps)): the total
+            // violation is spread over fewer segments, so fewer miss their
+            // duals and fewer sites end outside.
+            let mut costs = vec![1.0; sys.rows.len()];
+            for (&s, &v) in &quick.slack {
+                costs[s as usize] = 1.0 / (v.max(0.0) + 1e-3);
+            }
+            let sparse = run(sys, true, None, &elastic(costs), report)?;
+            let w = if sparse.delta >= ELASTIC_MARGIN {
+                sparse.w
+            } else {
+                quick.w
+            };
             report.margin = Some(quick.delta);
             report.bound_k = None;
-            (quick.w, false)
+            (w, false)
         } else {
             let (m1, k1) = margin(sys, false, report)?;
             report.margin = Some(m1);
@@ -575,6 +590,7 @@ fn attempt<B: Backend + ?Sized>(
                     k1,
                     &Mode::Elastic {
                         delta_min: m1 / 2.0,
+                        costs: vec![],
                     },
                     report,
                 )?
