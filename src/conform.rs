@@ -99,6 +99,7 @@ pub fn conform<B: Backend + ?Sized>(
     if !missing_dual.is_empty() && !opts.allow_sites_outside {
         return Err(Error::SegmentsMissTheirDuals {
             segments: missing_dual,
+            lp_error: wts.report.lp_error.clone(),
         });
     }
     let mut sites = Sites::place(cx, &wts.w, &wts.rt, &wts.sys3_failed);

@@ -38,7 +38,12 @@ pub enum Error {
     NoRegularConstrainedTriangulation { segments: Vec<i64> },
     /// System 3 infeasible: these segments cannot cross their dual edges, so
     /// some sites must lie outside their cells.
-    SegmentsMissTheirDuals { segments: Vec<i64> },
+    /// `lp_error`: None when the LP proved it; else why the LP gave no answer
+    /// (zero weights were then used).
+    SegmentsMissTheirDuals {
+        segments: Vec<i64>,
+        lp_error: Option<String>,
+    },
     /// Sites that could not be brought into their own cells.
     SitesOutsideCells { sites: Vec<String> },
     /// The LP solver failed (not an infeasibility verdict).
@@ -100,11 +105,18 @@ impl fmt::Display for Error {
                  power diagram can be built without extra points; constraints involved (segment ids): {}",
                 list(segments)
             ),
-            Error::SegmentsMissTheirDuals { segments } => write!(
+            Error::SegmentsMissTheirDuals { segments, lp_error } => write!(
                 f,
-                "a conforming mesh exists but these segments cannot cross their dual edges (system 3 is \
-                 infeasible), so sites cannot all lie inside their cells; segment ids: {}. Rerun with \
-                 --allow-sites-outside to write the conforming mesh anyway",
+                "a conforming mesh exists but these segments {}, so sites cannot all lie inside \
+                 their cells; segment ids: {}. Rerun with --allow-sites-outside to write the \
+                 conforming mesh anyway",
+                match lp_error {
+                    None => "cannot cross their dual edges (system 3 is infeasible)".to_string(),
+                    Some(m) => format!(
+                        "do not cross their dual edges with zero weights (not proven infeasible: the LP \
+                         gave no answer: {m})"
+                    ),
+                },
                 list(segments)
             ),
             Error::SitesOutsideCells { sites } => write!(

@@ -75,6 +75,8 @@ pub struct WeightsReport {
     pub free_weights: usize,
     pub max_abs_weight: f64,
     pub system3_feasible: bool,
+    /// Why the LP gave no answer, when zero weights had to do.
+    pub lp_error: Option<String>,
 }
 
 /// Finds weights for the domain's complex.
@@ -101,6 +103,35 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
             sys3_failed: vec![],
         });
     }
+    match lp(backend, dom, &rt0) {
+        // The LP gave no answer (slivers beyond its precision, a solver
+        // error, the time budget). Zero weights are still a regular
+        // constrained triangulation when the Delaunay triangulation contains
+        // every segment (checked exactly): use them, and check system 3 for
+        // them exactly (its failure is then no proof).
+        Err(Error::Lp(m)) if conforms(cx, &rt0).is_ok() => {
+            let sys3_failed = sys3_failures(cx, &zero, &rt0);
+            let report = WeightsReport {
+                method: "zero (the LP gave no answer)".into(),
+                system3_feasible: sys3_failed.is_empty(),
+                lp_error: Some(m),
+                ..Default::default()
+            };
+            Ok(Weights {
+                w: zero,
+                rt: rt0,
+                report,
+                sys3_failed,
+            })
+        }
+        other => other,
+    }
+}
+
+/// The local form, then the lazy global form.
+fn lp<B: Backend + ?Sized>(backend: &B, dom: &Domain, rt0: &Triangulation) -> Result<Weights> {
+    let cx = &dom.complex;
+    let n = cx.points.len();
     let units = Units::new(cx, &dom.cdt);
     let mut report = WeightsReport {
         method: "local".into(),
@@ -110,7 +141,7 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
     // The local form fixes the triangulation, so its failures are no
     // verdict. First with weights free only near the segments that need
     // them (method.md section 2), then with all free.
-    let near = near_failures(cx, &rt0, &dom.cdt);
+    let near = near_failures(cx, rt0, &dom.cdt);
     let all = vec![true; n];
     let tries = if near.iter().all(|&f| f) {
         vec![all]

@@ -48,10 +48,11 @@ fn sys3_infeasible<B: Backend>(b: &B) {
     for name in SYS3_INFEASIBLE {
         let cx = read(name);
         match run(b, &cx, name, false) {
-            Err(Error::SegmentsMissTheirDuals { segments }) => {
-                assert!(!segments.is_empty());
+            Err(Error::SegmentsMissTheirDuals { segments, lp_error }) => {
+                assert!(!segments.is_empty() && lp_error.is_none());
                 let msg = Error::SegmentsMissTheirDuals {
                     segments: segments.clone(),
+                    lp_error,
                 }
                 .to_string();
                 assert!(msg.contains("--allow-sites-outside"), "{msg}");
