@@ -11,7 +11,7 @@ use nalgebra::Vector2;
 use std::collections::HashMap;
 
 /// Edges shorter than this fraction of the mesh size are collapsed.
-pub const COLLAPSE: f64 = 1e-10;
+pub const COLLAPSE: f64 = 1e-14;
 /// Edges shorter than this fraction are too short to measure a direction.
 const MEASURE: f64 = 1e-7;
 
