@@ -238,11 +238,6 @@ pub fn round(x: &Q) -> Q {
     }
 }
 
-/// |x| as a double, for reports.
-pub fn abs_f(x: &Q) -> f64 {
-    f(&abs(x))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

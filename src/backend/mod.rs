@@ -106,17 +106,6 @@ impl Triangulation {
         }
         vt
     }
-
-    /// Whether vertex v lies on the convex hull (has an edge with one triangle).
-    pub fn on_hull(&self, v: u32, around: &[u32]) -> bool {
-        around.iter().any(|&t| {
-            let tri = self.triangles[t as usize];
-            (0..3).any(|k| {
-                let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                (a == v || b == v) && !self.left.contains_key(&(b, a))
-            })
-        })
-    }
 }
 
 #[cfg(test)]
