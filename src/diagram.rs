@@ -35,14 +35,10 @@ pub struct Diagram {
 }
 
 impl Diagram {
-    /// Builds the cells from the regular triangulation of the sites.
-    pub fn build(dom: &Domain, sites: &Sites, rt: &Triangulation) -> Diagram {
-        Self::build_cached(dom, sites, rt, &mut CentreCache::default())
-    }
-
-    /// As `build`, reusing the power centres of triangles whose sites have
-    /// not moved since the cache was filled (relocation rounds).
-    pub fn build_cached(
+    /// Builds the cells from the regular triangulation of the sites, reusing
+    /// the power centres of triangles whose sites have not moved since the
+    /// cache was filled (relocation rounds).
+    pub fn build(
         dom: &Domain,
         sites: &Sites,
         rt: &Triangulation,

@@ -65,7 +65,7 @@ pub fn relocate<B: Backend + ?Sized>(
     let mut cache = CentreCache::default();
     loop {
         let rt = backend.regular_exact(&sites.pos, &sites.weight)?;
-        let diagram = Diagram::build_cached(dom, sites, &rt, &mut cache);
+        let diagram = Diagram::build(dom, sites, &rt, &mut cache);
         let out = outside(sites, &rt, &diagram);
         let mut moved = std::collections::HashSet::new();
         if round < MAX_ROUNDS {

@@ -81,26 +81,17 @@ fn bad_files_name_the_line_and_exit_non_zero() {
     let bad = dir.join("bad.poly");
     std::fs::write(&bad, "3 2 0 0\n1 0 0\n2 1 zero\n3 0 1\n").unwrap();
     let vtu = dir.join("bad.vtu");
-    let (code, err) = orthomesh(&[
-        "conform",
-        bad.to_str().unwrap(),
-        "-o",
-        vtu.to_str().unwrap(),
-    ]);
+    let conform = |input: &str| orthomesh(&["conform", input, "-o", vtu.to_str().unwrap()]);
+    let (code, err) = conform(bad.to_str().unwrap());
     assert_ne!(code, 0);
     assert!(err.contains("bad.poly:3:"), "{err}");
     assert!(!vtu.exists());
     let nan = dir.join("nan.edg");
     std::fs::write(&nan, "2\n0 0 1 0\n1 0 NaN 1\n").unwrap();
-    let (code, err) = orthomesh(&[
-        "conform",
-        nan.to_str().unwrap(),
-        "-o",
-        vtu.to_str().unwrap(),
-    ]);
+    let (code, err) = conform(nan.to_str().unwrap());
     assert_ne!(code, 0);
     assert!(err.contains("NaN") && err.contains(": 2"), "{err}");
-    let (code, err) = orthomesh(&["conform", "missing.poly", "-o", vtu.to_str().unwrap()]);
+    let (code, err) = conform("missing.poly");
     assert_ne!(code, 0);
     assert!(err.contains("missing.poly"), "{err}");
 }
