@@ -48,6 +48,9 @@ pub struct Report {
     pub sites: usize,
     pub vertex_sites: usize,
     pub relocation_rounds: usize,
+    /// Rounds whose site triangulation had to be built in exact rationals
+    /// (the one from rounded sites failed its exact check).
+    pub exact_site_triangulations: usize,
     /// Smallest distance from a domain site to its cell's boundary, divided
     /// by the square root of the cell's area (0 when some site is outside).
     pub min_site_margin: f64,
@@ -102,7 +105,19 @@ pub fn conform<B: Backend + ?Sized>(
             lp_error: wts.report.lp_error.clone(),
         });
     }
-    let mut sites = Sites::place(cx, &wts.w, &wts.rt, &wts.sys3_failed);
+    let inside = |t: Option<u32>| t.is_some_and(|t| dom.inside[t as usize]);
+    let domain_side: Vec<[bool; 2]> = cx
+        .segments
+        .iter()
+        .map(|&[i, j]| [inside(dom.cdt.left_of(i, j)), inside(dom.cdt.left_of(j, i))])
+        .collect();
+    let mut sites = Sites::place(cx, &wts.w, &wts.rt, &wts.sys3_failed, &domain_side);
+    if let Some(s) = sites.unrepresentable() {
+        return Err(Error::Certificate(format!(
+            "{} lies beyond the range of doubles: cells this thin cannot be written in double precision",
+            sites.describe(s, cx)
+        )));
+    }
     clock.lap("sites");
     let rel = relocate(backend, &dom, &mut sites)?;
     clock.lap("relocate");
@@ -122,8 +137,7 @@ pub fn conform<B: Backend + ?Sized>(
             sites: outside_names,
         });
     }
-    let fixed: Vec<_> = cx.points.iter().map(|&p| crate::exact::qp(p)).collect();
-    let mesh = Mesh::from_diagram(&rel.diagram, &sites, &fixed)?;
+    let mesh = Mesh::from_diagram(&rel.diagram, &sites)?;
     let cert = certify(&dom, &sites, &rel.diagram, &rel.outside, &mesh);
     clock.lap("certify");
     if !cert.conforms() {
@@ -167,6 +181,7 @@ pub fn conform<B: Backend + ?Sized>(
             .filter(|r| matches!(r, Role::Vertex { .. }))
             .count(),
         relocation_rounds: rel.rounds,
+        exact_site_triangulations: rel.exact_rounds,
         min_site_margin,
         sites_outside: outside_names,
         cells: mesh.cells.len(),

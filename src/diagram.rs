@@ -1,116 +1,149 @@
-//! The power diagram of the sites: cells as exact polygons, and which cells
-//! lie in the domain.
+//! The power diagram of the sites, read off a regular triangulation of the
+//! sites that is checked exactly: every triangle counter-clockwise, the hull
+//! convex, every edge locally regular (method.md section 7). Such a
+//! triangulation is the regular triangulation of the exact sites, whatever
+//! arithmetic built it. Triangles whose power centres coincide exactly (edges
+//! with a zero power test) share one power vertex; a vertex is an input
+//! vertex exactly when three sites serving that vertex meet there.
 
 use crate::backend::Triangulation;
 use crate::domain::Domain;
-use crate::exact::{orient_q, power_centre, qi, qp, zero, QPoint};
-use crate::sites::Sites;
+use crate::sites::{centre_f64, Sites};
 use rayon::prelude::*;
 use std::cmp::Ordering;
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
 
-/// Power centres by sorted site triple.
-#[derive(Debug, Default)]
-pub struct CentreCache(HashMap<[u32; 3], QPoint>);
-
-impl CentreCache {
-    /// Forgets the centres of triangles with a moved site.
-    pub fn forget(&mut self, moved: &std::collections::HashSet<u32>) {
-        self.0.retain(|k, _| !k.iter().any(|v| moved.contains(v)));
-    }
-}
-
-/// Power diagram of the sites, exact.
+/// Power diagram of the sites.
 #[derive(Debug, Clone)]
 pub struct Diagram {
-    /// Distinct power vertices.
-    pub points: Vec<QPoint>,
-    /// Their nearest doubles.
-    pub approx: Vec<[f64; 2]>,
+    /// Power vertices: input vertices exactly, the others rounded.
+    pub points: Vec<[f64; 2]>,
+    /// The input vertex a power vertex is, if any (decided exactly).
+    pub input_vertex: Vec<Option<u32>>,
     /// Per site: its cell as ccw vertex ids (distinct consecutive), or None
     /// when the cell is unbounded or the site hidden.
     pub cells: Vec<Option<Vec<u32>>>,
     /// Per site: whether its cell lies in the domain.
     pub in_domain: Vec<bool>,
+    /// Components of cells (connected without crossing a segment) whose
+    /// segments disagree about which side is the domain.
+    pub leaking_components: usize,
+    /// Edges of the triangulation whose regularity was checked.
+    pub checked_edges: usize,
+}
+
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        parent[x as usize] = parent[parent[x as usize] as usize];
+        x = parent[x as usize];
+    }
+    x
 }
 
 impl Diagram {
-    /// Builds the cells from the regular triangulation of the sites, reusing
-    /// the power centres of triangles whose sites have not moved since the
-    /// cache was filled (relocation rounds).
+    /// Builds the diagram from a triangulation of the sites. With `verify`
+    /// (a triangulation built from rounded sites), it is first checked to be
+    /// the regular triangulation of the exact sites; Err says why not. An
+    /// exact backend's triangulation is trusted and may hide sites.
     pub fn build(
         dom: &Domain,
         sites: &Sites,
         rt: &Triangulation,
-        cache: &mut CentreCache,
-    ) -> Diagram {
-        let mut index: HashMap<QPoint, u32> = HashMap::new();
-        let mut points = vec![];
-        let served: Vec<[u32; 2]> = (0..sites.len())
-            .map(|s| sites.served(s, &dom.complex))
-            .collect();
-        let mut vertex_id: Vec<Option<u32>> = vec![None; dom.complex.points.len()];
-        let mut id_of = |c: &QPoint, points: &mut Vec<QPoint>| match index.get(c) {
-            Some(&id) => id,
-            None => {
-                points.push(c.clone());
-                index.insert(c.clone(), points.len() as u32 - 1);
-                points.len() as u32 - 1
-            }
-        };
-        // Three sites serving one input vertex have equal power there by
-        // construction: their centre is that vertex.
-        let vertex_of = |tri: &[u32; 3]| {
-            let [a, b, c] = tri.map(|v| served[v as usize]);
-            a.into_iter().find(|v| b.contains(v) && c.contains(v))
-        };
-        let key = |tri: &[u32; 3]| {
-            let mut k = *tri;
-            k.sort_unstable();
-            k
-        };
-        // The other centres not cached yet, constructed in parallel.
-        let todo: Vec<[u32; 3]> = rt
-            .triangles
-            .iter()
-            .filter(|tri| vertex_of(tri).is_none() && !cache.0.contains_key(&key(tri)))
-            .copied()
-            .collect();
-        let fresh: Vec<QPoint> = todo
-            .par_iter()
-            .map(|tri| {
-                let [a, b, c] = tri.map(|v| v as usize);
-                power_centre(
-                    [&sites.pos[a], &sites.pos[b], &sites.pos[c]],
-                    [&sites.weight[a], &sites.weight[b], &sites.weight[c]],
-                )
-                .expect("triangles of a regular triangulation are not flat")
-            })
-            .collect();
-        for (tri, c) in todo.iter().zip(fresh) {
-            cache.0.insert(key(tri), c);
+        verify: bool,
+    ) -> std::result::Result<Diagram, String> {
+        let n = sites.len();
+        if verify && !rt.hidden.is_empty() {
+            return Err(format!("{} sites hidden", rt.hidden.len()));
         }
-        let centre_id: Vec<u32> = rt
-            .triangles
-            .iter()
-            .map(|tri| match vertex_of(tri) {
-                Some(v) => *vertex_id[v as usize]
-                    .get_or_insert_with(|| id_of(&qp(dom.complex.points[v as usize]), &mut points)),
-                None => id_of(&cache.0[&key(tri)], &mut points),
+        let tris = &rt.triangles;
+        if verify {
+            let flat = tris.par_iter().position_any(|t| {
+                sites.orient(t[0] as usize, t[1] as usize, t[2] as usize) != Ordering::Greater
+            });
+            if let Some(t) = flat {
+                return Err(format!("triangle {:?} is not counter-clockwise", tris[t]));
+            }
+            check_hull(sites, rt)?;
+        }
+        // Interior edges once: (left triangle, right triangle, apex of the right one).
+        let inner: Vec<(u32, u32, u32)> = rt
+            .edges()
+            .filter_map(|(a, b)| {
+                let t1 = rt.left_of(a, b)?;
+                let t2 = rt.left_of(b, a)?;
+                Some((t1, t2, rt.apex(t2, b, a)))
             })
             .collect();
-        let around = rt.vertex_triangles(sites.len());
-        let cells: Vec<Option<Vec<u32>>> = (0..sites.len())
+        let tests: Vec<Ordering> = inner
+            .par_iter()
+            .map(|&(t1, _, d)| {
+                let [a, b, c] = tris[t1 as usize].map(|v| v as usize);
+                sites.power_test(a, b, c, d as usize)
+            })
+            .collect();
+        if verify {
+            if let Some(k) = tests.iter().position(|&o| o == Ordering::Greater) {
+                let (t1, _, d) = inner[k];
+                return Err(format!(
+                    "edge of {:?} is not regular (site {d})",
+                    tris[t1 as usize]
+                ));
+            }
+        }
+        // Power vertices: classes of triangles joined by zero-length duals.
+        let mut parent: Vec<u32> = (0..tris.len() as u32).collect();
+        for (&(t1, t2, _), &o) in inner.iter().zip(&tests) {
+            if o == Ordering::Equal {
+                let (r1, r2) = (find(&mut parent, t1), find(&mut parent, t2));
+                parent[r1.max(r2) as usize] = r1.min(r2);
+            }
+        }
+        let mut class = vec![u32::MAX; tris.len()];
+        let mut points = vec![];
+        let mut input_vertex: Vec<Option<u32>> = vec![];
+        for t in 0..tris.len() {
+            let r = find(&mut parent, t as u32) as usize;
+            if class[r] == u32::MAX {
+                class[r] = points.len() as u32;
+                let [a, b, c] = tris[r].map(|v| sites.approx[v as usize]);
+                points.push(centre_f64(
+                    [[a[0], a[1]], [b[0], b[1]], [c[0], c[1]]],
+                    [a[2], b[2], c[2]],
+                ));
+                input_vertex.push(None);
+            }
+            class[t] = class[r];
+        }
+        // Three sites serving one input vertex have their power centre there.
+        let cx = &dom.complex;
+        for (t, tri) in tris.iter().enumerate() {
+            if let Some(v) = sites.common_vertex(&tri.map(|s| s as usize)) {
+                let id = class[t] as usize;
+                match input_vertex[id] {
+                    Some(u) if u != v => {
+                        return Err(format!(
+                            "one power vertex is two input vertices ({} and {})",
+                            cx.vertex_ids[u as usize], cx.vertex_ids[v as usize]
+                        ))
+                    }
+                    _ => {
+                        input_vertex[id] = Some(v);
+                        points[id] = cx.points[v as usize];
+                    }
+                }
+            }
+        }
+        let around = rt.vertex_triangles(n);
+        let cells: Vec<Option<Vec<u32>>> = (0..n)
             .map(|v| {
                 let start = *around[v].first()?;
                 let mut ring = vec![];
                 let mut t = start;
                 loop {
-                    ring.push(centre_id[t as usize]);
-                    let tri = rt.triangles[t as usize];
+                    ring.push(class[t as usize]);
+                    let tri = tris[t as usize];
                     let k = tri.iter().position(|&x| x as usize == v).unwrap();
-                    let prev = tri[(k + 2) % 3];
-                    t = rt.left_of(v as u32, prev)?; // None: hull site, unbounded cell
+                    t = rt.left_of(v as u32, tri[(k + 2) % 3])?; // None: unbounded cell
                     if t == start {
                         break;
                     }
@@ -122,114 +155,139 @@ impl Diagram {
                 Some(ring)
             })
             .collect();
-        let approx = points.iter().map(crate::exact::fp).collect();
         let mut d = Diagram {
             points,
-            approx,
+            input_vertex,
             cells,
             in_domain: vec![],
+            leaking_components: 0,
+            checked_edges: inner.len(),
         };
-        d.in_domain = d.classify(dom, sites, rt, &centre_id);
-        d
+        d.classify(dom, sites, rt, &class);
+        Ok(d)
     }
 
     /// Cells reachable from each other without crossing a segment form
-    /// components; a component is in the domain when it has no unbounded
-    /// cell and an interior point of one of its cells is in the domain.
-    fn classify(
-        &self,
-        dom: &Domain,
-        sites: &Sites,
-        rt: &Triangulation,
-        centre_id: &[u32],
-    ) -> Vec<bool> {
+    /// components. The cell of a segment's left site lies left of it (the
+    /// side where its power is below the right site's), so each segment says
+    /// whether the components beside it are in the domain; unbounded
+    /// components are not.
+    fn classify(&mut self, dom: &Domain, sites: &Sites, rt: &Triangulation, class: &[u32]) {
         let n = sites.len();
-        let pairs = sites.segment_pairs(dom.complex.segments.len());
+        let cx = &dom.complex;
+        let pairs = sites.segment_pairs(cx.segments.len());
         let mut partner = vec![u32::MAX; n];
-        for [a, b] in pairs {
-            partner[a as usize] = b;
-            partner[b as usize] = a;
+        let mut label: Vec<Option<bool>> = vec![None; n];
+        let inside = |t: Option<u32>| t.is_some_and(|t| dom.inside[t as usize]);
+        for (k, &[l, r]) in pairs.iter().enumerate() {
+            let [i, j] = cx.segments[k];
+            partner[l as usize] = r;
+            partner[r as usize] = l;
+            label[l as usize] = Some(inside(dom.cdt.left_of(i, j)));
+            label[r as usize] = Some(inside(dom.cdt.left_of(j, i)));
         }
         // Cells are neighbours across dual edges of positive length only: at a
         // vertex where four cells meet, the diagonal's dual is a point.
         let mut nb = vec![Vec::new(); n];
         for (a, b) in rt.edges() {
-            let c = |x, y| rt.left_of(x, y).map(|t| centre_id[t as usize]);
+            let c = |x, y| rt.left_of(x, y).map(|t| class[t as usize]);
             if c(a, b).is_none() || c(a, b) != c(b, a) {
                 nb[a as usize].push(b);
                 nb[b as usize].push(a);
             }
         }
-        let mut comp = vec![u32::MAX; n];
-        let mut result = vec![false; n];
+        let mut seen = vec![false; n];
+        self.in_domain = vec![false; n];
         for seed in 0..n {
-            if comp[seed] != u32::MAX {
+            if seen[seed] {
                 continue;
             }
             let mut members = vec![];
             let mut queue = VecDeque::from([seed]);
-            comp[seed] = seed as u32;
+            seen[seed] = true;
             while let Some(v) = queue.pop_front() {
                 members.push(v);
                 for &u in &nb[v] {
-                    if comp[u as usize] == u32::MAX && partner[v] != u {
-                        comp[u as usize] = seed as u32;
+                    if !seen[u as usize] && partner[v] != u {
+                        seen[u as usize] = true;
                         queue.push_back(u as usize);
                     }
                 }
             }
             let bounded = members.iter().all(|&v| self.cells[v].is_some());
-            let inside = bounded
-                && members
-                    .iter()
-                    .find_map(|&v| self.interior_point(v))
-                    .is_some_and(|x| in_domain(dom, &x));
+            let says = |want: bool| members.iter().any(|&v| label[v] == Some(want));
+            let inside = says(true);
+            if inside && (says(false) || !bounded) {
+                self.leaking_components += 1;
+            }
             for v in members {
-                result[v] = inside;
+                self.in_domain[v] = inside && bounded;
             }
         }
-        result
-    }
-
-    /// A point strictly inside a cell with at least three vertices.
-    fn interior_point(&self, v: usize) -> Option<QPoint> {
-        let cell = self.cells[v].as_ref()?;
-        if cell.len() < 3 {
-            return None;
-        }
-        let k = qi(cell.len() as i64);
-        let mut x = [zero(), zero()];
-        for &c in cell {
-            x[0] += &self.points[c as usize][0];
-            x[1] += &self.points[c as usize][1];
-        }
-        Some([&x[0] / &k, &x[1] / &k])
     }
 }
 
-/// Whether x lies in a domain triangle (closed; x never lies on a segment).
-fn in_domain(dom: &Domain, x: &QPoint) -> bool {
-    let xf = crate::exact::fp(x);
-    let p = &dom.complex.points;
-    dom.cdt
-        .triangles
-        .iter()
-        .zip(&dom.inside)
-        .any(|(tri, &inside)| {
-            let [a, b, c] = tri.map(|v| p[v as usize]);
-            let lo = |k: usize| a[k].min(b[k]).min(c[k]);
-            let hi = |k: usize| a[k].max(b[k]).max(c[k]);
-            // cheap reject with a margin for the rounding of x, then exact
-            let slack = |k: usize| (hi(k) - lo(k)) * 1e-9 + xf[k].abs() * 1e-15;
-            if (0..2).any(|k| xf[k] < lo(k) - slack(k) || xf[k] > hi(k) + slack(k)) {
-                return false;
-            }
-            let (qa, qb, qc) = (qp(a), qp(b), qp(c));
-            let o = [
-                orient_q(&qa, &qb, x),
-                orient_q(&qb, &qc, x),
-                orient_q(&qc, &qa, x),
-            ];
-            inside && o.iter().all(|&s| s != Ordering::Less)
-        })
+/// Lawson flips decided exactly, for a triangulation of rounded sites that
+/// failed its check: sites that are co-orthogonal up to rounding (around a
+/// regular polygon, say) may be triangulated otherwise by the exact sites.
+/// False when a non-regular edge cannot be flipped (its quadrilateral is not
+/// strictly convex) or the flips do not settle.
+pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
+    let bad = |rt: &Triangulation, a: u32, b: u32| {
+        let (t1, t2) = (rt.left_of(a, b)?, rt.left_of(b, a)?);
+        let (c, d) = (rt.apex(t1, a, b), rt.apex(t2, b, a));
+        let [a, b, c, d] = [a, b, c, d].map(|v| v as usize);
+        (sites.power_test(a, b, c, d) == Ordering::Greater).then_some((c, d))
+    };
+    let mut stack: Vec<(u32, u32)> = rt
+        .edges()
+        .filter(|&(a, b)| bad(rt, a, b).is_some())
+        .collect();
+    let mut budget = 10 * stack.len() + 1000;
+    while let Some((a, b)) = stack.pop() {
+        let Some((c, d)) = bad(rt, a, b) else {
+            continue;
+        };
+        let (au, bu) = (a as usize, b as usize);
+        if budget == 0
+            || sites.orient(c, au, d) != Ordering::Greater
+            || sites.orient(c, d, bu) != Ordering::Greater
+        {
+            return false;
+        }
+        budget -= 1;
+        rt.flip(a, b);
+        let (c, d) = (c as u32, d as u32);
+        stack.extend([(a, d), (d, b), (b, c), (c, a)]);
+    }
+    true
+}
+
+/// The boundary of the triangulation, walked with the triangles on its left,
+/// turns left or goes straight at every vertex and winds once: the
+/// triangles cover the convex hull of the sites.
+fn check_hull(sites: &Sites, rt: &Triangulation) -> std::result::Result<(), String> {
+    let mut next = std::collections::HashMap::new();
+    for (a, b) in rt.edges() {
+        if rt.left_of(b, a).is_none() && next.insert(a, b).is_some() {
+            return Err(format!("site {a} is twice on the hull"));
+        }
+    }
+    let mut turning = 0.0;
+    for (&a, &b) in &next {
+        let c = *next.get(&b).ok_or("the hull is not closed")?;
+        if sites.orient(a as usize, b as usize, c as usize) == Ordering::Less {
+            return Err(format!("the hull turns right at site {b}"));
+        }
+        let p = |s: u32| sites.approx[s as usize];
+        let (pa, pb, pc) = (p(a), p(b), p(c));
+        let u = [pb[0] - pa[0], pb[1] - pa[1]];
+        let v = [pc[0] - pb[0], pc[1] - pb[1]];
+        turning += (u[0] * v[1] - u[1] * v[0]).atan2(u[0] * v[0] + u[1] * v[1]);
+    }
+    // Left turns only: the total is 2 pi k; k = 1 up to rounding.
+    if turning > 3.0 * std::f64::consts::PI {
+        return Err("the hull winds more than once".into());
+    }
+    Ok(())
 }

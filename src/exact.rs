@@ -3,10 +3,6 @@
 //! adaptive predicates); nothing else in the crate looks at a raw sign.
 
 use malachite_base::num::arithmetic::traits::{Abs, Sign};
-use malachite_base::num::basic::traits::{One, Zero};
-use malachite_base::num::conversion::traits::RoundingFrom;
-use malachite_base::rounding_modes::RoundingMode;
-use malachite_nz::integer::Integer;
 use malachite_q::Rational;
 use std::cmp::Ordering;
 
@@ -26,24 +22,6 @@ pub fn qp(p: [f64; 2]) -> QPoint {
     [q(p[0]), q(p[1])]
 }
 
-/// Small integer as a rational.
-pub fn qi(n: i64) -> Q {
-    Rational::from(n)
-}
-
-/// n / d exactly.
-pub fn ratio(n: i64, d: i64) -> Q {
-    Rational::from_signeds(n, d)
-}
-
-pub fn zero() -> Q {
-    Rational::ZERO
-}
-
-pub fn one() -> Q {
-    Rational::ONE
-}
-
 /// Whether x > 0.
 pub fn is_pos(x: &Q) -> bool {
     x.sign() == Ordering::Greater
@@ -53,60 +31,16 @@ pub fn abs(x: &Q) -> Q {
     x.abs()
 }
 
-/// Nearest double (ties to even); out of range gives an infinity.
-pub fn f(x: &Q) -> f64 {
-    f64::rounding_from(x, RoundingMode::Nearest).0
-}
-
-/// Nearest double point.
-pub fn fp(p: &QPoint) -> [f64; 2] {
-    [f(&p[0]), f(&p[1])]
-}
-
 pub fn sub(a: &QPoint, b: &QPoint) -> QPoint {
     [&a[0] - &b[0], &a[1] - &b[1]]
-}
-
-pub fn add(a: &QPoint, b: &QPoint) -> QPoint {
-    [&a[0] + &b[0], &a[1] + &b[1]]
-}
-
-pub fn scale(a: &QPoint, t: &Q) -> QPoint {
-    [&a[0] * t, &a[1] * t]
 }
 
 pub fn dot(a: &QPoint, b: &QPoint) -> Q {
     &a[0] * &b[0] + &a[1] * &b[1]
 }
 
-pub fn cross(a: &QPoint, b: &QPoint) -> Q {
-    &a[0] * &b[1] - &a[1] * &b[0]
-}
-
 pub fn norm2(a: &QPoint) -> Q {
     dot(a, a)
-}
-
-/// Sign of the turn a -> b -> c: Greater = counter-clockwise.
-pub fn orient_q(a: &QPoint, b: &QPoint, c: &QPoint) -> Ordering {
-    cross(&sub(b, a), &sub(c, a)).sign()
-}
-
-/// Orientation of exact points given with their nearest doubles: decided in
-/// doubles when an error bound allows it, exactly otherwise.
-pub fn orient_filtered(p: [&QPoint; 3], a: [[f64; 2]; 3]) -> Ordering {
-    let [x, y, z] = a;
-    let det = (y[0] - x[0]) * (z[1] - x[1]) - (y[1] - x[1]) * (z[0] - x[0]);
-    // Inputs within a relative 2^-53; 16 ulps of the magnitudes bound the
-    // error generously (subnormal magnitudes go to the exact path).
-    let bound = 16.0
-        * f64::EPSILON
-        * ((x[0].abs() + y[0].abs()) * (x[1].abs() + z[1].abs())
-            + (x[1].abs() + y[1].abs()) * (x[0].abs() + z[0].abs()));
-    if det.is_finite() && bound.is_finite() && bound > 1e-280 && det.abs() > bound {
-        return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
-    }
-    orient_q(p[0], p[1], p[2])
 }
 
 /// Exact orientation of double points (Shewchuk's adaptive predicate).
@@ -130,112 +64,158 @@ pub fn in_diametral_disc(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
     !is_pos(&dot(&sub(&a, &p), &sub(&b, &p)))
 }
 
-/// Power of x with respect to the weighted point (p, w): |x - p|^2 - w.
-pub fn power(x: &QPoint, p: &QPoint, w: &Q) -> Q {
-    norm2(&sub(x, p)) - w
+/// A closed interval that holds an exact value: every operation rounds
+/// outwards by one ulp, so the exact result of the same expression on the
+/// enclosed values stays inside. Filters predicates before exact fallbacks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Iv {
+    pub lo: f64,
+    pub hi: f64,
 }
 
-/// A fraction kept unreduced: sums and products without gcds, which
-/// dominate rational arithmetic; reduced once when turned back into a `Q`.
-#[derive(Clone)]
-struct Fr {
-    n: Integer,
-    d: Integer,
-}
+impl Iv {
+    /// The exact double x.
+    pub fn of(x: f64) -> Iv {
+        Iv { lo: x, hi: x }
+    }
 
-impl Fr {
-    fn of(x: &Q) -> Fr {
-        let n = Integer::from_sign_and_abs(x.sign() != Ordering::Less, x.numerator_ref().clone());
-        Fr {
-            n,
-            d: Integer::from(x.denominator_ref().clone()),
+    fn out(lo: f64, hi: f64) -> Iv {
+        if lo.is_nan() || hi.is_nan() {
+            return Iv {
+                lo: f64::NEG_INFINITY,
+                hi: f64::INFINITY,
+            };
+        }
+        Iv {
+            lo: lo.next_down(),
+            hi: hi.next_up(),
         }
     }
 
-    fn add(&self, o: &Fr, sign: bool) -> Fr {
-        let (a, b) = if self.d == o.d {
-            (self.n.clone(), o.n.clone())
+    fn times(self, o: Iv) -> Iv {
+        let p = [
+            self.lo * o.lo,
+            self.lo * o.hi,
+            self.hi * o.lo,
+            self.hi * o.hi,
+        ];
+        if p.iter().any(|x| x.is_nan()) {
+            return Iv::out(f64::NAN, f64::NAN);
+        }
+        Iv::out(
+            p.iter().copied().fold(f64::INFINITY, f64::min),
+            p.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        )
+    }
+
+    pub fn sqr(self) -> Iv {
+        let (a, b) = (self.lo.abs(), self.hi.abs());
+        let hi = a.max(b);
+        let lo = if self.lo <= 0.0 && self.hi >= 0.0 {
+            0.0
         } else {
-            (&self.n * &o.d, &o.n * &self.d)
+            a.min(b)
         };
-        let n = if sign { a + b } else { a - b };
-        let d = if self.d == o.d {
-            self.d.clone()
+        let r = Iv::out(lo * lo, hi * hi);
+        Iv {
+            lo: r.lo.max(0.0),
+            hi: r.hi,
+        }
+    }
+
+    fn over(self, o: Iv) -> Iv {
+        if o.lo <= 0.0 && o.hi >= 0.0 {
+            return Iv::out(f64::NAN, f64::NAN);
+        }
+        let q = [
+            self.lo / o.lo,
+            self.lo / o.hi,
+            self.hi / o.lo,
+            self.hi / o.hi,
+        ];
+        if q.iter().any(|x| x.is_nan()) {
+            return Iv::out(f64::NAN, f64::NAN);
+        }
+        Iv::out(
+            q.iter().copied().fold(f64::INFINITY, f64::min),
+            q.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        )
+    }
+
+    /// The sign of every value inside, or None when the interval holds 0.
+    pub fn sign(self) -> Option<Ordering> {
+        if self.lo > 0.0 {
+            Some(Ordering::Greater)
+        } else if self.hi < 0.0 {
+            Some(Ordering::Less)
         } else {
-            &self.d * &o.d
-        };
-        Fr { n, d }
-    }
-
-    fn plus(&self, o: &Fr) -> Fr {
-        self.add(o, true)
-    }
-
-    fn minus(&self, o: &Fr) -> Fr {
-        self.add(o, false)
-    }
-
-    fn times(&self, o: &Fr) -> Fr {
-        Fr {
-            n: &self.n * &o.n,
-            d: &self.d * &o.d,
+            None
         }
     }
 
-    fn over(&self, o: &Fr) -> Fr {
-        Fr {
-            n: &self.n * &o.d,
-            d: &self.d * &o.n,
+    /// A double inside (the midpoint).
+    pub fn mid(self) -> f64 {
+        let m = 0.5 * self.lo + 0.5 * self.hi;
+        if m.is_finite() {
+            m
+        } else {
+            self.lo.clamp(f64::MIN, f64::MAX)
         }
     }
+}
 
-    fn q(self) -> Q {
-        Rational::from_integers(self.n, self.d)
+impl std::ops::Add for Iv {
+    type Output = Iv;
+    fn add(self, o: Iv) -> Iv {
+        Iv::out(self.lo + o.lo, self.hi + o.hi)
     }
 }
 
-/// The power centre of three weighted points (equal power to all three), or
-/// None when they are collinear.
-pub fn power_centre(p: [&QPoint; 3], w: [&Q; 3]) -> Option<QPoint> {
-    // x = p0 + y with 2 y.(pk - p0) = |pk - p0|^2 - wk + w0 for k = 1, 2,
-    // in unreduced fractions: two gcds per centre instead of dozens.
-    let f = |x: &Q| Fr::of(x);
-    let (x0, y0) = (f(&p[0][0]), f(&p[0][1]));
-    let u = [f(&p[1][0]).minus(&x0), f(&p[1][1]).minus(&y0)];
-    let v = [f(&p[2][0]).minus(&x0), f(&p[2][1]).minus(&y0)];
-    let det = u[0].times(&v[1]).minus(&u[1].times(&v[0]));
-    if det.n == 0 {
-        return None;
+impl std::ops::Sub for Iv {
+    type Output = Iv;
+    fn sub(self, o: Iv) -> Iv {
+        Iv::out(self.lo - o.hi, self.hi - o.lo)
     }
-    let w0 = f(w[0]);
-    let ru = u[0]
-        .times(&u[0])
-        .plus(&u[1].times(&u[1]))
-        .minus(&f(w[1]))
-        .plus(&w0);
-    let rv = v[0]
-        .times(&v[0])
-        .plus(&v[1].times(&v[1]))
-        .minus(&f(w[2]))
-        .plus(&w0);
-    let two_det = Fr {
-        n: det.n * Integer::from(2),
-        d: det.d,
-    };
-    let c0 = ru.times(&v[1]).minus(&rv.times(&u[1])).over(&two_det);
-    let c1 = rv.times(&u[0]).minus(&ru.times(&v[0])).over(&two_det);
-    Some([x0.plus(&c0).q(), y0.plus(&c1).q()])
 }
 
-/// The double nearest to x, back as an exact value: a short rational.
-/// (x itself when it is beyond the range of doubles).
-pub fn round(x: &Q) -> Q {
-    let d = f(x);
-    if d.is_finite() {
-        q(d)
-    } else {
-        x.clone()
+impl std::ops::Mul for Iv {
+    type Output = Iv;
+    fn mul(self, o: Iv) -> Iv {
+        self.times(o)
     }
+}
+
+impl std::ops::Div for Iv {
+    type Output = Iv;
+    fn div(self, o: Iv) -> Iv {
+        self.over(o)
+    }
+}
+
+impl std::ops::Neg for Iv {
+    type Output = Iv;
+    fn neg(self) -> Iv {
+        Iv {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
+    }
+}
+
+/// 3x3 determinant of interval rows.
+pub fn det3(r: [[Iv; 3]; 3]) -> Iv {
+    let m = |a: Iv, b: Iv, c: Iv, d: Iv| a * b - c * d;
+    r[0][0] * (m(r[1][1], r[2][2], r[1][2], r[2][1]))
+        - r[0][1] * (m(r[1][0], r[2][2], r[1][2], r[2][0]))
+        + r[0][2] * (m(r[1][0], r[2][1], r[1][1], r[2][0]))
+}
+
+/// The same determinant exactly.
+pub fn det3_q(r: [[&Q; 3]; 3]) -> Q {
+    let m = |a: &Q, b: &Q, c: &Q, d: &Q| a * b - c * d;
+    r[0][0] * m(r[1][1], r[2][2], r[1][2], r[2][1])
+        - r[0][1] * m(r[1][0], r[2][2], r[1][2], r[2][0])
+        + r[0][2] * m(r[1][0], r[2][1], r[1][1], r[2][0])
 }
 
 #[cfg(test)]
@@ -243,10 +223,32 @@ mod tests {
     use super::*;
 
     #[test]
+    fn intervals_hold_the_exact_value() {
+        let third = Iv::of(1.0) / Iv::of(3.0);
+        let exact_third = Q::from(1) / Q::from(3);
+        assert!(q(third.lo) < exact_third && q(third.hi) > exact_third);
+        // the exact sum of the three doubles is inside
+        let x = Iv::of(0.1) + Iv::of(0.2) - Iv::of(0.3);
+        let exact = q(0.1) + q(0.2) - q(0.3);
+        assert!(q(x.lo) <= exact && exact <= q(x.hi));
+        assert_eq!(
+            (Iv::of(1e300) * Iv::of(1e300)).sign(),
+            Some(Ordering::Greater)
+        );
+        assert_eq!(Iv::of(-2.0).sqr().lo, 4.0f64.next_down());
+        assert_eq!((Iv::of(1.0) - Iv::of(1.0)).sign(), None);
+        let r = [
+            [Iv::of(1.0), Iv::of(2.0), Iv::of(3.0)],
+            [Iv::of(4.0), Iv::of(5.0), Iv::of(6.0)],
+            [Iv::of(7.0), Iv::of(8.0), Iv::of(10.0)],
+        ];
+        assert_eq!(det3(r).sign(), Some(Ordering::Less)); // det = -3
+    }
+
+    #[test]
     fn doubles_convert_exactly() {
-        assert_eq!(q(0.1) * qi(10), q(0.1) * qi(10));
-        assert_ne!(q(0.1) * qi(3), q(0.3));
-        assert_eq!(f(&q(0.1)), 0.1);
+        assert_ne!(q(0.1) * Q::from(3), q(0.3));
+        assert_eq!(q(0.5) * Q::from(2), Q::from(1));
     }
 
     #[test]
@@ -257,7 +259,6 @@ mod tests {
         assert_eq!(orient(a, b, c), Ordering::Equal);
         let c2 = [0.5, f64::from_bits(0.5f64.to_bits() + 1)];
         assert_eq!(orient(a, b, c2), Ordering::Greater);
-        assert_eq!(orient_q(&qp(a), &qp(b), &qp(c2)), Ordering::Greater);
     }
 
     #[test]
@@ -268,19 +269,5 @@ mod tests {
             [1.0, 0.0],
             [0.0, 1.0 + 1e-15]
         ));
-    }
-
-    #[test]
-    fn power_centre_of_unweighted_triangle_is_circumcentre() {
-        let p = [qp([0.0, 0.0]), qp([2.0, 0.0]), qp([0.0, 2.0])];
-        let z = zero();
-        let c = power_centre([&p[0], &p[1], &p[2]], [&z, &z, &z]).unwrap();
-        assert_eq!(c, qp([1.0, 1.0]));
-        // Weights shift it: equal power to all three.
-        let w = [qi(1), qi(0), qi(3)];
-        let c = power_centre([&p[0], &p[1], &p[2]], [&w[0], &w[1], &w[2]]).unwrap();
-        let pw: Vec<Q> = (0..3).map(|k| power(&c, &p[k], &w[k])).collect();
-        assert_eq!(pw[0], pw[1]);
-        assert_eq!(pw[1], pw[2]);
     }
 }

@@ -1,11 +1,10 @@
-//! The mesh as written: the domain cells of the exact diagram rounded to
-//! doubles. Nearly symmetric input gives exactly non-zero edges of length
+//! The mesh as written: the domain cells of the diagram with their vertices
+//! in doubles (input vertices exactly, the others rounded). Nearly symmetric input gives exactly non-zero edges of length
 //! ~1e-17; readers merge such points, so vertices closer than `COLLAPSE`
 //! times the mesh size are merged here (never two input vertices) and counted.
 
 use crate::diagram::Diagram;
 use crate::error::{Error, Result};
-use crate::exact::{f, fp};
 use crate::sites::Sites;
 use nalgebra::Vector2;
 use std::collections::HashMap;
@@ -44,13 +43,9 @@ fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
 }
 
 impl Mesh {
-    /// Rounds the domain cells of a diagram. `fixed` are the exact points
-    /// of the input vertices, which are never merged with each other.
-    pub fn from_diagram(
-        diagram: &Diagram,
-        sites: &Sites,
-        fixed: &[crate::exact::QPoint],
-    ) -> Result<Mesh> {
+    /// The domain cells of a diagram; input vertices are never merged with
+    /// each other.
+    pub fn from_diagram(diagram: &Diagram, sites: &Sites) -> Result<Mesh> {
         let mut m = Mesh::default();
         // Exact vertex -> rounded point, for the vertices of domain cells.
         let used: Vec<u32> = {
@@ -62,11 +57,7 @@ impl Mesh {
             u.dedup();
             u
         };
-        let fixed: std::collections::HashSet<&crate::exact::QPoint> = fixed.iter().collect();
-        let pts: Vec<[f64; 2]> = used
-            .iter()
-            .map(|&v| fp(&diagram.points[v as usize]))
-            .collect();
+        let pts: Vec<[f64; 2]> = used.iter().map(|&v| diagram.points[v as usize]).collect();
         let (lo, hi) = bbox(&pts);
         let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
         let tol = COLLAPSE * size;
@@ -81,7 +72,7 @@ impl Mesh {
         let mut map: HashMap<u32, u32> = HashMap::new();
         for (k, &v) in used.iter().enumerate() {
             let p = pts[k];
-            let is_fixed = fixed.contains(&diagram.points[v as usize]);
+            let is_fixed = diagram.input_vertex[v as usize].is_some();
             let g = key(p);
             let mut target = None;
             'search: for dx in -1..=1 {
@@ -136,8 +127,9 @@ impl Mesh {
                 )));
             }
             m.cells.push(poly);
-            m.sites.push(fp(&sites.pos[s]));
-            m.weights.push(f(&sites.weight[s]));
+            let [x, y, w] = sites.approx[s];
+            m.sites.push([x, y]);
+            m.weights.push(w);
         }
         m.size = size;
         Ok(m)

@@ -1,16 +1,18 @@
 //! Sites into their own cells (paper section 5.2, method.md section 5).
 //! A site lies strictly inside its cell iff for every neighbour b in the
 //! regular triangulation of the sites |a - b|^2 + omega_a - omega_b > 0,
-//! decided exactly. A segment site outside its cell moves halfway towards its
+//! decided exactly. The site triangulation is built from the sites rounded
+//! to doubles and checked exactly (diagram.rs); when the check fails, the
+//! backend's exact-rational triangulation is used instead. A segment site outside its cell moves halfway towards its
 //! segment (its cell then tends to a fixed half-region around the segment,
 //! so close enough is inside); a vertex site tries other points of its dual
 //! edge. Bounded in rounds.
 
 use crate::backend::{Backend, Triangulation};
-use crate::diagram::{CentreCache, Diagram};
+use crate::diagram::Diagram;
 use crate::domain::Domain;
-use crate::error::Result;
-use crate::sites::{inside_wrt, Sites};
+use crate::error::{Error, Result};
+use crate::sites::Sites;
 
 /// Rounds of relocation before giving up.
 pub const MAX_ROUNDS: usize = 48;
@@ -22,6 +24,9 @@ pub struct Relocated {
     pub rounds: usize,
     /// Domain sites not strictly inside their cell (or hidden).
     pub outside: Vec<usize>,
+    /// Rounds whose rounded-site triangulation failed its exact check and
+    /// were redone with exact rationals.
+    pub exact_rounds: usize,
 }
 
 /// Domain sites that are hidden or not strictly inside their cell.
@@ -31,7 +36,7 @@ pub fn outside(sites: &Sites, rt: &Triangulation, diagram: &Diagram) -> Vec<usiz
     (0..sites.len())
         .filter(|&a| diagram.in_domain[a] || hidden.contains(&(a as u32)))
         .filter(|&a| {
-            hidden.contains(&(a as u32)) || nb[a].iter().any(|&b| !inside_wrt(sites, a, b as usize))
+            hidden.contains(&(a as u32)) || nb[a].iter().any(|&b| !sites.inside_wrt(a, b as usize))
         })
         .collect()
 }
@@ -45,13 +50,41 @@ pub fn why(sites: &Sites, rt: &Triangulation, s: usize, cx: &crate::complex::Com
         return "its segment misses its dual edge, so it cannot be on the segment's side".into();
     }
     let nb = rt.neighbours(sites.len());
-    match nb[s].iter().find(|&&b| !inside_wrt(sites, s, b as usize)) {
+    match nb[s].iter().find(|&&b| !sites.inside_wrt(s, b as usize)) {
         Some(&b) => format!(
             "no position tried on its dual edge puts it inside; it lies beyond its face with {}",
             sites.describe(b as usize, cx)
         ),
         None => "outside".into(),
     }
+}
+
+/// The regular triangulation of the sites and its diagram: from the rounded
+/// sites when that passes the exact check, else from exact rationals.
+fn site_diagram<B: Backend + ?Sized>(
+    backend: &B,
+    dom: &Domain,
+    sites: &Sites,
+) -> Result<(Triangulation, Diagram, bool)> {
+    let pos: Vec<[f64; 2]> = sites.approx.iter().map(|a| [a[0], a[1]]).collect();
+    let w: Vec<f64> = sites.approx.iter().map(|a| a[2]).collect();
+    let mut rt = backend.regular(&pos, &w)?;
+    if let Ok(d) = Diagram::build(dom, sites, &rt, true) {
+        return Ok((rt, d, false));
+    }
+    if crate::diagram::repair(sites, &mut rt) {
+        if let Ok(d) = Diagram::build(dom, sites, &rt, true) {
+            return Ok((rt, d, false));
+        }
+    }
+    let (pos, w): (Vec<_>, Vec<_>) = (0..sites.len()).map(|s| sites.exact(s).clone()).unzip();
+    let rt = backend.regular_exact(&pos, &w)?;
+    let d = Diagram::build(dom, sites, &rt, false).map_err(|why| {
+        Error::Backend(format!(
+            "the exact regular triangulation of the sites: {why}"
+        ))
+    })?;
+    Ok((rt, d, true))
 }
 
 /// Builds the site diagram, moving sites until all domain sites are inside
@@ -62,32 +95,30 @@ pub fn relocate<B: Backend + ?Sized>(
     sites: &mut Sites,
 ) -> Result<Relocated> {
     let mut round = 0;
-    let mut cache = CentreCache::default();
+    let mut exact_rounds = 0;
     loop {
-        let rt = backend.regular_exact(&sites.pos, &sites.weight)?;
-        let diagram = Diagram::build(dom, sites, &rt, &mut cache);
+        let (rt, diagram, exact) = site_diagram(backend, dom, sites)?;
+        exact_rounds += usize::from(exact);
         let out = outside(sites, &rt, &diagram);
-        let mut moved = std::collections::HashSet::new();
+        let mut moved = false;
         if round < MAX_ROUNDS {
             let nb = rt.neighbours(sites.len());
             for &s in &out {
                 let against: Vec<usize> = nb[s]
                     .iter()
                     .map(|&b| b as usize)
-                    .filter(|&b| !inside_wrt(sites, s, b))
+                    .filter(|&b| !sites.inside_wrt(s, b))
                     .collect();
-                if sites.step(s, &against) {
-                    moved.insert(s as u32);
-                }
+                moved |= sites.step(s, &against);
             }
         }
-        cache.forget(&moved);
-        if out.is_empty() || moved.is_empty() {
+        if out.is_empty() || !moved {
             return Ok(Relocated {
                 rt,
                 diagram,
                 rounds: round,
                 outside: out,
+                exact_rounds,
             });
         }
         round += 1;

@@ -1,18 +1,20 @@
 //! Sites of the conforming power diagram (paper section 4, Theorem 1;
-//! method.md section 4). Each site moves on a line `base + t n` inside the
-//! dual edge it was chosen on; its weight makes it have power w_i at each
-//! vertex p_i of the simplex it serves, exactly:
-//! omega_s = |s - p_i|^2 - w_i.
+//! method.md section 4). A site is defined exactly by doubles: a parameter t
+//! on the radical line of two input vertices i, j (base + t n, n the left
+//! normal of i -> j), or a double point serving one vertex. Its weight gives
+//! it power w_i at each vertex p_i it serves, exactly:
+//! omega_s = |s - p_i|^2 - w_i. Predicates on sites are filtered with
+//! intervals and fall back to exact rationals; four sites serving a common
+//! vertex are co-orthogonal by construction, which decides the degenerate
+//! power tests at input vertices without arithmetic.
 
 use crate::backend::Triangulation;
 use crate::complex::Complex;
-use crate::exact::{
-    add, cross, dot, is_pos, norm2, one, power_centre, q, qi, qp, ratio, round, scale, sub, zero,
-    QPoint, Q,
-};
-use rayon::prelude::*;
+use crate::exact::{det3, det3_q, orient, q, qp, Iv, QPoint, Q};
 use std::cmp::Ordering;
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+use std::sync::OnceLock;
 
 /// What a site is for.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,106 +22,156 @@ pub enum Role {
     /// One of the two sites of a segment, left or right of it (i -> j).
     Segment { seg: u32, left: bool },
     /// An extra site on the dual of the non-constraint edge (i, k), for the
-    /// free ends and isolated vertices among `serves`.
+    /// free ends and isolated vertices among `serves`; (i, i) for a site
+    /// inside the power cell of i.
     Vertex { edge: (u32, u32), serves: Vec<u32> },
 }
 
-/// The line a site moves on, t in the open interval (ta, tb) or towards tb.
-#[derive(Debug, Clone)]
-struct Track {
-    base: QPoint,
-    dir: QPoint,
-    ta: Q,
-    tb: Q,
-    /// A vertex of the simplex served, for the weight.
-    anchor: u32,
+/// A site, exactly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Def {
+    /// p_i + lambda u + t J u with u = p_j - p_i, J u its left normal and
+    /// lambda = (|u|^2 + w_i - w_j) / (2 |u|^2): on the radical line of i, j.
+    Line { i: u32, j: u32, t: f64 },
+    /// A double point serving `anchor`.
+    Free { p: [f64; 2], anchor: u32 },
 }
 
-/// All sites, exact.
-#[derive(Debug, Clone, Default)]
+/// Where a site may move: t in (ta, tb) on a line, or base + t dir.
+#[derive(Debug, Clone)]
+struct Track {
+    ta: f64,
+    tb: f64,
+    kind: Def,
+    dir: [f64; 2],
+}
+
+/// All sites.
+#[derive(Debug, Default)]
 pub struct Sites {
-    pub pos: Vec<QPoint>,
-    pub weight: Vec<Q>,
+    pub def: Vec<Def>,
     pub role: Vec<Role>,
-    /// Nearest doubles of (x, y, weight), for filters and reports.
+    /// Enclosures of (x, y, weight).
+    pub iv: Vec<[Iv; 3]>,
+    /// Doubles inside them, for backends, filters and reports.
     pub approx: Vec<[f64; 3]>,
     track: Vec<Track>,
     /// Position on the track as the fraction (t - ta) / (tb - ta).
-    frac: Vec<Q>,
+    frac: Vec<f64>,
     /// Whether relocation may move the site.
     pub movable: Vec<bool>,
-    points: Vec<QPoint>,
-    weights: Vec<Q>,
-    /// Power centres of the triangles of RT(w), computed in parallel.
-    centres: Vec<QPoint>,
+    points: Vec<[f64; 2]>,
+    weights: Vec<f64>,
+    /// Exact positions and weights, made when a filter cannot decide.
+    exact: Vec<OnceLock<(QPoint, Q)>>,
+    /// Power centres of the triangles of RT(w), approximately (placement only).
+    centres: Vec<[f64; 2]>,
+    /// Predicates the intervals could not decide.
+    pub exact_evaluations: AtomicUsize,
 }
 
 /// Shortest dual edge, relative to its primal edge, that carries a vertex site.
 const MIN_DUAL: f64 = 1e-3;
 
 /// Fractions tried in turn for a vertex site that is outside its cell.
-const VERTEX_FRACS: [(i64, i64); 5] = [(1, 2), (1, 4), (3, 4), (1, 8), (7, 8)];
+const VERTEX_FRACS: [f64; 5] = [0.5, 0.25, 0.75, 0.125, 0.875];
+
+/// A fixed pseudo-random number in [0, 1) for each key (splitmix64):
+/// reproducible, so output is deterministic.
+fn scatter(key: u64) -> f64 {
+    let mut z = key.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    (z ^ (z >> 31)) as f64 / 2f64.powi(64)
+}
+
+/// Power centre of three weighted double points in doubles (placement
+/// heuristics and mesh coordinates; never a decision). Scaled by a power of
+/// two so that squares neither overflow nor underflow.
+pub fn centre_f64(p: [[f64; 2]; 3], w: [f64; 3]) -> [f64; 2] {
+    let u = [p[1][0] - p[0][0], p[1][1] - p[0][1]];
+    let v = [p[2][0] - p[0][0], p[2][1] - p[0][1]];
+    let m = u.iter().chain(&v).fold(0.0f64, |m, x| m.max(x.abs()));
+    let s = if m > 0.0 && m.is_finite() {
+        2f64.powi(m.log2().round() as i32)
+    } else {
+        1.0
+    };
+    let (u, v) = (u.map(|x| x / s), v.map(|x| x / s));
+    let det = 2.0 * (u[0] * v[1] - u[1] * v[0]);
+    let ru = u[0] * u[0] + u[1] * u[1] - (w[1] - w[0]) / s / s;
+    let rv = v[0] * v[0] + v[1] * v[1] - (w[2] - w[0]) / s / s;
+    [
+        p[0][0] + (ru * v[1] - rv * u[1]) / det * s,
+        p[0][1] + (rv * u[0] - ru * v[0]) / det * s,
+    ]
+}
 
 impl Sites {
     /// Places the sites: two per segment on opposite sides when the segment
     /// crosses its dual, then extra sites for free ends and isolated vertices.
-    pub fn place(cx: &Complex, w: &[f64], rt: &Triangulation, sys3_failed: &[u32]) -> Sites {
-        let points: Vec<QPoint> = cx.points.iter().map(|&p| qp(p)).collect();
-        let weights: Vec<Q> = w.iter().map(|&x| q(x)).collect();
+    /// `domain_side[k]` says whether the left and right of segment k are in
+    /// the domain: a site outside never meets a domain cell except at its
+    /// segment (the radical line of its pair is the segment's line wherever
+    /// it is), so it goes at a scattered fraction of its dual edge, which
+    /// keeps symmetric holes (a regular well polygon) from being nearly
+    /// co-orthogonal, a case only exact arithmetic could decide.
+    pub fn place(
+        cx: &Complex,
+        w: &[f64],
+        rt: &Triangulation,
+        sys3_failed: &[u32],
+        domain_side: &[[bool; 2]],
+    ) -> Sites {
+        let p = &cx.points;
         let centres = rt
             .triangles
-            .par_iter()
+            .iter()
             .map(|tri| {
                 let [a, b, c] = tri.map(|v| v as usize);
-                power_centre(
-                    [&points[a], &points[b], &points[c]],
-                    [&weights[a], &weights[b], &weights[c]],
-                )
-                .expect("triangles of a regular triangulation are not flat")
+                centre_f64([p[a], p[b], p[c]], [w[a], w[b], w[c]])
             })
             .collect();
         let mut s = Sites {
-            points,
-            weights,
+            points: cx.points.clone(),
+            weights: w.to_vec(),
             centres,
             ..Default::default()
         };
         let failed: std::collections::HashSet<u32> = sys3_failed.iter().copied().collect();
         for (k, &[i, j]) in cx.segments.iter().enumerate() {
-            let (base, dir, tl, tr) = s.dual_line(rt, i, j);
+            let (tl, tr) = s.dual_params(rt, i, j);
             // (left, ta, tb, fraction, movable) of the two sites
             let placements = if failed.contains(&(k as u32)) {
                 // The dual edge misses the segment: both sites on it, fixed.
                 let ta = tr.unwrap_or_else(|| {
-                    tl.clone()
-                        .expect("a segment of RT(w) has a triangle beside it")
-                        - qi(2)
+                    tl.expect("a segment of RT(w) has a triangle beside it") - 2.0
                 });
-                let tb = tl.unwrap_or_else(|| ta.clone() + qi(2));
+                let tb = tl.unwrap_or(ta + 2.0);
                 [
-                    (true, ta.clone(), tb.clone(), ratio(2, 3), false),
-                    (false, ta, tb, ratio(1, 3), false),
+                    (true, ta, tb, 2.0 / 3.0, false),
+                    (false, ta, tb, 1.0 / 3.0, false),
                 ]
             } else {
                 // Left site in (0, tl), right in (tr, 0); a ray is cut at |e|.
+                let frac = |side: usize| {
+                    if domain_side[k][side] {
+                        0.5
+                    } else {
+                        0.3 + 0.4 * scatter(2 * k as u64 + side as u64)
+                    }
+                };
                 [
-                    (true, zero(), tl.unwrap_or_else(one), ratio(1, 2), true),
-                    (
-                        false,
-                        zero(),
-                        tr.unwrap_or_else(|| -one()),
-                        ratio(1, 2),
-                        true,
-                    ),
+                    (true, 0.0, tl.unwrap_or(1.0), frac(0), true),
+                    (false, 0.0, tr.unwrap_or(-1.0), frac(1), true),
                 ]
             };
             for (left, ta, tb, frac, movable) in placements {
                 let tk = Track {
-                    base: base.clone(),
-                    dir: dir.clone(),
                     ta,
                     tb,
-                    anchor: i,
+                    kind: Def::Line { i, j, t: 0.0 },
+                    dir: [0.0; 2],
                 };
                 s.push(
                     Role::Segment {
@@ -136,70 +188,192 @@ impl Sites {
         s
     }
 
-    fn push(&mut self, role: Role, track: Track, frac: Q, movable: bool) {
-        let (pos, weight) = self.at(&track, &frac);
-        self.approx.push([
-            crate::exact::f(&pos[0]),
-            crate::exact::f(&pos[1]),
-            crate::exact::f(&weight),
-        ]);
-        self.pos.push(pos);
-        self.weight.push(weight);
+    fn push(&mut self, role: Role, track: Track, frac: f64, movable: bool) {
+        let def = Self::at(&track, frac);
+        self.def.push(def);
+        self.iv.push([Iv::of(0.0); 3]);
+        self.approx.push([0.0; 3]);
+        self.exact.push(OnceLock::new());
         self.role.push(role);
         self.track.push(track);
         self.frac.push(frac);
         self.movable.push(movable);
+        self.set(self.def.len() - 1, def);
     }
 
-    /// Position and weight at a fraction of the track. The parameter t is
-    /// rounded to a double when that keeps it strictly inside the track, so
-    /// that positions stay short rationals.
-    fn at(&self, tk: &Track, frac: &Q) -> (QPoint, Q) {
-        let exact_t = &tk.ta + (&tk.tb - &tk.ta) * frac;
-        let short = round(&exact_t);
-        let inside = |t: &Q| {
-            let (lo, hi) = if tk.ta < tk.tb {
-                (&tk.ta, &tk.tb)
-            } else {
-                (&tk.tb, &tk.ta)
-            };
-            t > lo && t < hi
+    fn set(&mut self, s: usize, def: Def) {
+        self.def[s] = def;
+        self.iv[s] = self.enclose(&def);
+        self.approx[s] = self.iv[s].map(Iv::mid);
+        self.exact[s] = OnceLock::new();
+    }
+
+    /// The site at a fraction of its track.
+    fn at(tk: &Track, frac: f64) -> Def {
+        let t = tk.ta + (tk.tb - tk.ta) * frac;
+        match tk.kind {
+            Def::Line { i, j, .. } => Def::Line { i, j, t },
+            Def::Free { p, anchor } => Def::Free {
+                p: [p[0] + t * tk.dir[0], p[1] + t * tk.dir[1]],
+                anchor,
+            },
+        }
+    }
+
+    /// Intervals around the exact position and weight.
+    fn enclose(&self, d: &Def) -> [Iv; 3] {
+        let pt = |v: u32| self.points[v as usize].map(Iv::of);
+        match *d {
+            Def::Line { i, j, t } => {
+                let (pi, pj) = (pt(i), pt(j));
+                let (wi, wj) = (self.weights[i as usize], self.weights[j as usize]);
+                let u = [pj[0] - pi[0], pj[1] - pi[1]];
+                let l = u[0].sqr() + u[1].sqr();
+                let lambda = if wi == wj {
+                    Iv::of(0.5)
+                } else {
+                    (l + Iv::of(wi) - Iv::of(wj)) / (l * Iv::of(2.0))
+                };
+                let t = Iv::of(t);
+                [
+                    pi[0] + lambda * u[0] - t * u[1],
+                    pi[1] + lambda * u[1] + t * u[0],
+                    l * (lambda.sqr() + t.sqr()) - Iv::of(wi),
+                ]
+            }
+            Def::Free { p, anchor } => {
+                let a = pt(anchor);
+                let (x, y) = (Iv::of(p[0]), Iv::of(p[1]));
+                [
+                    x,
+                    y,
+                    (x - a[0]).sqr() + (y - a[1]).sqr() - Iv::of(self.weights[anchor as usize]),
+                ]
+            }
+        }
+    }
+
+    /// The exact position and weight (rationals; made once, when needed).
+    pub fn exact(&self, s: usize) -> &(QPoint, Q) {
+        self.exact[s].get_or_init(|| {
+            let pt = |v: u32| qp(self.points[v as usize]);
+            match self.def[s] {
+                Def::Line { i, j, t } => {
+                    let (pi, pj) = (pt(i), pt(j));
+                    let (wi, wj) = (q(self.weights[i as usize]), q(self.weights[j as usize]));
+                    let u = [&pj[0] - &pi[0], &pj[1] - &pi[1]];
+                    let l = &u[0] * &u[0] + &u[1] * &u[1];
+                    let lambda = (&l + &wi - wj) / (&l * Q::from(2));
+                    let t = q(t);
+                    let pos = [
+                        &pi[0] + &lambda * &u[0] - &t * &u[1],
+                        &pi[1] + &lambda * &u[1] + &t * &u[0],
+                    ];
+                    let w = l * (&lambda * &lambda + &t * &t) - wi;
+                    (pos, w)
+                }
+                Def::Free { p, anchor } => {
+                    let a = pt(anchor);
+                    let pos = qp(p);
+                    let d = [&pos[0] - &a[0], &pos[1] - &a[1]];
+                    let w = &d[0] * &d[0] + &d[1] * &d[1] - q(self.weights[anchor as usize]);
+                    (pos, w)
+                }
+            }
+        })
+    }
+
+    /// The input vertices at which this site has that vertex's weight as its
+    /// power, by construction.
+    pub fn served_by(&self, s: usize) -> [u32; 2] {
+        match self.def[s] {
+            Def::Line { i, j, .. } => [i, j],
+            Def::Free { anchor, .. } => [anchor, anchor],
+        }
+    }
+
+    /// An input vertex served by all the given sites, if any.
+    pub fn common_vertex(&self, sites: &[usize]) -> Option<u32> {
+        let first = self.served_by(sites[0]);
+        first
+            .into_iter()
+            .find(|v| sites[1..].iter().all(|&s| self.served_by(s).contains(v)))
+    }
+
+    fn decide(&self, filtered: Iv, exact: impl FnOnce() -> Q) -> Ordering {
+        filtered.sign().unwrap_or_else(|| {
+            self.exact_evaluations.fetch_add(1, Relaxed);
+            exact().cmp(&Q::from(0))
+        })
+    }
+
+    /// Orientation of three sites (Greater: counter-clockwise).
+    pub fn orient(&self, a: usize, b: usize, c: usize) -> Ordering {
+        let [pa, pb, pc] = [a, b, c].map(|s| self.iv[s]);
+        let d = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
+        self.decide(d, || {
+            let [qa, qb, qc] = [a, b, c].map(|s| &self.exact(s).0);
+            (&qb[0] - &qa[0]) * (&qc[1] - &qa[1]) - (&qb[1] - &qa[1]) * (&qc[0] - &qa[0])
+        })
+    }
+
+    /// Power test: Greater when d has less power than the orthogonal circle of
+    /// the counter-clockwise triangle (a, b, c) requires (their edge is not
+    /// regular), Equal when the four are co-orthogonal.
+    pub fn power_test(&self, a: usize, b: usize, c: usize, d: usize) -> Ordering {
+        if self.common_vertex(&[a, b, c, d]).is_some() {
+            return Ordering::Equal;
+        }
+        let pd = self.iv[d];
+        let row = |s: usize| {
+            let p = self.iv[s];
+            let (dx, dy) = (p[0] - pd[0], p[1] - pd[1]);
+            [dx, dy, dx.sqr() + dy.sqr() - p[2] + pd[2]]
         };
-        let t = if inside(&short) { short } else { exact_t };
-        let pos = add(&tk.base, &scale(&tk.dir, &t));
-        let a = tk.anchor as usize;
-        let weight = norm2(&sub(&pos, &self.points[a])) - &self.weights[a];
-        (pos, weight)
+        self.decide(det3([row(a), row(b), row(c)]), || {
+            let (qd, wd) = self.exact(d);
+            let rows: Vec<[Q; 3]> = [a, b, c]
+                .iter()
+                .map(|&s| {
+                    let (p, w) = self.exact(s);
+                    let (dx, dy) = (&p[0] - &qd[0], &p[1] - &qd[1]);
+                    let z = &dx * &dx + &dy * &dy - w + wd;
+                    [dx, dy, z]
+                })
+                .collect();
+            let r = |k: usize| [&rows[k][0], &rows[k][1], &rows[k][2]];
+            det3_q([r(0), r(1), r(2)])
+        })
     }
 
-    /// The radical line of (i, j) as base + t n, with n the left normal of
-    /// i -> j, and the parameters of the power centres of the triangles left
-    /// and right of i -> j (None: that side is a ray).
-    fn dual_line(
-        &self,
-        rt: &Triangulation,
-        i: u32,
-        j: u32,
-    ) -> (QPoint, QPoint, Option<Q>, Option<Q>) {
-        let (pi, pj) = (&self.points[i as usize], &self.points[j as usize]);
-        let (wi, wj) = (&self.weights[i as usize], &self.weights[j as usize]);
-        let u = sub(pj, pi);
-        let l = norm2(&u);
-        // lambda = (L + w_i - w_j) / (2 L)
-        let lambda = (&l + wi - wj) / (&l * qi(2));
-        let base = add(pi, &scale(&u, &lambda));
-        let dir = [-u[1].clone(), u[0].clone()];
+    /// Whether site a lies strictly inside its cell with respect to site b:
+    /// |a - b|^2 + omega_a - omega_b > 0.
+    pub fn inside_wrt(&self, a: usize, b: usize) -> bool {
+        let (pa, pb) = (self.iv[a], self.iv[b]);
+        let v = (pa[0] - pb[0]).sqr() + (pa[1] - pb[1]).sqr() + pa[2] - pb[2];
+        self.decide(v, || {
+            let ((qa, wa), (qb, wb)) = (self.exact(a), self.exact(b));
+            let (dx, dy) = (&qa[0] - &qb[0], &qa[1] - &qb[1]);
+            &dx * &dx + &dy * &dy + wa - wb
+        }) == Ordering::Greater
+    }
+
+    /// The parameters of the power centres of the triangles left and right
+    /// of i -> j on its radical line base + t J(p_j - p_i) (None: a ray).
+    fn dual_params(&self, rt: &Triangulation, i: u32, j: u32) -> (Option<f64>, Option<f64>) {
+        let (pi, pj) = (self.points[i as usize], self.points[j as usize]);
+        let (wi, wj) = (self.weights[i as usize], self.weights[j as usize]);
+        let u = [pj[0] - pi[0], pj[1] - pi[1]];
+        let l = u[0] * u[0] + u[1] * u[1];
+        let lambda = (l + wi - wj) / (2.0 * l);
+        let base = [pi[0] + lambda * u[0], pi[1] + lambda * u[1]];
         let param = |a: u32, b: u32| {
             rt.left_of(a, b).map(|t| {
-                let c = self.centre(t);
-                dot(&sub(&c, &base), &dir) / &l
+                let c = self.centres[t as usize];
+                ((c[0] - base[0]) * -u[1] + (c[1] - base[1]) * u[0]) / l
             })
         };
-        (base.clone(), dir.clone(), param(i, j), param(j, i))
-    }
-
-    fn centre(&self, t: u32) -> QPoint {
-        self.centres[t as usize].clone()
+        (param(i, j), param(j, i))
     }
 
     /// Extra sites: one for a free end, three for an isolated vertex, on
@@ -226,50 +400,51 @@ impl Sites {
                 _ => continue,
             };
             // Candidate edges with a dual of positive length.
-            let pi = &self.points[i as usize];
+            let pi = self.points[i as usize];
             let mut cands: Vec<(u32, Track)> = vec![];
             for &k in &nb[i as usize] {
                 if segs.contains(&(i.min(k), i.max(k))) {
                     continue;
                 }
-                let (base, dir, tl, tr) = self.dual_line(rt, i, k);
-                let (ta, tb) = match (tr, tl) {
+                let (ta, tb) = match self.dual_params(rt, i, k) {
                     // t is in units of |p_k - p_i|: a dual edge far shorter
                     // than the edge itself gives a sliver cell.
-                    (Some(a), Some(b)) if crate::exact::f(&(&b - &a)) > MIN_DUAL => (a, b),
+                    (Some(b), Some(a)) if b - a > MIN_DUAL => (a, b),
                     (Some(_), Some(_)) => continue, // (nearly) zero-length dual
-                    (Some(a), None) => (a.clone(), a + one()),
-                    (None, Some(b)) => (b.clone() - one(), b),
+                    (None, Some(a)) => (a, a + 1.0),
+                    (Some(b), None) => (b - 1.0, b),
                     (None, None) => continue,
                 };
+                let kind = Def::Line { i, j: k, t: 0.0 };
                 cands.push((
                     k,
                     Track {
-                        base,
-                        dir,
                         ta,
                         tb,
-                        anchor: i,
+                        kind,
+                        dir: [0.0; 2],
                     },
                 ));
             }
-            let dirs: Vec<QPoint> = cands
-                .iter()
-                .map(|(k, _)| sub(&self.points[*k as usize], pi))
-                .collect();
             let chosen: Vec<usize> = if want == 1 {
                 // The edge pointing most away from the segment.
-                let away = sub(&self.points[other_end[i as usize] as usize], pi);
-                let score = |d: &QPoint| {
-                    let c = crate::exact::f(&dot(d, &away));
-                    c / (crate::exact::f(&norm2(d)).sqrt() + f64::MIN_POSITIVE)
+                let o = self.points[other_end[i as usize] as usize];
+                let away = [o[0] - pi[0], o[1] - pi[1]];
+                let score = |k: u32| {
+                    let p = self.points[k as usize];
+                    let d = [p[0] - pi[0], p[1] - pi[1]];
+                    (d[0] * away[0] + d[1] * away[1]) / (d[0].hypot(d[1]) + f64::MIN_POSITIVE)
                 };
                 (0..cands.len())
-                    .min_by(|&a, &b| score(&dirs[a]).total_cmp(&score(&dirs[b])))
+                    .min_by(|&a, &b| score(cands[a].0).total_cmp(&score(cands[b].0)))
                     .into_iter()
                     .collect()
             } else {
-                spanning_triple(&dirs)
+                let others: Vec<[f64; 2]> = cands
+                    .iter()
+                    .map(|(k, _)| self.points[*k as usize])
+                    .collect();
+                spanning_triple(pi, &others)
                     .map(|t| t.to_vec())
                     .unwrap_or_default()
             };
@@ -278,15 +453,11 @@ impl Sites {
                 // its edges are constraints): points inside its power cell
                 // serve it just as well (Theorem 1 only needs them in the cell).
                 for tk in self.in_cell_tracks(rt, i, want) {
-                    self.push(
-                        Role::Vertex {
-                            edge: (i, i),
-                            serves: vec![i],
-                        },
-                        tk,
-                        ratio(1, 2),
-                        true,
-                    );
+                    let role = Role::Vertex {
+                        edge: (i, i),
+                        serves: vec![i],
+                    };
+                    self.push(role, tk, 0.5, true);
                 }
                 continue;
             }
@@ -299,66 +470,54 @@ impl Sites {
                     }
                     continue;
                 }
-                on_edge.insert(key, self.pos.len());
-                self.push(
-                    Role::Vertex {
-                        edge: key,
-                        serves: vec![i],
-                    },
-                    tk,
-                    ratio(1, 2),
-                    true,
-                );
+                on_edge.insert(key, self.def.len());
+                let role = Role::Vertex {
+                    edge: key,
+                    serves: vec![i],
+                };
+                self.push(role, tk, 0.5, true);
             }
         }
     }
 
     /// Tracks from the centroid of the power cell of vertex i towards `count`
-    /// of its corners, chosen not collinear: sites on them lie strictly
-    /// inside the cell.
+    /// of its corners, chosen not collinear: sites on them lie inside the cell.
     fn in_cell_tracks(&self, rt: &Triangulation, i: u32, count: usize) -> Vec<Track> {
-        let mut corners: Vec<QPoint> = vec![];
+        let mut corners: Vec<[f64; 2]> = vec![];
         for (t, tri) in rt.triangles.iter().enumerate() {
-            if tri.contains(&i) {
-                let c = self.centre(t as u32);
-                if !corners.contains(&c) {
-                    corners.push(c);
-                }
+            if tri.contains(&i) && !corners.contains(&self.centres[t]) {
+                corners.push(self.centres[t]);
             }
         }
         if corners.len() < 3 {
             return vec![];
         }
-        let k = qi(corners.len() as i64);
+        let k = corners.len() as f64;
         let g = [
-            corners.iter().map(|c| &c[0]).sum::<Q>() / &k,
-            corners.iter().map(|c| &c[1]).sum::<Q>() / &k,
+            corners.iter().map(|c| c[0]).sum::<f64>() / k,
+            corners.iter().map(|c| c[1]).sum::<f64>() / k,
         ];
         // the first corner, the farthest from it, and the farthest from their line
-        let far = |from: &QPoint| {
-            (0..corners.len())
-                .max_by_key(|&c| norm2(&sub(&corners[c], from)))
-                .unwrap()
-        };
+        let d2 = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
         let a = 0;
-        let b = far(&corners[a]);
+        let b = (0..corners.len())
+            .max_by(|&x, &y| d2(corners[x], corners[a]).total_cmp(&d2(corners[y], corners[a])))
+            .unwrap();
+        let area = |c: usize| {
+            let (pa, pb, pc) = (corners[a], corners[b], corners[c]);
+            ((pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0])).abs()
+        };
         let c = (0..corners.len())
-            .max_by_key(|&c| {
-                crate::exact::abs(&cross(
-                    &sub(&corners[b], &corners[a]),
-                    &sub(&corners[c], &corners[a]),
-                ))
-            })
+            .max_by(|&x, &y| area(x).total_cmp(&area(y)))
             .unwrap();
         [a, b, c]
             .iter()
             .take(count)
             .map(|&k| Track {
-                base: g.clone(),
-                dir: sub(&corners[k], &g),
-                ta: zero(),
-                tb: one(),
-                anchor: i,
+                ta: 0.0,
+                tb: 1.0,
+                kind: Def::Free { p: g, anchor: i },
+                dir: [corners[k][0] - g[0], corners[k][1] - g[1]],
             })
             .collect()
     }
@@ -368,66 +527,60 @@ impl Sites {
     /// and, when the power difference with those sites (a quadratic in its
     /// position, solved in doubles) says so, to half the position where it
     /// turns positive (of the fractions tried, the one with the largest
-    /// smallest margin on the shared inputs); a vertex site tries the next fraction of its
-    /// dual edge. Returns false when the site cannot move further. Whether
-    /// the new position is inside is decided exactly afterwards.
+    /// smallest margin on the shared inputs); a vertex site tries the next
+    /// fraction of its track. Returns false when the site cannot move
+    /// further. Whether the new position is inside is decided exactly afterwards.
     pub fn step(&mut self, s: usize, against: &[usize]) -> bool {
         if !self.movable[s] {
             return false;
         }
+        let cur = self.frac[s];
         let next = match &self.role[s] {
             Role::Segment { .. } => {
-                let cur = crate::exact::f(&self.frac[s]);
                 let target = against
                     .iter()
                     .fold(cur / 2.0, |t, &b| t.min(0.5 * self.inside_below(s, b, cur)));
                 if target < 1.0 / (1u64 << 40) as f64 {
                     return false;
                 }
-                q(target)
+                target
             }
             Role::Vertex { .. } => {
-                let at = VERTEX_FRACS
-                    .iter()
-                    .position(|&(a, b)| ratio(a, b) == self.frac[s]);
+                let at = VERTEX_FRACS.iter().position(|&f| f == cur);
                 match at.map(|k| k + 1).filter(|&k| k < VERTEX_FRACS.len()) {
-                    Some(k) => ratio(VERTEX_FRACS[k].0, VERTEX_FRACS[k].1),
+                    Some(k) => VERTEX_FRACS[k],
                     None => return false,
                 }
             }
         };
-        let (pos, weight) = self.at(&self.track[s], &next);
-        self.approx[s] = [
-            crate::exact::f(&pos[0]),
-            crate::exact::f(&pos[1]),
-            crate::exact::f(&weight),
-        ];
-        self.pos[s] = pos;
-        self.weight[s] = weight;
+        let def = Self::at(&self.track[s], next);
+        self.set(s, def);
         self.frac[s] = next;
         true
     }
 
-    /// For segment site a on its track a(f) = base + f (tb - ta) dir (ta = 0),
+    /// For segment site a on its track a(f) = base + f (tb - ta) n (ta = 0),
     /// the smallest positive root of g(f) = |a(f) - b|^2 + omega_a(f) - omega_b
     /// below `cur` (a is inside with respect to b where g > 0), or `cur`
     /// when g has none there or is not positive at the segment itself.
     fn inside_below(&self, a: usize, b: usize, cur: f64) -> f64 {
         let tk = &self.track[a];
-        let fv =
-            |p: &QPoint| nalgebra::Vector2::new(crate::exact::f(&p[0]), crate::exact::f(&p[1]));
-        let d = fv(&tk.dir) * crate::exact::f(&(&tk.tb - &tk.ta));
-        let base = fv(&tk.base);
-        let anchor = fv(&self.points[tk.anchor as usize]);
+        let Def::Line { i, j, .. } = tk.kind else {
+            return cur;
+        };
+        let v = |p: [f64; 2]| nalgebra::Vector2::new(p[0], p[1]);
+        let (pi, pj) = (v(self.points[i as usize]), v(self.points[j as usize]));
+        let (wi, wj) = (self.weights[i as usize], self.weights[j as usize]);
+        let u = pj - pi;
+        let lambda = (u.norm_squared() + wi - wj) / (2.0 * u.norm_squared());
+        let base = pi + lambda * u;
+        let d = nalgebra::Vector2::new(-u[1], u[0]) * (tk.tb - tk.ta);
         let sb = nalgebra::Vector2::new(self.approx[b][0], self.approx[b][1]);
-        let (wa, wb) = (
-            crate::exact::f(&self.weights[tk.anchor as usize]),
-            self.approx[b][2],
-        );
+        let wb = self.approx[b][2];
         // g(f) = 2|d|^2 f^2 + 2 f d.(2 base - b - p) + |base - b|^2 + |base - p|^2 - w - omega_b
         let qa = 2.0 * d.norm_squared();
-        let qb = 2.0 * d.dot(&(2.0 * base - sb - anchor));
-        let qc = (base - sb).norm_squared() + (base - anchor).norm_squared() - wa - wb;
+        let qb = 2.0 * d.dot(&(2.0 * base - sb - pi));
+        let qc = (base - sb).norm_squared() + (base - pi).norm_squared() - wi - wb;
         let disc = qb * qb - 4.0 * qa * qc;
         if !(qc > 0.0 && qa > 0.0 && disc > 0.0) {
             return cur;
@@ -440,13 +593,23 @@ impl Sites {
         }
     }
 
-    /// The input vertices at which this site has the power of that vertex's
-    /// weight by construction (both ends of its segment, or of its edge).
-    pub fn served(&self, s: usize, cx: &Complex) -> [u32; 2] {
-        match &self.role[s] {
-            Role::Segment { seg, .. } => cx.segments[*seg as usize],
-            Role::Vertex { edge, .. } => [edge.0, edge.1],
-        }
+    /// A site whose position or weight is beyond the range of doubles, or
+    /// that doubles cannot tell from the other site of its segment.
+    pub fn unrepresentable(&self) -> Option<usize> {
+        let pairs = self.segment_pairs(self.len());
+        let partner: HashMap<u32, u32> = pairs
+            .iter()
+            .filter(|p| p[0] != u32::MAX)
+            .flat_map(|&[l, r]| [(l, r), (r, l)])
+            .collect();
+        (0..self.len()).find(|&s| {
+            self.iv[s]
+                .iter()
+                .any(|x| !(x.lo.is_finite() && x.hi.is_finite()))
+                || partner
+                    .get(&(s as u32))
+                    .is_some_and(|&o| self.def[o as usize] == self.def[s])
+        })
     }
 
     /// Human-readable name of a site, with the input's ids.
@@ -479,29 +642,26 @@ impl Sites {
     }
 
     pub fn len(&self) -> usize {
-        self.pos.len()
+        self.def.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.pos.is_empty()
+        self.def.is_empty()
     }
 }
 
-/// Three directions that positively span the plane, as spread as possible.
-fn spanning_triple(dirs: &[QPoint]) -> Option<[usize; 3]> {
-    let ang: Vec<f64> = dirs
+/// Three of the points around p whose directions from p positively span the
+/// plane (p strictly inside their triangle, exact), as spread as possible.
+fn spanning_triple(p: [f64; 2], around: &[[f64; 2]]) -> Option<[usize; 3]> {
+    let ang: Vec<f64> = around
         .iter()
-        .map(|d| crate::exact::f(&d[1]).atan2(crate::exact::f(&d[0])))
+        .map(|d| (d[1] - p[1]).atan2(d[0] - p[0]))
         .collect();
     let mut best: Option<([usize; 3], f64)> = None;
-    for a in 0..dirs.len() {
-        for b in a + 1..dirs.len() {
-            for c in b + 1..dirs.len() {
-                // Positively spanning iff the origin is strictly inside the
-                // triangle of the three directions (exact).
-                let o = [zero(), zero()];
-                let sides = [(a, b), (b, c), (c, a)]
-                    .map(|(x, y)| cross(&sub(&dirs[y], &dirs[x]), &sub(&o, &dirs[x])).cmp(&zero()));
+    for a in 0..around.len() {
+        for b in a + 1..around.len() {
+            for c in b + 1..around.len() {
+                let sides = [(a, b), (b, c), (c, a)].map(|(x, y)| orient(around[x], around[y], p));
                 if !(sides.iter().all(|&s| s == Ordering::Greater)
                     || sides.iter().all(|&s| s == Ordering::Less))
                 {
@@ -519,23 +679,4 @@ fn spanning_triple(dirs: &[QPoint]) -> Option<[usize; 3]> {
         }
     }
     best.map(|(t, _)| t)
-}
-
-/// Whether site a lies strictly inside its cell with respect to neighbour b:
-/// |a - b|^2 + omega_a - omega_b > 0. Decided in doubles when a bound on
-/// their error allows it, exactly otherwise.
-pub fn inside_wrt(sites: &Sites, a: usize, b: usize) -> bool {
-    let ([xa, ya, wa], [xb, yb, wb]) = (sites.approx[a], sites.approx[b]);
-    let v = (xa - xb) * (xa - xb) + (ya - yb) * (ya - yb) + wa - wb;
-    // Each input is within a relative 2^-53 of its exact value; 16 ulps of
-    // the magnitudes involved bound the error of v generously.
-    let bound = 16.0
-        * f64::EPSILON
-        * ((xa.abs() + xb.abs()).powi(2) + (ya.abs() + yb.abs()).powi(2) + wa.abs() + wb.abs());
-    // (Tiny magnitudes could be subnormal, where that bound fails: exact.)
-    if v.is_finite() && bound.is_finite() && bound > 1e-280 && v.abs() > bound {
-        return v > 0.0;
-    }
-    let d = norm2(&sub(&sites.pos[a], &sites.pos[b]));
-    is_pos(&(d + &sites.weight[a] - &sites.weight[b]))
 }

@@ -72,6 +72,28 @@ impl Triangulation {
             .expect("edge belongs to triangle")
     }
 
+    /// Replaces the diagonal a-b of the two triangles beside it by the other
+    /// diagonal (the caller checks that their union is strictly convex).
+    /// Returns the new triangles, or None when a-b is not an inner edge.
+    pub fn flip(&mut self, a: u32, b: u32) -> Option<[u32; 2]> {
+        let t1 = self.left_of(a, b)?;
+        let t2 = self.left_of(b, a)?;
+        let c = self.apex(t1, a, b);
+        let d = self.apex(t2, b, a);
+        for (x, y) in [(a, b), (b, a)] {
+            self.left.remove(&(x, y));
+        }
+        self.triangles[t1 as usize] = [c, a, d];
+        self.triangles[t2 as usize] = [c, d, b];
+        for t in [t1, t2] {
+            let tri = self.triangles[t as usize];
+            for k in 0..3 {
+                self.left.insert((tri[k], tri[(k + 1) % 3]), t);
+            }
+        }
+        Some([t1, t2])
+    }
+
     /// Whether {a, b} is an edge.
     pub fn has_edge(&self, a: u32, b: u32) -> bool {
         self.left.contains_key(&(a, b)) || self.left.contains_key(&(b, a))
@@ -121,6 +143,18 @@ mod tests {
         assert_eq!(t.apex(1, 2, 1), 3);
         assert!(t.has_edge(3, 2));
         assert!(!t.has_edge(0, 3));
+        assert_eq!(t.edges().count(), 5);
+    }
+
+    #[test]
+    fn flip_swaps_the_diagonal() {
+        let mut t = Triangulation::from_flat(&[0, 1, 2, 2, 1, 3], vec![]);
+        assert!(t.flip(1, 2).is_some());
+        assert!(!t.has_edge(1, 2));
+        assert!(t.has_edge(0, 3));
+        assert_eq!(t.left_of(0, 1), t.left_of(1, 3));
+        assert_eq!(t.left_of(3, 2), t.left_of(2, 0));
+        assert!(t.flip(0, 1).is_none());
         assert_eq!(t.edges().count(), 5);
     }
 }
