@@ -34,6 +34,7 @@ fn raw_ms<B: Backend>(b: &B, cx: &Complex) -> f64 {
 fn allow() -> Options {
     Options {
         allow_sites_outside: true,
+        ..Default::default()
     }
 }
 

@@ -7,8 +7,8 @@ use crate::diagram::Diagram;
 use crate::domain::Domain;
 use crate::mesh::Mesh;
 use crate::sites::Sites;
+use crate::{FastMap, FastSet};
 use serde::Serialize;
-use std::collections::{HashMap, HashSet};
 
 /// What the mesh proves about itself.
 #[derive(Debug, Clone, Serialize, Default)]
@@ -72,7 +72,7 @@ pub fn certify(
     }
 
     // A mesh vertex is a corner of some domain cell.
-    let corners: HashSet<u32> = (0..diagram.cells.len())
+    let corners: FastSet<u32> = (0..diagram.cells.len())
         .filter(|&s| diagram.in_domain[s])
         .filter_map(|s| diagram.cells[s].as_ref())
         .flatten()
@@ -89,7 +89,7 @@ pub fn certify(
     }
 
     // Directed edges of domain cells.
-    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut edges: FastMap<(u32, u32), u32> = FastMap::default();
     let mut convex = true;
     for (s, cell) in diagram.cells.iter().enumerate() {
         if !diagram.in_domain[s] {
@@ -149,7 +149,7 @@ pub fn certify(
     }
 
     // Tiling: unshared directed edges are exactly the domain boundary.
-    let boundary: HashSet<(u32, u32)> = dom
+    let boundary: FastSet<(u32, u32)> = dom
         .boundary()
         .into_iter()
         .filter_map(|(a, b)| Some((vid[a as usize]?, vid[b as usize]?)))

@@ -11,7 +11,6 @@ use crate::domain::Domain;
 use crate::sites::{centre_f64, Sites};
 use rayon::prelude::*;
 use std::cmp::Ordering;
-use std::collections::VecDeque;
 
 /// Power diagram of the sites.
 #[derive(Debug, Clone)]
@@ -66,11 +65,12 @@ impl Diagram {
             check_hull(sites, rt)?;
         }
         // Interior edges once: (left triangle, right triangle, apex of the right one).
-        let inner: Vec<(u32, u32, u32)> = rt
-            .edges()
-            .filter_map(|(a, b)| {
-                let t1 = rt.left_of(a, b)?;
-                let t2 = rt.left_of(b, a)?;
+        let inner: Vec<(u32, u32, u32)> = (0..tris.len() as u32)
+            .flat_map(|t| (0..3).map(move |k| (t, k)))
+            .filter_map(|(t1, k)| {
+                let tri = tris[t1 as usize];
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                let t2 = rt.across(t1, k).filter(|_| a < b)?;
                 Some((t1, t2, rt.apex(t2, b, a)))
             })
             .collect();
@@ -133,17 +133,23 @@ impl Diagram {
                 }
             }
         }
-        let around = rt.vertex_triangles(n);
+        // One triangle at each site, then the ring of triangles around it.
+        let mut corner = vec![u32::MAX; n];
+        for (t, tri) in tris.iter().enumerate() {
+            for &v in tri {
+                corner[v as usize] = t as u32;
+            }
+        }
         let cells: Vec<Option<Vec<u32>>> = (0..n)
             .map(|v| {
-                let start = *around[v].first()?;
-                let mut ring = vec![];
+                let start = Some(corner[v]).filter(|&t| t != u32::MAX)?;
+                let mut ring = Vec::with_capacity(8);
                 let mut t = start;
                 loop {
                     ring.push(class[t as usize]);
                     let tri = tris[t as usize];
                     let k = tri.iter().position(|&x| x as usize == v).unwrap();
-                    t = rt.left_of(v as u32, tri[(k + 2) % 3])?; // None: unbounded cell
+                    t = rt.across(t, (k + 2) % 3)?; // None: unbounded cell
                     if t == start {
                         break;
                     }
@@ -188,42 +194,42 @@ impl Diagram {
         }
         // Cells are neighbours across dual edges of positive length only: at a
         // vertex where four cells meet, the diagonal's dual is a point.
-        let mut nb = vec![Vec::new(); n];
-        for (a, b) in rt.edges() {
-            let c = |x, y| rt.left_of(x, y).map(|t| class[t as usize]);
-            if c(a, b).is_none() || c(a, b) != c(b, a) {
-                nb[a as usize].push(b);
-                nb[b as usize].push(a);
-            }
-        }
-        let mut seen = vec![false; n];
-        self.in_domain = vec![false; n];
-        for seed in 0..n {
-            if seen[seed] {
-                continue;
-            }
-            let mut members = vec![];
-            let mut queue = VecDeque::from([seed]);
-            seen[seed] = true;
-            while let Some(v) = queue.pop_front() {
-                members.push(v);
-                for &u in &nb[v] {
-                    if !seen[u as usize] && partner[v] != u {
-                        seen[u as usize] = true;
-                        queue.push_back(u as usize);
-                    }
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        for (t, tri) in rt.triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                let other = rt.across(t as u32, k);
+                if other.is_some_and(|o| class[o as usize] == class[t]) || partner[a as usize] == b
+                {
+                    continue;
                 }
-            }
-            let bounded = members.iter().all(|&v| self.cells[v].is_some());
-            let says = |want: bool| members.iter().any(|&v| label[v] == Some(want));
-            let inside = says(true);
-            if inside && (says(false) || !bounded) {
-                self.leaking_components += 1;
-            }
-            for v in members {
-                self.in_domain[v] = inside && bounded;
+                let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+                parent[ra.max(rb) as usize] = ra.min(rb);
             }
         }
+        // Per component: [says inside, says outside, unbounded].
+        let mut seen = vec![[false; 3]; n];
+        let root: Vec<usize> = (0..n as u32)
+            .map(|v| find(&mut parent, v) as usize)
+            .collect();
+        for v in 0..n {
+            let r = &mut seen[root[v]];
+            match label[v] {
+                Some(true) => r[0] = true,
+                Some(false) => r[1] = true,
+                None => {}
+            }
+            r[2] |= self.cells[v].is_none();
+        }
+        self.leaking_components = (0..n)
+            .filter(|&v| root[v] == v && seen[v][0] && (seen[v][1] || seen[v][2]))
+            .count();
+        self.in_domain = (0..n)
+            .map(|v| {
+                let [inside, _, unbounded] = seen[root[v]];
+                inside && !unbounded
+            })
+            .collect();
     }
 }
 
@@ -267,7 +273,7 @@ pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
 /// turns left or goes straight at every vertex and winds once: the
 /// triangles cover the convex hull of the sites.
 fn check_hull(sites: &Sites, rt: &Triangulation) -> std::result::Result<(), String> {
-    let mut next = std::collections::HashMap::new();
+    let mut next = crate::FastMap::default();
     for (a, b) in rt.edges() {
         if rt.left_of(b, a).is_none() && next.insert(a, b).is_some() {
             return Err(format!("site {a} is twice on the hull"));

@@ -7,8 +7,9 @@ use crate::backend::{Backend, Triangulation};
 use crate::complex::Complex;
 use crate::error::{Error, Result};
 use crate::exact::orient;
+use crate::FastSet;
 use std::cmp::Ordering;
-use std::collections::{HashSet, VecDeque};
+use std::collections::VecDeque;
 
 /// The complex restricted to the domain, with its constrained Delaunay
 /// triangulation and which of its triangles lie in the domain.
@@ -71,7 +72,7 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
     let mut hull_edges_added = 0;
     if !inside.iter().any(|&i| i) {
         // Nothing enclosed: mesh the convex hull, its edges become constraints.
-        let segs: HashSet<(u32, u32)> = cx
+        let segs: FastSet<(u32, u32)> = cx
             .segments
             .iter()
             .map(|s| (s[0].min(s[1]), s[0].max(s[1])))
@@ -169,10 +170,42 @@ fn hull_edges(t: &Triangulation) -> Vec<(u32, u32)> {
         .collect()
 }
 
+/// Whether triangle k holds h (closed).
+fn contains(t: &Triangulation, p: &[[f64; 2]], k: u32, h: [f64; 2]) -> bool {
+    let [a, b, c] = t.triangles[k as usize].map(|v| p[v as usize]);
+    [orient(a, b, h), orient(b, c, h), orient(c, a, h)]
+        .iter()
+        .all(|&o| o != Ordering::Less)
+}
+
+/// A triangle holding h (closed), or None outside the hull: a walk across
+/// the edges h is beyond, in a scrambled order (a fixed order can cycle in
+/// a triangulation that is not Delaunay), with a scan as the last resort.
+fn locate(t: &Triangulation, p: &[[f64; 2]], h: [f64; 2]) -> Option<u32> {
+    let mut cur = 0u32;
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    'walk: for _ in 0..t.triangles.len() {
+        let tri = t.triangles[cur as usize];
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        for e in 0..3 {
+            let k = (state as usize + e) % 3;
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            if orient(p[a as usize], p[b as usize], h) == Ordering::Less {
+                cur = t.left_of(b, a)?;
+                continue 'walk;
+            }
+        }
+        return Some(cur);
+    }
+    (0..t.triangles.len() as u32).find(|&k| contains(t, p, k, h))
+}
+
 /// Triangle's eating: from the hull and from the hole points, across every
 /// edge that is not a segment. What is not eaten is the domain.
 fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
-    let segs: HashSet<(u32, u32)> = cx
+    let segs: FastSet<(u32, u32)> = cx
         .segments
         .iter()
         .map(|s| (s[0].min(s[1]), s[0].max(s[1])))
@@ -186,15 +219,24 @@ fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
         }
     }
     let p = &cx.points;
-    for h in &cx.holes {
-        for (k, tri) in t.triangles.iter().enumerate() {
-            let [a, b, c] = tri.map(|v| p[v as usize]);
-            if [orient(a, b, *h), orient(b, c, *h), orient(c, a, *h)]
-                .iter()
-                .all(|&o| o != Ordering::Less)
-            {
-                queue.push_back(k as u32);
-            }
+    let mut around: Option<Vec<Vec<u32>>> = None;
+    for &h in &cx.holes {
+        let Some(k) = locate(t, p, h) else { continue };
+        // h may be on an edge or a vertex of k: every triangle holding it.
+        let tri = t.triangles[k as usize];
+        if tri.iter().any(|&v| p[v as usize] == h)
+            || (0..3).any(|e| {
+                orient(p[tri[e] as usize], p[tri[(e + 1) % 3] as usize], h) == Ordering::Equal
+            })
+        {
+            let around = around.get_or_insert_with(|| t.vertex_triangles(p.len()));
+            queue.extend(
+                tri.iter()
+                    .flat_map(|&v| around[v as usize].iter().copied())
+                    .filter(|&k| contains(t, p, k, h)),
+            );
+        } else {
+            queue.push_back(k);
         }
     }
     while let Some(k) = queue.pop_front() {

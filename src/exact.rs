@@ -60,8 +60,15 @@ pub fn in_box(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
 
 /// Whether p lies in the closed diametral disc of segment ab: (a-p).(b-p) <= 0.
 pub fn in_diametral_disc(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
-    let (a, b, p) = (qp(a), qp(b), qp(p));
-    !is_pos(&dot(&sub(&a, &p), &sub(&b, &p)))
+    let d = |u: [f64; 2], k: usize| Iv::of(u[k]) - Iv::of(p[k]);
+    let v = d(a, 0) * d(b, 0) + d(a, 1) * d(b, 1);
+    match v.sign() {
+        Some(o) => o != Ordering::Greater,
+        None => {
+            let (a, b, p) = (qp(a), qp(b), qp(p));
+            !is_pos(&dot(&sub(&a, &p), &sub(&b, &p)))
+        }
+    }
 }
 
 /// A closed interval that holds an exact value: every operation rounds

@@ -6,8 +6,8 @@
 use crate::diagram::Diagram;
 use crate::error::{Error, Result};
 use crate::sites::Sites;
+use crate::FastMap;
 use nalgebra::Vector2;
-use std::collections::HashMap;
 
 /// Edges shorter than this fraction of the mesh size are collapsed.
 pub const COLLAPSE: f64 = 1e-14;
@@ -68,8 +68,8 @@ impl Mesh {
                 ((p[1] - lo[1]) / tol).floor() as i64,
             ]
         };
-        let mut grid: HashMap<[i64; 2], Vec<u32>> = HashMap::new();
-        let mut map: HashMap<u32, u32> = HashMap::new();
+        let mut grid: FastMap<[i64; 2], Vec<u32>> = FastMap::default();
+        let mut map: FastMap<u32, u32> = FastMap::default();
         for (k, &v) in used.iter().enumerate() {
             let p = pts[k];
             let is_fixed = diagram.input_vertex[v as usize].is_some();
@@ -147,7 +147,7 @@ impl Mesh {
     /// Largest |cos| between an interior face and the line joining the two
     /// sites beside it (0 for an orthogonal mesh).
     pub fn orthogonality_defect(&self) -> f64 {
-        let mut owner: HashMap<(u32, u32), usize> = HashMap::new();
+        let mut owner: FastMap<(u32, u32), usize> = FastMap::default();
         for (c, cell) in self.cells.iter().enumerate() {
             for e in 0..cell.len() {
                 owner.insert((cell[e], cell[(e + 1) % cell.len()]), c);

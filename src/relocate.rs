@@ -31,14 +31,18 @@ pub struct Relocated {
 
 /// Domain sites that are hidden or not strictly inside their cell.
 pub fn outside(sites: &Sites, rt: &Triangulation, diagram: &Diagram) -> Vec<usize> {
-    let nb = rt.neighbours(sites.len());
-    let hidden: std::collections::HashSet<u32> = rt.hidden.iter().copied().collect();
-    (0..sites.len())
-        .filter(|&a| diagram.in_domain[a] || hidden.contains(&(a as u32)))
-        .filter(|&a| {
-            hidden.contains(&(a as u32)) || nb[a].iter().any(|&b| !sites.inside_wrt(a, b as usize))
-        })
-        .collect()
+    let mut out = vec![false; sites.len()];
+    for &h in &rt.hidden {
+        out[h as usize] = true;
+    }
+    for (a, b) in rt.edges() {
+        for (x, y) in [(a as usize, b as usize), (b as usize, a as usize)] {
+            if diagram.in_domain[x] && !out[x] && !sites.inside_wrt(x, y) {
+                out[x] = true;
+            }
+        }
+    }
+    (0..sites.len()).filter(|&s| out[s]).collect()
 }
 
 /// Why a site is outside its cell, for messages.
@@ -67,7 +71,7 @@ fn site_diagram<B: Backend + ?Sized>(
     sites: &Sites,
 ) -> Result<(Triangulation, Diagram, bool)> {
     let pos: Vec<[f64; 2]> = sites.approx.iter().map(|a| [a[0], a[1]]).collect();
-    let w: Vec<f64> = sites.approx.iter().map(|a| a[2]).collect();
+    let w = sites.nudged_weights();
     let mut rt = backend.regular(&pos, &w)?;
     if let Ok(d) = Diagram::build(dom, sites, &rt, true) {
         return Ok((rt, d, false));

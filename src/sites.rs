@@ -11,8 +11,8 @@
 use crate::backend::Triangulation;
 use crate::complex::Complex;
 use crate::exact::{det3, det3_q, orient, q, qp, Iv, QPoint, Q};
+use crate::{FastMap, FastSet};
 use std::cmp::Ordering;
-use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 use std::sync::OnceLock;
 
@@ -382,7 +382,7 @@ impl Sites {
         let degree = cx.degrees();
         let n = cx.points.len();
         let nb = rt.neighbours(n);
-        let segs: std::collections::HashSet<(u32, u32)> = cx
+        let segs: FastSet<(u32, u32)> = cx
             .segments
             .iter()
             .map(|s| (s[0].min(s[1]), s[0].max(s[1])))
@@ -392,7 +392,7 @@ impl Sites {
             other_end[a as usize] = b;
             other_end[b as usize] = a;
         }
-        let mut on_edge: HashMap<(u32, u32), usize> = HashMap::new();
+        let mut on_edge: FastMap<(u32, u32), usize> = FastMap::default();
         for i in 0..n as u32 {
             let want = match degree[i as usize] {
                 0 => 3,
@@ -593,11 +593,27 @@ impl Sites {
         }
     }
 
+    /// Weights for a triangulation of the rounded sites, each shifted by a
+    /// fixed pseudo-random 1e-9 of itself: the sites around an input vertex
+    /// are co-orthogonal, which a floating-point filter cannot decide, so a
+    /// backend would fall back to exact arithmetic at every vertex. Nudged,
+    /// they are triangulated in some order, which is as good (the check
+    /// accepts any triangulation of a co-orthogonal group); a real decision
+    /// below 1e-9 that the nudge gets wrong is caught by the exact check and
+    /// flipped.
+    pub fn nudged_weights(&self) -> Vec<f64> {
+        self.approx
+            .iter()
+            .enumerate()
+            .map(|(s, a)| a[2] * (1.0 + 1e-9 * (scatter(s as u64) - 0.5)))
+            .collect()
+    }
+
     /// A site whose position or weight is beyond the range of doubles, or
     /// that doubles cannot tell from the other site of its segment.
     pub fn unrepresentable(&self) -> Option<usize> {
         let pairs = self.segment_pairs(self.len());
-        let partner: HashMap<u32, u32> = pairs
+        let partner: FastMap<u32, u32> = pairs
             .iter()
             .filter(|p| p[0] != u32::MAX)
             .flat_map(|&[l, r]| [(l, r), (r, l)])

@@ -84,13 +84,28 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
     let cx = &dom.complex;
     let n = cx.points.len();
     let zero = vec![0.0; n];
-    let rt0 = backend.regular(&cx.points, &zero)?;
-    if conforms(cx, &rt0).is_ok()
-        && cx
-            .segments
+    let gabriel = |t: &Triangulation| {
+        cx.segments
             .iter()
-            .all(|s| strictly_gabriel(cx, &rt0, s[0], s[1]))
-    {
+            .all(|s| strictly_gabriel(cx, t, s[0], s[1]))
+    };
+    // A constrained Delaunay triangulation that is Delaunay at every edge
+    // is a Delaunay triangulation holding every segment: no second build.
+    if delaunay(&cx.points, &dom.cdt) && gabriel(&dom.cdt) {
+        let report = WeightsReport {
+            method: "zero".into(),
+            system3_feasible: true,
+            ..Default::default()
+        };
+        return Ok(Weights {
+            w: zero,
+            rt: dom.cdt.clone(),
+            report,
+            sys3_failed: vec![],
+        });
+    }
+    let rt0 = backend.regular(&cx.points, &zero)?;
+    if conforms(cx, &rt0).is_ok() && gabriel(&rt0) {
         let report = WeightsReport {
             method: "zero".into(),
             system3_feasible: true,
@@ -653,6 +668,21 @@ fn conforms(cx: &Complex, rt: &Triangulation) -> std::result::Result<(), (Vec<u3
     } else {
         Err((missing, rt.hidden.clone()))
     }
+}
+
+/// Whether every edge of t is locally Delaunay (exact incircle).
+fn delaunay(p: &[[f64; 2]], t: &Triangulation) -> bool {
+    let c = |v: u32| robust::Coord {
+        x: p[v as usize][0],
+        y: p[v as usize][1],
+    };
+    t.edges().all(|(a, b)| {
+        let (Some(t1), Some(t2)) = (t.left_of(a, b), t.left_of(b, a)) else {
+            return true;
+        };
+        let (x, y) = (t.apex(t1, a, b), t.apex(t2, b, a));
+        robust::incircle(c(a), c(b), c(x), c(y)) <= 0.0
+    })
 }
 
 /// Strictly Gabriel, for a segment that is an edge of the Delaunay

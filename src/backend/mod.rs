@@ -8,7 +8,7 @@ pub use cgal::Cgal;
 
 use crate::error::Result;
 use crate::exact::Q;
-use std::collections::HashMap;
+use crate::FastMap;
 
 /// What every backend computes, in batch.
 pub trait Backend: Sync {
@@ -40,22 +40,39 @@ pub struct Triangulation {
     /// Input indices that are not vertices (hidden or merged).
     pub hidden: Vec<u32>,
     /// Directed edge (a, b) -> the triangle having a->b in ccw order.
-    left: HashMap<(u32, u32), u32>,
+    left: FastMap<(u32, u32), u32>,
+    /// Per triangle, the triangle across its edge k = (tri[k], tri[k+1]),
+    /// or NONE on the hull.
+    adj: Vec<[u32; 3]>,
 }
+
+/// No triangle.
+const NONE: u32 = u32::MAX;
 
 impl Triangulation {
     pub(crate) fn from_flat(flat: &[u32], hidden: Vec<u32>) -> Self {
         let triangles: Vec<[u32; 3]> = flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        let mut left = HashMap::with_capacity(triangles.len() * 3);
+        let mut left = FastMap::with_capacity_and_hasher(triangles.len() * 3, Default::default());
         for (t, tri) in triangles.iter().enumerate() {
             for k in 0..3 {
                 left.insert((tri[k], tri[(k + 1) % 3]), t as u32);
             }
         }
+        let adj = triangles
+            .iter()
+            .map(|tri| {
+                [0, 1, 2].map(|k| {
+                    left.get(&(tri[(k + 1) % 3], tri[k]))
+                        .copied()
+                        .unwrap_or(NONE)
+                })
+            })
+            .collect();
         Triangulation {
             triangles,
             hidden,
             left,
+            adj,
         }
     }
 
@@ -80,15 +97,34 @@ impl Triangulation {
         let t2 = self.left_of(b, a)?;
         let c = self.apex(t1, a, b);
         let d = self.apex(t2, b, a);
+        let across = |s: &Self, x: u32, y: u32| s.left_of(y, x).unwrap_or(NONE);
+        let (n_bc, n_ca, n_ad, n_db) = (
+            across(self, b, c),
+            across(self, c, a),
+            across(self, a, d),
+            across(self, d, b),
+        );
         for (x, y) in [(a, b), (b, a)] {
             self.left.remove(&(x, y));
         }
         self.triangles[t1 as usize] = [c, a, d];
         self.triangles[t2 as usize] = [c, d, b];
+        self.adj[t1 as usize] = [n_ca, n_ad, t2];
+        self.adj[t2 as usize] = [t1, n_db, n_bc];
         for t in [t1, t2] {
             let tri = self.triangles[t as usize];
             for k in 0..3 {
                 self.left.insert((tri[k], tri[(k + 1) % 3]), t);
+            }
+        }
+        // The outer triangles that changed sides: across a-d now t1, across b-c now t2.
+        for (n, x, y, t) in [(n_ad, d, a, t1), (n_bc, c, b, t2)] {
+            if n != NONE {
+                let tri = self.triangles[n as usize];
+                let k = (0..3)
+                    .find(|&k| (tri[k], tri[(k + 1) % 3]) == (x, y))
+                    .expect("twin edge");
+                self.adj[n as usize][k] = t;
             }
         }
         Some([t1, t2])
@@ -102,10 +138,17 @@ impl Triangulation {
     /// Every undirected edge once, as (a, b) with a triangle on the left of
     /// a->b, in triangle order (deterministic: LP rows follow this order).
     pub fn edges(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
-        self.triangles
-            .iter()
-            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
-            .filter(move |&(a, b)| a < b || !self.left.contains_key(&(b, a)))
+        self.triangles.iter().zip(&self.adj).flat_map(|(t, adj)| {
+            (0..3)
+                .filter(move |&k| t[k] < t[(k + 1) % 3] || adj[k] == NONE)
+                .map(move |k| (t[k], t[(k + 1) % 3]))
+        })
+    }
+
+    /// The triangle across edge k of triangle t (edge k joins its vertices
+    /// k and k + 1), if any.
+    pub fn across(&self, t: u32, k: usize) -> Option<u32> {
+        Some(self.adj[t as usize][k]).filter(|&n| n != NONE)
     }
 
     /// Neighbours of each vertex (n = number of input points).
@@ -156,5 +199,8 @@ mod tests {
         assert_eq!(t.left_of(3, 2), t.left_of(2, 0));
         assert!(t.flip(0, 1).is_none());
         assert_eq!(t.edges().count(), 5);
+        // adjacency after the flip is what a fresh build gives
+        let flat: Vec<u32> = t.triangles.iter().flatten().copied().collect();
+        assert_eq!(t.adj, Triangulation::from_flat(&flat, vec![]).adj);
     }
 }

@@ -81,6 +81,7 @@ fn run(cmd: Command) -> Result<()> {
             let cx = io::read_complex(&input)?;
             let opts = Options {
                 allow_sites_outside,
+                compare_with_raw: true,
             };
             let out = conform(&default_backend(), &cx, &opts)?;
             write_all(
@@ -95,7 +96,11 @@ fn run(cmd: Command) -> Result<()> {
         Command::Demo { out_dir } => {
             let name = Path::new("demo.poly");
             let cx = io::poly::parse(DEMO, name)?;
-            let out = conform(&default_backend(), &cx, &Options::default())?;
+            let opts = Options {
+                compare_with_raw: true,
+                ..Default::default()
+            };
+            let out = conform(&default_backend(), &cx, &opts)?;
             std::fs::create_dir_all(&out_dir).map_err(|e| Error::Io {
                 path: out_dir.clone(),
                 message: e.to_string(),
@@ -161,7 +166,7 @@ fn write_all(
         ok(c.cells_tile_domain),
         ok(c.sites_inside_cells),
         r.total_ms,
-        r.raw_triangulation_ms
+        r.raw_triangulation_ms.unwrap_or(f64::NAN)
     );
     for n in &r.notes {
         eprintln!("note: {n}");

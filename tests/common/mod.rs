@@ -25,6 +25,7 @@ pub fn run<B: Backend>(b: &B, cx: &Complex, tag: &str, allow: bool) -> Result<Ou
         cx,
         &Options {
             allow_sites_outside: allow,
+            ..Default::default()
         },
     )?;
     if let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") {
