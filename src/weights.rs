@@ -89,34 +89,24 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
             .iter()
             .all(|s| strictly_gabriel(cx, t, s[0], s[1]))
     };
+    let zero_weights = |rt: Triangulation| Weights {
+        w: vec![0.0; n],
+        rt,
+        report: WeightsReport {
+            method: "zero".into(),
+            system3_feasible: true,
+            ..Default::default()
+        },
+        sys3_failed: vec![],
+    };
     // A constrained Delaunay triangulation that is Delaunay at every edge
     // is a Delaunay triangulation holding every segment: no second build.
     if delaunay(&cx.points, &dom.cdt) && gabriel(&dom.cdt) {
-        let report = WeightsReport {
-            method: "zero".into(),
-            system3_feasible: true,
-            ..Default::default()
-        };
-        return Ok(Weights {
-            w: zero,
-            rt: dom.cdt.clone(),
-            report,
-            sys3_failed: vec![],
-        });
+        return Ok(zero_weights(dom.cdt.clone()));
     }
     let rt0 = backend.regular(&cx.points, &zero)?;
     if conforms(cx, &rt0).is_ok() && gabriel(&rt0) {
-        let report = WeightsReport {
-            method: "zero".into(),
-            system3_feasible: true,
-            ..Default::default()
-        };
-        return Ok(Weights {
-            w: zero,
-            rt: rt0,
-            report,
-            sys3_failed: vec![],
-        });
+        return Ok(zero_weights(rt0));
     }
     match lp(backend, dom, &rt0) {
         // The LP gave no answer (slivers beyond its precision, a solver
