@@ -5,23 +5,26 @@
 #include "orthomesh/src/backend/cgal/ffi.rs.h"
 #include <CGAL/Regular_triangulation_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace orthomesh {
 
-// Regular_triangulation_2 over kernel K, vertices tagged with input indices.
+// Regular_triangulation_2 over kernel K, vertices tagged with input
+// indices, faces with room for their output index.
 template <class K>
 using RegularWithIndex2 = CGAL::Regular_triangulation_2<
     K, CGAL::Triangulation_data_structure_2<
            CGAL::Triangulation_vertex_base_with_info_2<uint32_t, K, CGAL::Regular_triangulation_vertex_base_2<K>>,
-           CGAL::Regular_triangulation_face_base_2<K>>>;
+           CGAL::Triangulation_face_base_with_info_2<uint32_t, K, CGAL::Regular_triangulation_face_base_2<K>>>>;
 
-// Finite faces as ccw index triples, plus the indices that are no vertex
-// (hidden points of a regular triangulation, merged duplicates).
+// Finite faces as ccw index triples with their adjacency, plus the indices
+// that are no vertex (hidden points of a regular triangulation, merged
+// duplicates). Numbers the finite faces in their info.
 template <class Tr>
-TriangulationOut collect(const Tr& tr, std::size_t n) {
+TriangulationOut collect(Tr& tr, std::size_t n) {
   TriangulationOut out;
   std::vector<bool> present(n, false);
   for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v) {
@@ -32,8 +35,19 @@ TriangulationOut collect(const Tr& tr, std::size_t n) {
   }
   if (tr.dimension() == 2) {
     out.triangles.reserve(3 * tr.number_of_faces());
+    out.neighbours.reserve(3 * tr.number_of_faces());
+    uint32_t id = 0;
     for (auto f = tr.finite_faces_begin(); f != tr.finite_faces_end(); ++f) {
+      f->info() = id++;
       for (int k = 0; k < 3; ++k) out.triangles.push_back(f->vertex(k)->info());
+    }
+    // CGAL's neighbour i is opposite vertex i: across our edge k (vertex k
+    // to k + 1) lies neighbour (k + 2) % 3.
+    for (auto f = tr.finite_faces_begin(); f != tr.finite_faces_end(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        auto g = f->neighbor((k + 2) % 3);
+        out.neighbours.push_back(tr.is_infinite(g) ? UINT32_MAX : g->info());
+      }
     }
   }
   return out;

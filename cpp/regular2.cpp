@@ -7,6 +7,7 @@
 #include <CGAL/Regular_triangulation_2.h>
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
 
 #include <stdexcept>
 #include <utility>
@@ -20,7 +21,7 @@ typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
 typedef RegularWithIndex2<K> RT;
 
 typedef CGAL::Triangulation_vertex_base_with_info_2<uint32_t, K> CVb;
-typedef CGAL::Constrained_triangulation_face_base_2<K> CFb;
+typedef CGAL::Triangulation_face_base_with_info_2<uint32_t, K, CGAL::Constrained_triangulation_face_base_2<K>> CFb;
 typedef CGAL::Triangulation_data_structure_2<CVb, CFb> CTds;
 typedef CGAL::Constrained_Delaunay_triangulation_2<K, CTds, CGAL::Exact_predicates_tag> CDT;
 

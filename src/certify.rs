@@ -90,6 +90,7 @@ pub fn certify(
 
     // Directed edges of domain cells.
     let mut edges: FastMap<(u32, u32), u32> = FastMap::default();
+    edges.reserve(diagram.cells.iter().flatten().map(Vec::len).sum());
     let mut convex = true;
     for (s, cell) in diagram.cells.iter().enumerate() {
         if !diagram.in_domain[s] {

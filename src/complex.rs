@@ -147,73 +147,150 @@ impl Complex {
         Ok(())
     }
 
-    /// Proper crossings (segment pairs) and vertices inside segments, found by
-    /// a sweep over x with exact orientation tests. Touching, T-junctions and
-    /// collinear overlaps all put a vertex inside a segment.
+    /// Proper crossings (segment pairs) and vertices inside segments, with
+    /// exact orientation tests. Candidates come from a uniform grid: each
+    /// segment is listed in the cells its bounding box covers, and a pair is
+    /// tested only in the cell holding the lower-left corner of their boxes'
+    /// overlap, so once. Segments whose boxes cover too many cells are tested
+    /// against everything instead. Touching, T-junctions and collinear
+    /// overlaps all put a vertex inside a segment.
     fn intersections(&self) -> (Vec<SegmentPair>, Vec<VertexOnSegment>) {
         let p = &self.points;
+        let (crossings, on_segment) = (vec![], vec![]);
+        if self.segments.is_empty() {
+            return (crossings, on_segment);
+        }
         let seg = |s: usize| {
             (
                 p[self.segments[s][0] as usize],
                 p[self.segments[s][1] as usize],
             )
         };
-        // Events by min x; at equal x segments come before points.
-        let mut events: Vec<(f64, u8, usize)> = (0..self.segments.len())
-            .map(|s| {
-                let (a, b) = seg(s);
-                (a[0].min(b[0]), 0, s)
-            })
-            .chain((0..p.len()).map(|v| (p[v][0], 1, v)))
+        let bbox = |s: usize| {
+            let (a, b) = seg(s);
+            [
+                a[0].min(b[0]),
+                a[1].min(b[1]),
+                a[0].max(b[0]),
+                a[1].max(b[1]),
+            ]
+        };
+        let boxes: Vec<[f64; 4]> = (0..self.segments.len()).map(bbox).collect();
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        for q in p {
+            for k in 0..2 {
+                lo[k] = lo[k].min(q[k]);
+                hi[k] = hi[k].max(q[k]);
+            }
+        }
+        // About one cell per item, but no smaller than a typical segment.
+        let mut sizes: Vec<f64> = boxes
+            .iter()
+            .map(|b| (b[2] - b[0]).max(b[3] - b[1]))
             .collect();
-        events.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-        let mut active: Vec<usize> = vec![];
-        let (mut crossings, mut on_segment) = (vec![], vec![]);
-        for (x, kind, i) in events {
-            active.retain(|&s| {
-                let (a, b) = seg(s);
-                a[0].max(b[0]) >= x
-            });
-            if kind == 1 {
-                let v = p[i];
-                for &s in &active {
-                    let [a, b] = self.segments[s];
-                    if a as usize == i || b as usize == i {
-                        continue;
-                    }
-                    let (pa, pb) = seg(s);
-                    if in_box(pa, pb, v) && orient(pa, pb, v) == Ordering::Equal {
-                        on_segment.push((i as u32, s));
-                    }
-                }
+        let mid = sizes.len() / 2;
+        let typical = *sizes.select_nth_unstable_by(mid, f64::total_cmp).1;
+        let area = ((hi[0] - lo[0]) * (hi[1] - lo[1])).max(0.0);
+        let items = (self.segments.len() + p.len()) as f64;
+        let mut side = (area / items).sqrt().max(typical);
+        if !(side.is_finite() && side > 0.0) {
+            side = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
+        }
+        let dims =
+            [0, 1].map(|k| (((hi[k] - lo[k]) / side).floor() as usize).clamp(0, 1 << 20) + 1);
+        let cell =
+            |x: f64, k: usize| (((x - lo[k]) / side).floor().max(0.0) as usize).min(dims[k] - 1);
+        const MAX_CELLS: usize = 64;
+        let covers = |b: &[f64; 4]| [cell(b[0], 0), cell(b[1], 1), cell(b[2], 0), cell(b[3], 1)];
+        let mut grid: Vec<Vec<u32>> = vec![vec![]; dims[0] * dims[1]];
+        let mut big: Vec<usize> = vec![];
+        for (s, b) in boxes.iter().enumerate() {
+            let [c0, r0, c1, r1] = covers(b);
+            if (c1 - c0 + 1) * (r1 - r0 + 1) > MAX_CELLS {
+                big.push(s);
                 continue;
             }
-            let (a, b) = seg(i);
-            let (ylo, yhi) = (a[1].min(b[1]), a[1].max(b[1]));
-            for &t in &active {
-                let (c, d) = seg(t);
-                if c[1].max(d[1]) < ylo || c[1].min(d[1]) > yhi {
-                    continue;
-                }
-                let [ia, ib] = self.segments[i];
-                let [ic, id] = self.segments[t];
-                if ia == ic || ia == id || ib == ic || ib == id {
-                    continue; // shared endpoint: overlaps show up as vertex-on-segment
-                }
-                let o1 = orient(a, b, c);
-                let o2 = orient(a, b, d);
-                let o3 = orient(c, d, a);
-                let o4 = orient(c, d, b);
-                let strict = |x: Ordering, y: Ordering| {
-                    x != Ordering::Equal && y != Ordering::Equal && x != y
-                };
-                if strict(o1, o2) && strict(o3, o4) {
-                    crossings.push((t.min(i), t.max(i)));
+            for r in r0..=r1 {
+                for c in c0..=c1 {
+                    grid[r * dims[0] + c].push(s as u32);
                 }
             }
-            active.push(i);
+        }
+        let mut pts: Vec<Vec<u32>> = vec![vec![]; dims[0] * dims[1]];
+        for (v, q) in p.iter().enumerate() {
+            pts[cell(q[1], 1) * dims[0] + cell(q[0], 0)].push(v as u32);
+        }
+        let (mut crossings, mut on_segment) = (crossings, on_segment);
+        let overlap = |a: &[f64; 4], b: &[f64; 4]| {
+            a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3]
+        };
+        let mut test_pair = |s: usize, t: usize| {
+            let [ia, ib] = self.segments[s];
+            let [ic, id] = self.segments[t];
+            if ia == ic || ia == id || ib == ic || ib == id {
+                return; // shared endpoint: overlaps show up as vertex-on-segment
+            }
+            let ((a, b), (c, d)) = (seg(s), seg(t));
+            let strict =
+                |x: Ordering, y: Ordering| x != Ordering::Equal && y != Ordering::Equal && x != y;
+            if strict(orient(a, b, c), orient(a, b, d)) && strict(orient(c, d, a), orient(c, d, b))
+            {
+                crossings.push((s.min(t), s.max(t)));
+            }
+        };
+        for (k, list) in grid.iter().enumerate() {
+            let (c, r) = (k % dims[0], k / dims[0]);
+            for (x, &s) in list.iter().enumerate() {
+                for &t in &list[x + 1..] {
+                    let (bs, bt) = (&boxes[s as usize], &boxes[t as usize]);
+                    if overlap(bs, bt)
+                        && cell(bs[0].max(bt[0]), 0) == c
+                        && cell(bs[1].max(bt[1]), 1) == r
+                    {
+                        test_pair(s as usize, t as usize);
+                    }
+                }
+            }
+        }
+        let mut is_big = vec![false; self.segments.len()];
+        for &s in &big {
+            is_big[s] = true;
+        }
+        for &s in &big {
+            for t in 0..self.segments.len() {
+                if (!is_big[t] || t > s) && overlap(&boxes[s], &boxes[t]) {
+                    test_pair(s, t);
+                }
+            }
+        }
+        let mut test_point = |v: u32, s: usize| {
+            let [a, b] = self.segments[s];
+            if a == v || b == v {
+                return;
+            }
+            let (pa, pb) = seg(s);
+            let q = p[v as usize];
+            if in_box(pa, pb, q) && orient(pa, pb, q) == Ordering::Equal {
+                on_segment.push((v, s));
+            }
+        };
+        for (s, b) in boxes.iter().enumerate() {
+            let [c0, r0, c1, r1] = covers(b);
+            if is_big[s] {
+                (0..p.len() as u32).for_each(|v| test_point(v, s));
+                continue;
+            }
+            for r in r0..=r1 {
+                for c in c0..=c1 {
+                    for &v in &pts[r * dims[0] + c] {
+                        test_point(v, s);
+                    }
+                }
+            }
         }
         crossings.sort();
+        crossings.dedup();
         on_segment.sort();
         (crossings, on_segment)
     }

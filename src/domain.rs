@@ -181,8 +181,8 @@ fn contains(t: &Triangulation, p: &[[f64; 2]], k: u32, h: [f64; 2]) -> bool {
 /// A triangle holding h (closed), or None outside the hull: a walk across
 /// the edges h is beyond, in a scrambled order (a fixed order can cycle in
 /// a triangulation that is not Delaunay), with a scan as the last resort.
-fn locate(t: &Triangulation, p: &[[f64; 2]], h: [f64; 2]) -> Option<u32> {
-    let mut cur = 0u32;
+fn locate(t: &Triangulation, p: &[[f64; 2]], h: [f64; 2], start: u32) -> Option<u32> {
+    let mut cur = start;
     let mut state = 0x2545_F491_4F6C_DD1Du64;
     'walk: for _ in 0..t.triangles.len() {
         let tri = t.triangles[cur as usize];
@@ -193,7 +193,7 @@ fn locate(t: &Triangulation, p: &[[f64; 2]], h: [f64; 2]) -> Option<u32> {
             let k = (state as usize + e) % 3;
             let (a, b) = (tri[k], tri[(k + 1) % 3]);
             if orient(p[a as usize], p[b as usize], h) == Ordering::Less {
-                cur = t.left_of(b, a)?;
+                cur = t.across(cur, k)?;
                 continue 'walk;
             }
         }
@@ -220,8 +220,13 @@ fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
     }
     let p = &cx.points;
     let mut around: Option<Vec<Vec<u32>>> = None;
+    let mut start = 0;
     for &h in &cx.holes {
-        let Some(k) = locate(t, p, h) else { continue };
+        // Each walk starts where the last ended: nearby holes are cheap.
+        let Some(k) = locate(t, p, h, start) else {
+            continue;
+        };
+        start = k;
         // h may be on an edge or a vertex of k: every triangle holding it.
         let tri = t.triangles[k as usize];
         if tri.iter().any(|&v| p[v as usize] == h)

@@ -68,8 +68,11 @@ impl Mesh {
                 ((p[1] - lo[1]) / tol).floor() as i64,
             ]
         };
-        let mut grid: FastMap<[i64; 2], Vec<u32>> = FastMap::default();
-        let mut map: FastMap<u32, u32> = FastMap::default();
+        // Per grid cell the last point put there, chained to the previous ones.
+        let mut grid: FastMap<[i64; 2], u32> = FastMap::default();
+        grid.reserve(used.len());
+        let mut chain: Vec<u32> = Vec::with_capacity(used.len());
+        let mut map = vec![u32::MAX; diagram.points.len()];
         for (k, &v) in used.iter().enumerate() {
             let p = pts[k];
             let is_fixed = diagram.input_vertex[v as usize].is_some();
@@ -77,11 +80,11 @@ impl Mesh {
             let mut target = None;
             'search: for dx in -1..=1 {
                 for dy in -1..=1 {
-                    for &id in grid
+                    let mut id = grid
                         .get(&[g[0] + dx, g[1] + dy])
-                        .map(Vec::as_slice)
-                        .unwrap_or(&[])
-                    {
+                        .copied()
+                        .unwrap_or(u32::MAX);
+                    while id != u32::MAX {
                         let q = m.points[id as usize];
                         if (q[0] - p[0]).hypot(q[1] - p[1]) <= tol
                             && !(is_fixed && m.fixed[id as usize])
@@ -89,6 +92,7 @@ impl Mesh {
                             target = Some(id);
                             break 'search;
                         }
+                        id = chain[id as usize];
                     }
                 }
             }
@@ -103,20 +107,21 @@ impl Mesh {
                     id
                 }
                 None => {
+                    let id = m.points.len() as u32;
                     m.points.push(p);
                     m.fixed.push(is_fixed);
-                    grid.entry(g).or_default().push(m.points.len() as u32 - 1);
-                    m.points.len() as u32 - 1
+                    chain.push(grid.insert(g, id).unwrap_or(u32::MAX));
+                    id
                 }
             };
-            map.insert(v, id);
+            map[v as usize] = id;
         }
         for (s, cell) in diagram.cells.iter().enumerate() {
             if !diagram.in_domain[s] {
                 continue;
             }
             let cell = cell.as_ref().expect("domain cells are bounded");
-            let mut poly: Vec<u32> = cell.iter().map(|v| map[v]).collect();
+            let mut poly: Vec<u32> = cell.iter().map(|&v| map[v as usize]).collect();
             poly.dedup();
             if poly.len() > 1 && poly.first() == poly.last() {
                 poly.pop();
@@ -148,6 +153,7 @@ impl Mesh {
     /// sites beside it (0 for an orthogonal mesh).
     pub fn orthogonality_defect(&self) -> f64 {
         let mut owner: FastMap<(u32, u32), usize> = FastMap::default();
+        owner.reserve(self.cells.iter().map(Vec::len).sum());
         for (c, cell) in self.cells.iter().enumerate() {
             for e in 0..cell.len() {
                 owner.insert((cell[e], cell[(e + 1) % cell.len()]), c);

@@ -14,7 +14,6 @@ use crate::exact::{det3, det3_q, orient, q, qp, Iv, QPoint, Q};
 use crate::{FastMap, FastSet};
 use std::cmp::Ordering;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
-use std::sync::OnceLock;
 
 /// What a site is for.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,8 +61,6 @@ pub struct Sites {
     pub movable: Vec<bool>,
     points: Vec<[f64; 2]>,
     weights: Vec<f64>,
-    /// Exact positions and weights, made when a filter cannot decide.
-    exact: Vec<OnceLock<(QPoint, Q)>>,
     /// Power centres of the triangles of RT(w), approximately (placement only).
     centres: Vec<[f64; 2]>,
     /// Predicates the intervals could not decide.
@@ -193,7 +190,6 @@ impl Sites {
         self.def.push(def);
         self.iv.push([Iv::of(0.0); 3]);
         self.approx.push([0.0; 3]);
-        self.exact.push(OnceLock::new());
         self.role.push(role);
         self.track.push(track);
         self.frac.push(frac);
@@ -205,7 +201,6 @@ impl Sites {
         self.def[s] = def;
         self.iv[s] = self.enclose(&def);
         self.approx[s] = self.iv[s].map(Iv::mid);
-        self.exact[s] = OnceLock::new();
     }
 
     /// The site at a fraction of its track.
@@ -253,9 +248,10 @@ impl Sites {
         }
     }
 
-    /// The exact position and weight (rationals; made once, when needed).
-    pub fn exact(&self, s: usize) -> &(QPoint, Q) {
-        self.exact[s].get_or_init(|| {
+    /// The exact position and weight (rationals, made when a filter cannot
+    /// decide: rarely, so not kept).
+    pub fn exact(&self, s: usize) -> (QPoint, Q) {
+        {
             let pt = |v: u32| qp(self.points[v as usize]);
             match self.def[s] {
                 Def::Line { i, j, t } => {
@@ -280,7 +276,7 @@ impl Sites {
                     (pos, w)
                 }
             }
-        })
+        }
     }
 
     /// The input vertices at which this site has that vertex's weight as its
@@ -312,7 +308,7 @@ impl Sites {
         let [pa, pb, pc] = [a, b, c].map(|s| self.iv[s]);
         let d = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
         self.decide(d, || {
-            let [qa, qb, qc] = [a, b, c].map(|s| &self.exact(s).0);
+            let [qa, qb, qc] = [a, b, c].map(|s| self.exact(s).0);
             (&qb[0] - &qa[0]) * (&qc[1] - &qa[1]) - (&qb[1] - &qa[1]) * (&qc[0] - &qa[0])
         })
     }
@@ -337,7 +333,7 @@ impl Sites {
                 .map(|&s| {
                     let (p, w) = self.exact(s);
                     let (dx, dy) = (&p[0] - &qd[0], &p[1] - &qd[1]);
-                    let z = &dx * &dx + &dy * &dy - w + wd;
+                    let z = &dx * &dx + &dy * &dy - w + &wd;
                     [dx, dy, z]
                 })
                 .collect();
@@ -353,6 +349,7 @@ impl Sites {
         let v = (pa[0] - pb[0]).sqr() + (pa[1] - pb[1]).sqr() + pa[2] - pb[2];
         self.decide(v, || {
             let ((qa, wa), (qb, wb)) = (self.exact(a), self.exact(b));
+            let (wa, wb) = (&wa, &wb);
             let (dx, dy) = (&qa[0] - &qb[0], &qa[1] - &qb[1]);
             &dx * &dx + &dy * &dy + wa - wb
         }) == Ordering::Greater

@@ -101,7 +101,8 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
     };
     // A constrained Delaunay triangulation that is Delaunay at every edge
     // is a Delaunay triangulation holding every segment: no second build.
-    if delaunay(&cx.points, &dom.cdt) && gabriel(&dom.cdt) {
+    // (Its other edges are Delaunay by construction, with exact predicates.)
+    if delaunay(cx, &dom.cdt) && gabriel(&dom.cdt) {
         return Ok(zero_weights(dom.cdt.clone()));
     }
     let rt0 = backend.regular(&cx.points, &zero)?;
@@ -660,13 +661,15 @@ fn conforms(cx: &Complex, rt: &Triangulation) -> std::result::Result<(), (Vec<u3
     }
 }
 
-/// Whether every edge of t is locally Delaunay (exact incircle).
-fn delaunay(p: &[[f64; 2]], t: &Triangulation) -> bool {
+/// Whether every segment is a locally Delaunay edge of the constrained
+/// Delaunay triangulation t (exact incircle).
+fn delaunay(cx: &Complex, t: &Triangulation) -> bool {
+    let p = &cx.points;
     let c = |v: u32| robust::Coord {
         x: p[v as usize][0],
         y: p[v as usize][1],
     };
-    t.edges().all(|(a, b)| {
+    cx.segments.iter().all(|&[a, b]| {
         let (Some(t1), Some(t2)) = (t.left_of(a, b), t.left_of(b, a)) else {
             return true;
         };

@@ -8,6 +8,7 @@ pub use cgal::Cgal;
 
 use crate::error::Result;
 use crate::exact::Q;
+#[cfg(test)]
 use crate::FastMap;
 
 /// What every backend computes, in batch.
@@ -39,46 +40,103 @@ pub struct Triangulation {
     pub triangles: Vec<[u32; 3]>,
     /// Input indices that are not vertices (hidden or merged).
     pub hidden: Vec<u32>,
-    /// Directed edge (a, b) -> the triangle having a->b in ccw order.
-    left: FastMap<(u32, u32), u32>,
     /// Per triangle, the triangle across its edge k = (tri[k], tri[k+1]),
     /// or NONE on the hull.
     adj: Vec<[u32; 3]>,
+    /// Per vertex, one triangle holding it (NONE: not a vertex).
+    corner: Vec<u32>,
 }
 
 /// No triangle.
 const NONE: u32 = u32::MAX;
 
 impl Triangulation {
-    pub(crate) fn from_flat(flat: &[u32], hidden: Vec<u32>) -> Self {
+    /// From triangles and their adjacency (as the backends give them).
+    pub(crate) fn from_parts(flat: &[u32], neighbours: &[u32], hidden: Vec<u32>) -> Self {
         let triangles: Vec<[u32; 3]> = flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        let mut left = FastMap::with_capacity_and_hasher(triangles.len() * 3, Default::default());
+        let adj = neighbours
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        let n = flat.iter().max().map_or(0, |&m| m as usize + 1);
+        let mut corner = vec![NONE; n];
         for (t, tri) in triangles.iter().enumerate() {
+            for &v in tri {
+                corner[v as usize] = t as u32;
+            }
+        }
+        Triangulation {
+            triangles,
+            hidden,
+            adj,
+            corner,
+        }
+    }
+
+    /// From triangles alone: the adjacency is found by matching edges.
+    #[cfg(test)]
+    pub(crate) fn from_flat(flat: &[u32], hidden: Vec<u32>) -> Self {
+        let mut left: FastMap<(u32, u32), u32> = FastMap::default();
+        for (t, tri) in flat.chunks_exact(3).enumerate() {
             for k in 0..3 {
                 left.insert((tri[k], tri[(k + 1) % 3]), t as u32);
             }
         }
-        let adj = triangles
-            .iter()
-            .map(|tri| {
-                [0, 1, 2].map(|k| {
+        let neighbours: Vec<u32> = flat
+            .chunks_exact(3)
+            .flat_map(|tri| {
+                (0..3).map(|k| {
                     left.get(&(tri[(k + 1) % 3], tri[k]))
                         .copied()
                         .unwrap_or(NONE)
                 })
             })
             .collect();
-        Triangulation {
-            triangles,
-            hidden,
-            left,
-            adj,
-        }
+        Self::from_parts(flat, &neighbours, hidden)
     }
 
-    /// The triangle on the left of the directed edge a->b, if any.
+    /// The triangle on the left of the directed edge a->b, if any: a walk
+    /// around a, counter-clockwise, then clockwise from the hull.
     pub fn left_of(&self, a: u32, b: u32) -> Option<u32> {
-        self.left.get(&(a, b)).copied()
+        let start = self
+            .corner
+            .get(a as usize)
+            .copied()
+            .filter(|&t| t != NONE)?;
+        let at = |t: u32| {
+            let tri = self.triangles[t as usize];
+            let k = tri
+                .iter()
+                .position(|&v| v == a)
+                .expect("corner holds its vertex");
+            (tri, k)
+        };
+        let mut t = start;
+        loop {
+            let (tri, k) = at(t);
+            if tri[(k + 1) % 3] == b {
+                return Some(t);
+            }
+            t = self.adj[t as usize][(k + 2) % 3];
+            if t == NONE {
+                break;
+            }
+            if t == start {
+                return None;
+            }
+        }
+        let mut t = start;
+        loop {
+            let (_, k) = at(t);
+            t = self.adj[t as usize][k];
+            if t == NONE {
+                return None;
+            }
+            let (tri, k) = at(t);
+            if tri[(k + 1) % 3] == b {
+                return Some(t);
+            }
+        }
     }
 
     /// The vertex of triangle `t` opposite its edge a->b (which must be in it).
@@ -97,42 +155,35 @@ impl Triangulation {
         let t2 = self.left_of(b, a)?;
         let c = self.apex(t1, a, b);
         let d = self.apex(t2, b, a);
-        let across = |s: &Self, x: u32, y: u32| s.left_of(y, x).unwrap_or(NONE);
-        let (n_bc, n_ca, n_ad, n_db) = (
-            across(self, b, c),
-            across(self, c, a),
-            across(self, a, d),
-            across(self, d, b),
-        );
-        for (x, y) in [(a, b), (b, a)] {
-            self.left.remove(&(x, y));
-        }
+        let edge = |s: &Self, t: u32, x: u32, y: u32| {
+            let tri = s.triangles[t as usize];
+            (0..3)
+                .find(|&k| (tri[k], tri[(k + 1) % 3]) == (x, y))
+                .expect("edge of triangle")
+        };
+        let n_bc = self.adj[t1 as usize][edge(self, t1, b, c)];
+        let n_ca = self.adj[t1 as usize][edge(self, t1, c, a)];
+        let n_ad = self.adj[t2 as usize][edge(self, t2, a, d)];
+        let n_db = self.adj[t2 as usize][edge(self, t2, d, b)];
         self.triangles[t1 as usize] = [c, a, d];
         self.triangles[t2 as usize] = [c, d, b];
         self.adj[t1 as usize] = [n_ca, n_ad, t2];
         self.adj[t2 as usize] = [t1, n_db, n_bc];
-        for t in [t1, t2] {
-            let tri = self.triangles[t as usize];
-            for k in 0..3 {
-                self.left.insert((tri[k], tri[(k + 1) % 3]), t);
-            }
-        }
         // The outer triangles that changed sides: across a-d now t1, across b-c now t2.
         for (n, x, y, t) in [(n_ad, d, a, t1), (n_bc, c, b, t2)] {
             if n != NONE {
-                let tri = self.triangles[n as usize];
-                let k = (0..3)
-                    .find(|&k| (tri[k], tri[(k + 1) % 3]) == (x, y))
-                    .expect("twin edge");
+                let k = edge(self, n, x, y);
                 self.adj[n as usize][k] = t;
             }
         }
+        self.corner[a as usize] = t1;
+        self.corner[b as usize] = t2;
         Some([t1, t2])
     }
 
     /// Whether {a, b} is an edge.
     pub fn has_edge(&self, a: u32, b: u32) -> bool {
-        self.left.contains_key(&(a, b)) || self.left.contains_key(&(b, a))
+        self.left_of(a, b).is_some() || self.left_of(b, a).is_some()
     }
 
     /// Every undirected edge once, as (a, b) with a triangle on the left of

@@ -7,6 +7,9 @@ pub(super) mod bridge {
     struct TriangulationOut {
         /// ccw triangles, 3 input indices each
         triangles: Vec<u32>,
+        /// per triangle, the triangle across its edge k (from its vertex k
+        /// to k + 1), u32::MAX on the hull
+        neighbours: Vec<u32>,
         /// input indices that are no vertex of the triangulation
         hidden: Vec<u32>,
     }

@@ -17,7 +17,11 @@ fn convert(
     r: std::result::Result<ffi::bridge::TriangulationOut, cxx::Exception>,
 ) -> Result<Triangulation> {
     let out = r.map_err(|e| Error::Backend(format!("CGAL: {}", e.what())))?;
-    Ok(Triangulation::from_flat(&out.triangles, out.hidden))
+    Ok(Triangulation::from_parts(
+        &out.triangles,
+        &out.neighbours,
+        out.hidden,
+    ))
 }
 
 impl Backend for Cgal {
