@@ -38,7 +38,9 @@ fn allow() -> Options {
     }
 }
 
-/// The ratios, printed once.
+/// The ratios, printed once. Each time is the best of repeated runs
+/// (pipeline and raw triangulation interleaved, so both see the same
+/// machine), up to about a second per case.
 fn ratios() {
     let b = default_backend();
     eprintln!(
@@ -46,11 +48,21 @@ fn ratios() {
         "case", "segments", "pipeline ms", "raw RT ms", "ratio"
     );
     let row = |name: String, cx: &Complex| {
-        let t = Instant::now();
-        let out = conform(&b, cx, &allow());
-        let ms = t.elapsed().as_secs_f64() * 1e3;
-        let raw = raw_ms(&b, cx);
-        let status = match &out {
+        let (mut ms, mut raw, mut spent) = (f64::INFINITY, f64::INFINITY, 0.0);
+        let mut out = None;
+        for k in 0.. {
+            let t = Instant::now();
+            let o = conform(&b, cx, &allow());
+            let once = t.elapsed().as_secs_f64() * 1e3;
+            ms = ms.min(once);
+            raw = raw.min(raw_ms(&b, cx));
+            spent += once;
+            out = Some(o);
+            if k >= 2 && spent > 1e3 || spent > 60e3 {
+                break;
+            }
+        }
+        let status = match out.expect("ran once") {
             Ok(o) => format!(
                 "weights {}, sites outside {}",
                 o.report.weights.method, o.report.certificate.sites_outside
@@ -58,13 +70,13 @@ fn ratios() {
             Err(e) => format!("error: {e}"),
         };
         eprintln!(
-            "{name:<34} {:>9} {ms:>12.1} {raw:>10.3} {:>8.0}  {status}",
+            "{name:<34} {:>9} {ms:>12.1} {raw:>10.3} {:>8.2}  {status}",
             cx.segments.len(),
             ms / raw
         );
         ms
     };
-    for (nx, ny) in [(2, 2), (6, 6), (12, 12)] {
+    for (nx, ny) in [(2, 2), (6, 6), (12, 12), (20, 20), (40, 40)] {
         row(
             format!("{}/cavities {nx}x{ny} (zero weights)", b.name()),
             &cavities(nx, ny, 14.0),
@@ -114,7 +126,11 @@ fn conform_pipeline(c: &mut Criterion) {
     let cases: [(&str, Vec<Complex>); 2] = [
         (
             "conform_zero_weights",
-            vec![cavities(2, 2, 14.0), cavities(6, 6, 14.0)],
+            vec![
+                cavities(2, 2, 14.0),
+                cavities(6, 6, 14.0),
+                cavities(12, 12, 14.0),
+            ],
         ),
         (
             "conform_lp",

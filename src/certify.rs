@@ -3,11 +3,12 @@
 //! sites (vertex identities exact, see diagram.rs), plus floating-point
 //! checks on the mesh as written.
 
+use crate::backend::Triangulation;
 use crate::diagram::Diagram;
 use crate::domain::Domain;
 use crate::mesh::Mesh;
 use crate::sites::Sites;
-use crate::{FastMap, FastSet};
+use crate::FastMap;
 use serde::Serialize;
 
 /// What the mesh proves about itself.
@@ -50,6 +51,7 @@ impl Certificate {
 pub fn certify(
     dom: &Domain,
     sites: &Sites,
+    rt: &Triangulation,
     diagram: &Diagram,
     outside: &[usize],
     mesh: &Mesh,
@@ -72,14 +74,14 @@ pub fn certify(
     }
 
     // A mesh vertex is a corner of some domain cell.
-    let corners: FastSet<u32> = (0..diagram.cells.len())
-        .filter(|&s| diagram.in_domain[s])
-        .filter_map(|s| diagram.cells[s].as_ref())
-        .flatten()
-        .copied()
-        .collect();
+    let mut corner = vec![false; diagram.points.len()];
+    for s in (0..diagram.cells.len()).filter(|&s| diagram.in_domain[s]) {
+        for &v in diagram.cells[s].iter().flatten() {
+            corner[v as usize] = true;
+        }
+    }
     let missing: Vec<i64> = (0..cx.points.len())
-        .filter(|&v| vid[v].is_none_or(|id| !corners.contains(&id)))
+        .filter(|&v| vid[v].is_none_or(|id| !corner[id as usize]))
         .map(|v| cx.vertex_ids[v])
         .collect();
     c.vertices_are_mesh_vertices = missing.is_empty();
@@ -88,24 +90,13 @@ pub fn certify(
             .push(format!("vertices that are not mesh vertices: {missing:?}"));
     }
 
-    // Directed edges of domain cells.
-    let mut edges: FastMap<(u32, u32), u32> = FastMap::default();
-    edges.reserve(diagram.cells.iter().flatten().map(Vec::len).sum());
     let mut convex = true;
     for (s, cell) in diagram.cells.iter().enumerate() {
-        if !diagram.in_domain[s] {
-            continue;
-        }
-        let Some(cell) = cell else { continue };
-        let k = cell.len();
-        if k < 3 {
+        let k = cell.as_ref().map_or(0, Vec::len);
+        if diagram.in_domain[s] && k < 3 {
             convex = false;
             c.problems
                 .push(format!("cell of site {s} has {k} vertices"));
-            continue;
-        }
-        for e in 0..k {
-            *edges.entry((cell[e], cell[(e + 1) % k])).or_default() += 1;
         }
     }
     if diagram.leaking_components > 0 {
@@ -149,27 +140,37 @@ pub fn certify(
         ));
     }
 
-    // Tiling: unshared directed edges are exactly the domain boundary.
-    let boundary: FastSet<(u32, u32)> = dom
+    // Tiling: the cells are those of a checked triangulation, so they fit
+    // together; what remains is that the dual edges between domain and
+    // other cells are exactly the domain boundary, each once. The cell of a
+    // lies left of the dual edge from the vertex of the triangle across to
+    // that of the triangle on the left of a -> b.
+    let mut boundary: FastMap<(u32, u32), bool> = dom
         .boundary()
         .into_iter()
-        .filter_map(|(a, b)| Some((vid[a as usize]?, vid[b as usize]?)))
+        .filter_map(|(a, b)| Some(((vid[a as usize]?, vid[b as usize]?), false)))
         .collect();
     let mut tiles = convex && boundary.len() == dom.boundary().len();
-    let mut seen_boundary = 0;
-    for (&(a, b), &count) in &edges {
-        let twin = edges.get(&(b, a)).copied().unwrap_or(0);
-        if count != 1 || twin > 1 {
-            tiles = false;
-        } else if twin == 0 {
-            if boundary.contains(&(a, b)) {
-                seen_boundary += 1;
-            } else {
-                tiles = false;
-            }
+    for (a, b, t, u) in rt.edge_triangles() {
+        let (ia, ib) = (diagram.in_domain[a as usize], diagram.in_domain[b as usize]);
+        if ia == ib {
+            continue;
+        }
+        let Some(u) = u else {
+            tiles = false; // a domain cell on the hull would be unbounded
+            continue;
+        };
+        let (from, to) = (diagram.vertex_of[u as usize], diagram.vertex_of[t as usize]);
+        if from == to {
+            continue; // a dual edge of length zero: the cells touch at a point
+        }
+        let edge = if ia { (from, to) } else { (to, from) };
+        match boundary.get_mut(&edge) {
+            Some(seen) if !*seen => *seen = true,
+            _ => tiles = false,
         }
     }
-    tiles &= seen_boundary == boundary.len();
+    tiles &= boundary.values().all(|&seen| seen);
     c.cells_tile_domain = tiles;
     if !tiles {
         c.problems

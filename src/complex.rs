@@ -176,14 +176,7 @@ impl Complex {
             ]
         };
         let boxes: Vec<[f64; 4]> = (0..self.segments.len()).map(bbox).collect();
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        for q in p {
-            for k in 0..2 {
-                lo[k] = lo[k].min(q[k]);
-                hi[k] = hi[k].max(q[k]);
-            }
-        }
+        let (lo, hi) = crate::mesh::bbox(p);
         // About one cell per item, but no smaller than a typical segment.
         let mut sizes: Vec<f64> = boxes
             .iter()

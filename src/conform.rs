@@ -141,8 +141,8 @@ pub fn conform<B: Backend + ?Sized>(
             sites: outside_names,
         });
     }
-    let mesh = Mesh::from_diagram(&rel.diagram, &sites)?;
-    let cert = certify(&dom, &sites, &rel.diagram, &rel.outside, &mesh);
+    let mesh = Mesh::from_diagram(&rel.diagram, &sites, &rel.rt)?;
+    let cert = certify(&dom, &sites, &rel.rt, &rel.diagram, &rel.outside, &mesh);
     clock.lap("certify");
     if !cert.conforms() {
         return Err(Error::Certificate(cert.problems.join("; ")));

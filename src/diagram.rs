@@ -8,7 +8,7 @@
 
 use crate::backend::Triangulation;
 use crate::domain::Domain;
-use crate::sites::{centre_f64, Sites};
+use crate::sites::Sites;
 use rayon::prelude::*;
 use std::cmp::Ordering;
 
@@ -24,6 +24,8 @@ pub struct Diagram {
     pub cells: Vec<Option<Vec<u32>>>,
     /// Per site: whether its cell lies in the domain.
     pub in_domain: Vec<bool>,
+    /// Per triangle of the site triangulation: its power vertex.
+    pub vertex_of: Vec<u32>,
     /// Components of cells (connected without crossing a segment) whose
     /// segments disagree about which side is the domain.
     pub leaking_components: usize,
@@ -99,21 +101,20 @@ impl Diagram {
             }
         }
         let mut class = vec![u32::MAX; tris.len()];
-        let mut points = vec![];
-        let mut input_vertex: Vec<Option<u32>> = vec![];
+        let mut first: Vec<u32> = vec![]; // a triangle of each class
         for t in 0..tris.len() {
             let r = find(&mut parent, t as u32) as usize;
             if class[r] == u32::MAX {
-                class[r] = points.len() as u32;
-                let [a, b, c] = tris[r].map(|v| sites.approx[v as usize]);
-                points.push(centre_f64(
-                    [[a[0], a[1]], [b[0], b[1]], [c[0], c[1]]],
-                    [a[2], b[2], c[2]],
-                ));
-                input_vertex.push(None);
+                class[r] = first.len() as u32;
+                first.push(r as u32);
             }
             class[t] = class[r];
         }
+        let (mut points, mut error): (Vec<[f64; 2]>, Vec<f64>) = first
+            .par_iter()
+            .map(|&t| sites.centre_estimate(tris[t as usize]))
+            .unzip();
+        let mut input_vertex: Vec<Option<u32>> = vec![None; points.len()];
         // Three sites serving one input vertex have their power centre there.
         let cx = &dom.complex;
         for (t, tri) in tris.iter().enumerate() {
@@ -129,6 +130,7 @@ impl Diagram {
                     _ => {
                         input_vertex[id] = Some(v);
                         points[id] = cx.points[v as usize];
+                        error[id] = 0.0;
                     }
                 }
             }
@@ -141,6 +143,7 @@ impl Diagram {
             }
         }
         let cells: Vec<Option<Vec<u32>>> = (0..n)
+            .into_par_iter()
             .map(|v| {
                 let start = Some(corner[v]).filter(|&t| t != u32::MAX)?;
                 let mut ring = Vec::with_capacity(8);
@@ -161,15 +164,37 @@ impl Diagram {
                 Some(ring)
             })
             .collect();
+        // Corners whose error may be a noticeable part of an edge of theirs
+        // (thin cells, far sites with large weights) are made exactly.
+        let mut redo = vec![false; points.len()];
+        for ring in cells.iter().flatten() {
+            for k in 0..ring.len() {
+                let (p, q) = (ring[k] as usize, ring[(k + 1) % ring.len()] as usize);
+                let d = (points[p][0] - points[q][0]).hypot(points[p][1] - points[q][1]);
+                if error[p] + error[q] > 1e-6 * d {
+                    redo[p] |= error[p] > 0.0;
+                    redo[q] |= error[q] > 0.0;
+                }
+            }
+        }
+        let exact: Vec<(usize, [f64; 2])> = (0..points.len())
+            .into_par_iter()
+            .filter(|&i| redo[i])
+            .map(|i| (i, sites.centre_exact(tris[first[i] as usize])))
+            .collect();
+        for (i, p) in exact {
+            points[i] = p;
+        }
         let mut d = Diagram {
             points,
             input_vertex,
             cells,
             in_domain: vec![],
+            vertex_of: class,
             leaking_components: 0,
             checked_edges: inner.len(),
         };
-        d.classify(dom, sites, rt, &class);
+        d.classify(dom, sites, rt);
         Ok(d)
     }
 
@@ -178,7 +203,8 @@ impl Diagram {
     /// side where its power is below the right site's), so each segment says
     /// whether the components beside it are in the domain; unbounded
     /// components are not.
-    fn classify(&mut self, dom: &Domain, sites: &Sites, rt: &Triangulation, class: &[u32]) {
+    fn classify(&mut self, dom: &Domain, sites: &Sites, rt: &Triangulation) {
+        let class = &self.vertex_of;
         let n = sites.len();
         let cx = &dom.complex;
         let pairs = sites.segment_pairs(cx.segments.len());
@@ -209,6 +235,7 @@ impl Diagram {
         }
         // Per component: [says inside, says outside, unbounded].
         let mut seen = vec![[false; 3]; n];
+        let cells = &self.cells;
         let root: Vec<usize> = (0..n as u32)
             .map(|v| find(&mut parent, v) as usize)
             .collect();
@@ -219,7 +246,7 @@ impl Diagram {
                 Some(false) => r[1] = true,
                 None => {}
             }
-            r[2] |= self.cells[v].is_none();
+            r[2] |= cells[v].is_none();
         }
         self.leaking_components = (0..n)
             .filter(|&v| root[v] == v && seen[v][0] && (seen[v][1] || seen[v][2]))
@@ -274,8 +301,8 @@ pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
 /// triangles cover the convex hull of the sites.
 fn check_hull(sites: &Sites, rt: &Triangulation) -> std::result::Result<(), String> {
     let mut next = crate::FastMap::default();
-    for (a, b) in rt.edges() {
-        if rt.left_of(b, a).is_none() && next.insert(a, b).is_some() {
+    for (a, b, _, u) in rt.edge_triangles() {
+        if u.is_none() && next.insert(a, b).is_some() {
             return Err(format!("site {a} is twice on the hull"));
         }
     }

@@ -78,7 +78,7 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
             .map(|s| (s[0].min(s[1]), s[0].max(s[1])))
             .collect();
         let mut next_id = cx.segment_ids.iter().copied().max().unwrap_or(0) + 1;
-        for (a, b) in hull_edges(&cdt) {
+        for (a, b, _) in hull_edges(&cdt) {
             if !segs.contains(&(a.min(b), a.max(b))) {
                 cx.segments.push([a, b]);
                 cx.segment_ids.push(next_id);
@@ -161,12 +161,11 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
     })
 }
 
-/// Directed convex-hull edges (interior on the left).
-fn hull_edges(t: &Triangulation) -> Vec<(u32, u32)> {
-    t.triangles
-        .iter()
-        .flat_map(|tri| (0..3).map(move |k| (tri[k], tri[(k + 1) % 3])))
-        .filter(|&(a, b)| t.left_of(b, a).is_none())
+/// Directed convex-hull edges (interior on the left) and their triangles.
+fn hull_edges(t: &Triangulation) -> Vec<(u32, u32, u32)> {
+    t.edge_triangles()
+        .filter(|e| e.3.is_none())
+        .map(|(a, b, k, _)| (a, b, k))
         .collect()
 }
 
@@ -213,9 +212,9 @@ fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
     let is_seg = |a: u32, b: u32| segs.contains(&(a.min(b), a.max(b)));
     let mut eaten = vec![false; t.triangles.len()];
     let mut queue = VecDeque::new();
-    for (a, b) in hull_edges(t) {
+    for (a, b, k) in hull_edges(t) {
         if !is_seg(a, b) {
-            queue.push_back(t.left_of(a, b).expect("hull edge has a triangle"));
+            queue.push_back(k);
         }
     }
     let p = &cx.points;
@@ -252,7 +251,7 @@ fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
         for e in 0..3 {
             let (a, b) = (tri[e], tri[(e + 1) % 3]);
             if !is_seg(a, b) {
-                if let Some(n) = t.left_of(b, a) {
+                if let Some(n) = t.across(k, e) {
                     if !eaten[n as usize] {
                         queue.push_back(n);
                     }

@@ -22,6 +22,12 @@ pub fn qp(p: [f64; 2]) -> QPoint {
     [q(p[0]), q(p[1])]
 }
 
+/// Nearest double (ties to even); out of range gives an infinity.
+pub fn f(x: &Q) -> f64 {
+    use malachite_base::num::conversion::traits::RoundingFrom;
+    f64::rounding_from(x, malachite_base::rounding_modes::RoundingMode::Nearest).0
+}
+
 /// Whether x > 0.
 pub fn is_pos(x: &Q) -> bool {
     x.sign() == Ordering::Greater

@@ -3,6 +3,7 @@
 //! ~1e-17; readers merge such points, so vertices closer than `COLLAPSE`
 //! times the mesh size are merged here (never two input vertices) and counted.
 
+use crate::backend::Triangulation;
 use crate::diagram::Diagram;
 use crate::error::{Error, Result};
 use crate::sites::Sites;
@@ -20,6 +21,9 @@ pub struct Mesh {
     pub points: Vec<[f64; 2]>,
     /// Counter-clockwise polygons.
     pub cells: Vec<Vec<u32>>,
+    /// Interior faces [a, b, left cell, right cell]: the cell on the left
+    /// of a -> b and the one on its right.
+    pub faces: Vec<[u32; 4]>,
     pub sites: Vec<[f64; 2]>,
     pub weights: Vec<f64>,
     /// Exact vertices merged into a neighbour closer than COLLAPSE x size.
@@ -30,7 +34,8 @@ pub struct Mesh {
     pub size: f64,
 }
 
-fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+/// Lower-left and upper-right corners of the points' bounding box.
+pub(crate) fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
     for p in pts {
@@ -45,7 +50,7 @@ fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
 impl Mesh {
     /// The domain cells of a diagram; input vertices are never merged with
     /// each other.
-    pub fn from_diagram(diagram: &Diagram, sites: &Sites) -> Result<Mesh> {
+    pub fn from_diagram(diagram: &Diagram, sites: &Sites, rt: &Triangulation) -> Result<Mesh> {
         let mut m = Mesh::default();
         // Exact vertex -> rounded point, for the vertices of domain cells.
         let used: Vec<u32> = {
@@ -131,10 +136,38 @@ impl Mesh {
                     "the cell of site {s} collapses below three vertices when written in double precision"
                 )));
             }
+            if m.area(&poly) <= 0.0 {
+                return Err(Error::Certificate(format!(
+                    "the cell of site {s} turns over when written in double precision"
+                )));
+            }
             m.cells.push(poly);
             let [x, y, w] = sites.approx[s];
             m.sites.push([x, y]);
             m.weights.push(w);
+        }
+        // Faces from the edges of the site triangulation: the cell of a is
+        // on the left of the dual edge from the vertex of the triangle
+        // across to the vertex of the triangle on the left of a -> b.
+        let mut cell_of = vec![u32::MAX; diagram.cells.len()];
+        for (c, s) in (0..diagram.cells.len())
+            .filter(|&s| diagram.in_domain[s])
+            .enumerate()
+        {
+            cell_of[s] = c as u32;
+        }
+        for (a, b, t, u) in rt.edge_triangles() {
+            let (ca, cb) = (cell_of[a as usize], cell_of[b as usize]);
+            let Some(u) = u.filter(|_| ca != u32::MAX && cb != u32::MAX) else {
+                continue;
+            };
+            let (from, to) = (
+                map[diagram.vertex_of[u as usize] as usize],
+                map[diagram.vertex_of[t as usize] as usize],
+            );
+            if from != to {
+                m.faces.push([from, to, ca, cb]);
+            }
         }
         m.size = size;
         Ok(m)
@@ -152,25 +185,18 @@ impl Mesh {
     /// Largest |cos| between an interior face and the line joining the two
     /// sites beside it (0 for an orthogonal mesh).
     pub fn orthogonality_defect(&self) -> f64 {
-        let mut owner: FastMap<(u32, u32), usize> = FastMap::default();
-        owner.reserve(self.cells.iter().map(Vec::len).sum());
-        for (c, cell) in self.cells.iter().enumerate() {
-            for e in 0..cell.len() {
-                owner.insert((cell[e], cell[(e + 1) % cell.len()]), c);
-            }
-        }
-        let mut worst: f64 = 0.0;
-        for (&(a, b), &c) in &owner {
-            let Some(&d) = owner.get(&(b, a)) else {
-                continue;
-            };
-            let v = |p: [f64; 2]| Vector2::from(p);
-            let e = v(self.points[b as usize]) - v(self.points[a as usize]);
-            let s = v(self.sites[d]) - v(self.sites[c]);
-            if e.norm() > MEASURE * self.size && s.norm() > 0.0 {
-                worst = worst.max((e.dot(&s) / (e.norm() * s.norm())).abs());
-            }
-        }
-        worst
+        let v = |p: [f64; 2]| Vector2::from(p);
+        self.faces
+            .iter()
+            .map(|&[a, b, c, d]| {
+                let e = v(self.points[b as usize]) - v(self.points[a as usize]);
+                let s = v(self.sites[d as usize]) - v(self.sites[c as usize]);
+                if e.norm() > MEASURE * self.size && s.norm() > 0.0 {
+                    (e.dot(&s) / (e.norm() * s.norm())).abs()
+                } else {
+                    0.0
+                }
+            })
+            .fold(0.0, f64::max)
     }
 }

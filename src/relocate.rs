@@ -13,6 +13,7 @@ use crate::diagram::Diagram;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
 use crate::sites::Sites;
+use rayon::prelude::*;
 
 /// Rounds of relocation before giving up.
 pub const MAX_ROUNDS: usize = 48;
@@ -35,12 +36,24 @@ pub fn outside(sites: &Sites, rt: &Triangulation, diagram: &Diagram) -> Vec<usiz
     for &h in &rt.hidden {
         out[h as usize] = true;
     }
-    for (a, b) in rt.edges() {
-        for (x, y) in [(a as usize, b as usize), (b as usize, a as usize)] {
-            if diagram.in_domain[x] && !out[x] && !sites.inside_wrt(x, y) {
-                out[x] = true;
-            }
-        }
+    // Every directed edge a -> b once: in the triangle on its left, or on
+    // the hull for the reverse of a hull edge.
+    let bad: Vec<usize> = (0..rt.triangles.len() as u32)
+        .into_par_iter()
+        .flat_map_iter(|t| {
+            let tri = rt.triangles[t as usize];
+            (0..3).flat_map(move |k| {
+                let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
+                let hull = rt.across(t, k).is_none();
+                let test = |x: usize, y: usize| diagram.in_domain[x] && !sites.inside_wrt(x, y);
+                [(test(a, b)).then_some(a), (hull && test(b, a)).then_some(b)]
+                    .into_iter()
+                    .flatten()
+            })
+        })
+        .collect();
+    for s in bad {
+        out[s] = true;
     }
     (0..sites.len()).filter(|&s| out[s]).collect()
 }

@@ -606,6 +606,61 @@ impl Sites {
             .collect()
     }
 
+    /// The power centre of three sites in doubles, with an estimate of its
+    /// error: the inputs are off by their enclosures' widths, and far sites
+    /// with large weights cancel.
+    pub fn centre_estimate(&self, t: [u32; 3]) -> ([f64; 2], f64) {
+        let [a, b, c] = t.map(|s| self.approx[s as usize]);
+        let u = [b[0] - a[0], b[1] - a[1]];
+        let v = [c[0] - a[0], c[1] - a[1]];
+        let det = (u[0] * v[1] - u[1] * v[0]).abs();
+        let width = |k: usize| {
+            t.iter()
+                .map(|&s| self.iv[s as usize][k])
+                .map(|x| x.hi - x.lo)
+                .fold(0.0, f64::max)
+        };
+        let big = a
+            .iter()
+            .chain(&b)
+            .chain(&c)
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let e = width(0).max(width(1)) + 4.0 * f64::EPSILON * big; // of a coordinate
+        let ew = width(2) + 4.0 * f64::EPSILON * big * big; // of a weight
+        let (lu, lv) = (u[0].hypot(u[1]), v[0].hypot(v[1]));
+        let mu = lu * lu + a[2].abs() + b[2].abs();
+        let mv = lv * lv + a[2].abs() + c[2].abs();
+        let dmu = 2.0 * lu * e + 2.0 * ew + 4.0 * f64::EPSILON * mu;
+        let dmv = 2.0 * lv * e + 2.0 * ew + 4.0 * f64::EPSILON * mv;
+        let ddet = 4.0 * f64::EPSILON * lu * lv + 2.0 * e * (lu + lv);
+        let centre = centre_f64(
+            [[a[0], a[1]], [b[0], b[1]], [c[0], c[1]]],
+            [a[2], b[2], c[2]],
+        );
+        let off = (centre[0] - a[0]).abs().max((centre[1] - a[1]).abs());
+        let err = e + (dmu * lv + dmv * lu + (mu + mv) * 2.0 * e) / (2.0 * det) + off * ddet / det;
+        (centre, if err.is_finite() { err } else { f64::INFINITY })
+    }
+
+    /// The power centre of three sites exactly, rounded to doubles.
+    pub fn centre_exact(&self, t: [u32; 3]) -> [f64; 2] {
+        self.exact_evaluations.fetch_add(1, Relaxed);
+        let [(p0, w0), (p1, w1), (p2, w2)] = t.map(|s| self.exact(s as usize));
+        let u = [&p1[0] - &p0[0], &p1[1] - &p0[1]];
+        let v = [&p2[0] - &p0[0], &p2[1] - &p0[1]];
+        let det = &u[0] * &v[1] - &u[1] * &v[0];
+        if det == 0 {
+            return self.centre_estimate(t).0;
+        }
+        // y = c - p0 solves 2 y.u = |u|^2 - w1 + w0, 2 y.v = |v|^2 - w2 + w0
+        let ru = &u[0] * &u[0] + &u[1] * &u[1] - w1 + &w0;
+        let rv = &v[0] * &v[0] + &v[1] * &v[1] - w2 + &w0;
+        let two_det = det * Q::from(2);
+        let x = &p0[0] + (&ru * &v[1] - &rv * &u[1]) / &two_det;
+        let y = &p0[1] + (&rv * &u[0] - &ru * &v[0]) / &two_det;
+        [crate::exact::f(&x), crate::exact::f(&y)]
+    }
+
     /// A site whose position or weight is beyond the range of doubles, or
     /// that doubles cannot tell from the other site of its segment.
     pub fn unrepresentable(&self) -> Option<usize> {

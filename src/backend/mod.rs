@@ -196,6 +196,18 @@ impl Triangulation {
         })
     }
 
+    /// Every undirected edge once as (a, b, t, u): t the triangle on the
+    /// left of a->b, u the one across (None on the hull).
+    pub fn edge_triangles(&self) -> impl Iterator<Item = (u32, u32, u32, Option<u32>)> + '_ {
+        self.triangles.iter().enumerate().flat_map(move |(t, tri)| {
+            (0..3).filter_map(move |k| {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                let u = self.across(t as u32, k);
+                (a < b || u.is_none()).then_some((a, b, t as u32, u))
+            })
+        })
+    }
+
     /// The triangle across edge k of triangle t (edge k joins its vertices
     /// k and k + 1), if any.
     pub fn across(&self, t: u32, k: usize) -> Option<u32> {
