@@ -324,3 +324,39 @@ fn check_hull(sites: &Sites, rt: &Triangulation) -> std::result::Result<(), Stri
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sites::tests::{points_as_sites, weighted_sites};
+
+    #[test]
+    fn repair_flips_to_the_regular_diagonal() {
+        // A convex quadrilateral triangulated by its non-Delaunay diagonal 0-2.
+        let sites = points_as_sites(&[[0.0, 0.0], [4.0, -1.0], [8.0, 0.0], [4.0, 1.0]]);
+        let mut t = Triangulation::from_flat(&[0, 1, 2, 0, 2, 3], vec![]);
+        assert!(repair(&sites, &mut t));
+        assert!(t.has_edge(1, 3) && !t.has_edge(0, 2));
+        assert!(check_hull(&sites, &t).is_ok());
+    }
+
+    #[test]
+    fn a_hidden_site_cannot_be_flipped_away() {
+        // Site 3 inside triangle 0 1 2 with so small a weight that it has no
+        // cell: its edges are not regular, and every quadrilateral around it
+        // is reflex, so no flip helps.
+        let sites = weighted_sites(
+            &[[0.0, 0.0], [8.0, 0.0], [4.0, 6.0], [4.0, 2.0]],
+            &[0.0, 0.0, 0.0, 100.0],
+        );
+        let mut t = Triangulation::from_flat(&[0, 1, 3, 1, 2, 3, 2, 0, 3], vec![]);
+        assert!(!repair(&sites, &mut t));
+    }
+
+    #[test]
+    fn the_hull_must_turn_left() {
+        let sites = points_as_sites(&[[0.0, 0.0], [4.0, 1.0], [8.0, 0.0], [4.0, 3.0]]);
+        let t = Triangulation::from_flat(&[0, 1, 3, 1, 2, 3], vec![]);
+        assert!(check_hull(&sites, &t).is_err());
+    }
+}

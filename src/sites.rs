@@ -748,3 +748,93 @@ fn spanning_triple(p: [f64; 2], around: &[[f64; 2]]) -> Option<[usize; 3]> {
     }
     best.map(|(t, _)| t)
 }
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// Unweighted sites at the given points (each a vertex serving itself).
+    pub(crate) fn points_as_sites(points: &[[f64; 2]]) -> Sites {
+        weighted_sites(points, &vec![0.0; points.len()])
+    }
+
+    /// Sites at the given points with weights -w (each serves itself, a
+    /// vertex of weight w).
+    pub(crate) fn weighted_sites(points: &[[f64; 2]], w: &[f64]) -> Sites {
+        let mut s = Sites {
+            points: points.to_vec(),
+            weights: w.to_vec(),
+            ..Default::default()
+        };
+        for (i, &p) in points.iter().enumerate() {
+            let track = Track {
+                ta: 0.0,
+                tb: 0.0,
+                kind: Def::Free {
+                    p,
+                    anchor: i as u32,
+                },
+                dir: [0.0; 2],
+            };
+            let role = Role::Vertex {
+                edge: (i as u32, i as u32),
+                serves: vec![i as u32],
+            };
+            s.push(role, track, 0.0, false);
+        }
+        s
+    }
+
+    #[test]
+    fn power_test_is_the_incircle_test_for_zero_weights() {
+        // d inside the circle through a, b, c (ccw): the edge is not regular.
+        let s = points_as_sites(&[[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [1.5, 1.5], [3.0, 3.0]]);
+        assert_eq!(s.power_test(0, 1, 2, 3), Ordering::Greater);
+        assert_eq!(s.power_test(0, 1, 2, 4), Ordering::Less);
+        assert_eq!(s.orient(0, 1, 2), Ordering::Greater);
+        assert_eq!(s.exact_evaluations.load(Relaxed), 0);
+    }
+
+    #[test]
+    fn cocircular_sites_are_decided_exactly() {
+        // Exactly cocircular: the intervals hold zero, the rationals say so.
+        let s = points_as_sites(&[[0.0, 0.0], [0.1, 0.0], [0.1, 0.1], [0.0, 0.1]]);
+        assert_eq!(s.power_test(0, 1, 2, 3), Ordering::Equal);
+        assert!(s.exact_evaluations.load(Relaxed) > 0);
+        // 0.1 is not 1/10: the site one ulp off the circle is decided too.
+        let off = f64::from_bits(0.1f64.to_bits() + 1);
+        let t = points_as_sites(&[[0.0, 0.0], [0.1, 0.0], [0.1, 0.1], [0.0, off]]);
+        assert_eq!(t.power_test(0, 1, 2, 3), Ordering::Less);
+    }
+
+    #[test]
+    fn sites_on_a_radical_line_serve_both_ends_exactly() {
+        let mut s = points_as_sites(&[[0.0, 0.0], [3.0, 1.0]]);
+        s.weights = vec![0.5, -0.25];
+        let track = Track {
+            ta: 0.0,
+            tb: 1.0,
+            kind: Def::Line { i: 0, j: 1, t: 0.0 },
+            dir: [0.0; 2],
+        };
+        let role = Role::Segment { seg: 0, left: true };
+        s.push(role, track, 0.3, true);
+        let (p, w) = s.exact(2);
+        for v in 0..2 {
+            let d = [&p[0] - q(s.points[v][0]), &p[1] - q(s.points[v][1])];
+            let power = &d[0] * &d[0] + &d[1] * &d[1] - &w;
+            assert_eq!(power, q(s.weights[v]), "vertex {v}");
+        }
+        // and the enclosures hold the exact values
+        for (x, i) in p.iter().zip(&s.iv[2]) {
+            assert!(q(i.lo) <= *x && *x <= q(i.hi));
+        }
+        assert!(q(s.iv[2][2].lo) <= w && w <= q(s.iv[2][2].hi));
+    }
+
+    #[test]
+    fn inside_with_respect_to_a_neighbour() {
+        let s = points_as_sites(&[[0.0, 0.0], [1.0, 0.0]]);
+        assert!(s.inside_wrt(0, 1) && s.inside_wrt(1, 0));
+    }
+}
