@@ -146,18 +146,21 @@ fn demo_data_is_certified_with_zero_weights() {
 /// The copies in tests/data equal the shared originals (when those are here).
 #[test]
 fn test_data_copies_are_unmodified() {
-    let original = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/pslg");
-    let Ok(entries) = std::fs::read_dir(&original) else {
-        eprintln!("no shared data next to the repository: nothing to compare");
-        return;
-    };
-    for e in entries {
-        let path = e.unwrap().path();
-        let name = path.file_name().unwrap().to_str().unwrap().to_string();
-        assert_eq!(
-            std::fs::read(&path).unwrap(),
-            std::fs::read(shared(&name)).unwrap(),
-            "{name} differs from the shared original"
-        );
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for folder in ["pslg", "grids"] {
+        let original = root.join("../shared/data").join(folder);
+        let Ok(entries) = std::fs::read_dir(&original) else {
+            eprintln!("no shared data next to the repository: nothing to compare");
+            return;
+        };
+        for e in entries {
+            let path = e.unwrap().path();
+            let name = path.file_name().unwrap().to_str().unwrap().to_string();
+            assert_eq!(
+                std::fs::read(&path).unwrap(),
+                std::fs::read(root.join("tests/data").join(folder).join(&name)).unwrap(),
+                "{folder}/{name} differs from the shared original"
+            );
+        }
     }
 }

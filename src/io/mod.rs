@@ -1,5 +1,6 @@
 //! Readers and writers.
 
+pub mod eclipse;
 pub mod edg;
 pub mod poly;
 pub mod svg;

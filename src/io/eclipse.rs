@@ -1,0 +1,619 @@
+//! Eclipse keyword files: GRDECL corner-point grids (SPECGRID or DIMENS,
+//! COORD, ZCORN, ACTNUM, MAPAXES, FAULTS, INCLUDE) and the wells of a deck
+//! (WELSPECS, COMPDAT). Free format: records end with `/`, `--` starts a
+//! comment, `N*v` repeats v, `N*` leaves N items defaulted.
+//!
+//! Frame: everything stays in the frame COORD is written in (the one the
+//! simulator computes geometry in). MAPAXES is read and kept, not applied.
+
+use crate::error::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// A token with where it came from.
+#[derive(Debug, Clone)]
+struct Tok {
+    text: String,
+    quoted: bool,
+    file: usize,
+    line: usize,
+}
+
+/// The tokens of a file and of the files it includes, in order.
+struct Tokens {
+    toks: Vec<Tok>,
+    files: Vec<PathBuf>,
+    /// Include files that are missing (only allowed when reading wells).
+    missing: Vec<String>,
+}
+
+fn parse_err(path: &Path, line: usize, message: String) -> Error {
+    Error::Parse {
+        path: path.into(),
+        line,
+        message,
+    }
+}
+
+fn lex(text: &str, file: usize, out: &mut Vec<Tok>) {
+    for (n, line) in text.lines().enumerate() {
+        let line = match line.find("--") {
+            Some(c) if !line[..c].contains('\'') || line[..c].matches('\'').count() % 2 == 0 => {
+                &line[..c]
+            }
+            _ => line,
+        };
+        let mut rest = line;
+        loop {
+            rest = rest.trim_start();
+            if rest.is_empty() {
+                break;
+            }
+            let tok = if let Some(r) = rest.strip_prefix('\'') {
+                let end = r.find('\'').unwrap_or(r.len());
+                let t = (r[..end].to_string(), true);
+                rest = r.get(end + 1..).unwrap_or("");
+                t
+            } else if let Some(r) = rest.strip_prefix('/') {
+                rest = r;
+                ("/".to_string(), false)
+            } else {
+                let end = rest
+                    .find(|c: char| c.is_whitespace() || c == '/' || c == '\'')
+                    .unwrap_or(rest.len());
+                let t = (rest[..end].to_string(), false);
+                rest = &rest[end..];
+                t
+            };
+            out.push(Tok {
+                text: tok.0,
+                quoted: tok.1,
+                file,
+                line: n + 1,
+            });
+        }
+    }
+}
+
+impl Tokens {
+    /// Reads a file, following INCLUDE records (paths relative to the
+    /// including file). Missing includes are errors unless `lenient`.
+    fn read(path: &Path, lenient: bool) -> Result<Tokens> {
+        let mut t = Tokens {
+            toks: vec![],
+            files: vec![],
+            missing: vec![],
+        };
+        t.add(path, lenient, 0)?;
+        Ok(t)
+    }
+
+    fn add(&mut self, path: &Path, lenient: bool, depth: usize) -> Result<()> {
+        if depth > 16 {
+            return Err(parse_err(
+                path,
+                0,
+                "INCLUDE nested more than 16 deep (a cycle?)".into(),
+            ));
+        }
+        let text = super::read_text(path)?;
+        let file = self.files.len();
+        self.files.push(path.into());
+        let mut toks = vec![];
+        lex(&text, file, &mut toks);
+        let mut k = 0;
+        while k < toks.len() {
+            if !toks[k].quoted && toks[k].text.eq_ignore_ascii_case("INCLUDE") {
+                let name = toks.get(k + 1).filter(|t| t.text != "/").ok_or_else(|| {
+                    parse_err(path, toks[k].line, "INCLUDE without a file name".into())
+                })?;
+                let inc = path.parent().unwrap_or(Path::new(".")).join(&name.text);
+                let slash = k + 2;
+                if toks.get(slash).is_none_or(|t| t.text != "/") {
+                    return Err(parse_err(
+                        path,
+                        name.line,
+                        "INCLUDE record not ended by '/'".into(),
+                    ));
+                }
+                if inc.exists() || !lenient {
+                    self.add(&inc, lenient, depth + 1)?;
+                } else {
+                    self.missing.push(inc.display().to_string());
+                }
+                k = slash + 1;
+                continue;
+            }
+            self.toks.push(toks[k].clone());
+            k += 1;
+        }
+        Ok(())
+    }
+
+    fn error(&self, at: &Tok, message: String) -> Error {
+        parse_err(&self.files[at.file], at.line, message)
+    }
+}
+
+/// Whether a token looks like a keyword (starts a new record list).
+fn is_keyword(t: &Tok) -> bool {
+    !t.quoted
+        && t.text.len() <= 8
+        && t.text
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_alphabetic())
+        && t.text
+            .chars()
+            .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+}
+
+/// One record's items after repeat expansion; None is a defaulted item.
+type Record = Vec<Option<Tok>>;
+
+/// Reads one record starting at `k`: items up to `/`. Returns the items and
+/// the index after the `/`.
+fn record(ts: &Tokens, mut k: usize, keyword: &Tok) -> Result<(Record, usize)> {
+    let mut items = vec![];
+    loop {
+        let Some(t) = ts.toks.get(k) else {
+            return Err(ts.error(
+                keyword,
+                format!("{} record not ended by '/' (truncated file?)", keyword.text),
+            ));
+        };
+        k += 1;
+        if !t.quoted && t.text == "/" {
+            return Ok((items, k));
+        }
+        if !t.quoted {
+            if let Some((n, v)) = t.text.split_once('*') {
+                if let Ok(n) = n.parse::<usize>() {
+                    if n > 1 << 32 {
+                        return Err(ts.error(t, format!("repeat count {n} is too large")));
+                    }
+                    let item = (!v.is_empty()).then(|| Tok {
+                        text: v.to_string(),
+                        ..t.clone()
+                    });
+                    items.extend(std::iter::repeat_n(item, n));
+                    continue;
+                }
+            }
+        }
+        items.push(Some(t.clone()));
+    }
+}
+
+fn number<T: std::str::FromStr>(ts: &Tokens, t: &Option<Tok>, at: &Tok, what: &str) -> Result<T> {
+    let t = t
+        .as_ref()
+        .ok_or_else(|| ts.error(at, format!("{what} may not be defaulted")))?;
+    // Fortran doubles may use D as exponent letter.
+    t.text
+        .replace(['D', 'd'], "E")
+        .parse()
+        .map_err(|_| ts.error(t, format!("{what}: cannot read '{}' as a number", t.text)))
+}
+
+/// A face of a fault: cells i1..=i2, j1..=j2, k1..=k2 (0-based) and the side.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaultFace {
+    pub i: [usize; 2],
+    pub j: [usize; 2],
+    pub k: [usize; 2],
+    /// 'X', 'Y' or 'Z' with a sign: +1 for X / X+ / I / I+, -1 for X- ...
+    pub axis: char,
+    pub sign: i8,
+}
+
+/// A named fault.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fault {
+    pub name: String,
+    pub faces: Vec<FaultFace>,
+}
+
+/// A corner-point grid.
+#[derive(Debug, Clone)]
+pub struct CornerPointGrid {
+    pub nx: usize,
+    pub ny: usize,
+    pub nz: usize,
+    /// Pillars (nx+1)(ny+1), index j (nx+1) + i: top (x, y, z), bottom (x, y, z).
+    pub coord: Vec<[f64; 6]>,
+    /// 8 nx ny nz depths (see `corner`).
+    pub zcorn: Vec<f64>,
+    /// Per cell i + nx (j + ny k).
+    pub actnum: Vec<bool>,
+    /// `X1 Y1 X0 Y0 X2 Y2`, when given (not applied).
+    pub mapaxes: Option<[f64; 6]>,
+    pub faults: Vec<Fault>,
+}
+
+impl CornerPointGrid {
+    pub fn cell_index(&self, i: usize, j: usize, k: usize) -> usize {
+        i + self.nx * (j + self.ny * k)
+    }
+
+    pub fn active(&self, i: usize, j: usize, k: usize) -> bool {
+        self.actnum[self.cell_index(i, j, k)]
+    }
+
+    /// Corner c of cell (i, j, k), numbered as resdata does:
+    /// c = di + 2 dj + 4 b (b = 1 at the bottom). x, y come from the
+    /// corner's pillar, interpolated linearly at the corner's depth.
+    pub fn corner(&self, i: usize, j: usize, k: usize, c: usize) -> [f64; 3] {
+        let (di, dj, b) = (c & 1, (c >> 1) & 1, c >> 2);
+        let (nx, ny) = (self.nx, self.ny);
+        let z = self.zcorn[((((2 * k + b) * ny + j) * 2 + dj) * nx + i) * 2 + di];
+        let p = self.coord[(j + dj) * (nx + 1) + i + di];
+        let (dz, t) = (p[5] - p[2], z - p[2]);
+        let f = if dz != 0.0 { t / dz } else { 0.0 };
+        [p[0] + f * (p[3] - p[0]), p[1] + f * (p[4] - p[1]), z]
+    }
+}
+
+fn dims(ts: &Tokens, kw: &Tok, rec: &Record) -> Result<[usize; 3]> {
+    if rec.len() < 3 {
+        return Err(ts.error(kw, format!("{} needs nx ny nz", kw.text)));
+    }
+    let mut d = [0usize; 3];
+    for (k, v) in d.iter_mut().enumerate() {
+        *v = number(ts, &rec[k], kw, &kw.text)?;
+        if *v == 0 {
+            return Err(ts.error(kw, format!("{}: a dimension is zero", kw.text)));
+        }
+    }
+    if d.iter()
+        .try_fold(1usize, |a, &b| a.checked_mul(b))
+        .is_none_or(|n| n > 1 << 31)
+    {
+        return Err(ts.error(kw, format!("{}: {d:?} cells are too many", kw.text)));
+    }
+    Ok(d)
+}
+
+fn reals(ts: &Tokens, kw: &Tok, rec: &Record, want: usize) -> Result<Vec<f64>> {
+    if rec.len() != want {
+        return Err(ts.error(
+            kw,
+            format!(
+                "{} has {} values, the grid needs {want}",
+                kw.text,
+                rec.len()
+            ),
+        ));
+    }
+    rec.iter()
+        .map(|t| {
+            let v: f64 = number(ts, t, kw, &kw.text)?;
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(ts.error(
+                    t.as_ref().unwrap_or(kw),
+                    format!("{}: non-finite value", kw.text),
+                ))
+            }
+        })
+        .collect()
+}
+
+fn fault_face(ts: &Tokens, kw: &Tok, rec: &Record, d: [usize; 3]) -> Result<(String, FaultFace)> {
+    if rec.len() < 8 {
+        return Err(ts.error(kw, "FAULTS record needs NAME I1 I2 J1 J2 K1 K2 FACE".into()));
+    }
+    let name = rec[0].as_ref().map(|t| t.text.clone()).unwrap_or_default();
+    let mut r = [0usize; 6];
+    for (k, v) in r.iter_mut().enumerate() {
+        let x: usize = number(ts, &rec[k + 1], kw, "FAULTS index")?;
+        let n = d[k / 2];
+        if x == 0 || x > n {
+            return Err(ts.error(
+                rec[k + 1].as_ref().unwrap_or(kw),
+                format!("FAULTS '{name}': index {x} outside 1..{n}"),
+            ));
+        }
+        *v = x - 1;
+    }
+    let face = rec[7]
+        .as_ref()
+        .map(|t| t.text.to_ascii_uppercase())
+        .unwrap_or_default();
+    let (axis, sign) = match face.as_str() {
+        "X" | "X+" | "I" | "I+" => ('X', 1),
+        "X-" | "I-" => ('X', -1),
+        "Y" | "Y+" | "J" | "J+" => ('Y', 1),
+        "Y-" | "J-" => ('Y', -1),
+        "Z" | "Z+" | "K" | "K+" => ('Z', 1),
+        "Z-" | "K-" => ('Z', -1),
+        _ => return Err(ts.error(kw, format!("FAULTS '{name}': unknown face '{face}'"))),
+    };
+    Ok((
+        name,
+        FaultFace {
+            i: [r[0].min(r[1]), r[0].max(r[1])],
+            j: [r[2].min(r[3]), r[2].max(r[3])],
+            k: [r[4].min(r[5]), r[4].max(r[5])],
+            axis,
+            sign,
+        },
+    ))
+}
+
+/// Skips the records of a keyword this reader does not use: none when the
+/// next token is a keyword, else records up to the one that ends before
+/// the next keyword.
+fn skip(ts: &Tokens, mut k: usize, kw: &Tok) -> Result<usize> {
+    while ts.toks.get(k).is_some_and(|t| !is_keyword(t)) {
+        k = record(ts, k, kw)?.1;
+    }
+    Ok(k)
+}
+
+/// Reads a GRDECL file (or a deck holding one).
+pub fn read_grid(path: &Path) -> Result<CornerPointGrid> {
+    let ts = Tokens::read(path, false)?;
+    let mut d: Option<[usize; 3]> = None;
+    let (mut coord, mut zcorn, mut actnum, mut mapaxes) = (None, None, None, None);
+    let mut faults: Vec<Fault> = vec![];
+    let mut k = 0;
+    while k < ts.toks.len() {
+        let kw = ts.toks[k].clone();
+        k += 1;
+        if !is_keyword(&kw) {
+            return Err(ts.error(&kw, format!("expected a keyword, found '{}'", kw.text)));
+        }
+        let need = |what: &str| -> Result<[usize; 3]> {
+            d.ok_or_else(|| ts.error(&kw, format!("{what} before SPECGRID or DIMENS")))
+        };
+        match kw.text.as_str() {
+            "SPECGRID" | "DIMENS" => {
+                let (rec, next) = record(&ts, k, &kw)?;
+                d = Some(dims(&ts, &kw, &rec)?);
+                k = next;
+            }
+            "COORD" => {
+                let [nx, ny, _] = need("COORD")?;
+                let (rec, next) = record(&ts, k, &kw)?;
+                let v = reals(&ts, &kw, &rec, 6 * (nx + 1) * (ny + 1))?;
+                coord = Some(
+                    v.chunks_exact(6)
+                        .map(|c| [c[0], c[1], c[2], c[3], c[4], c[5]])
+                        .collect(),
+                );
+                k = next;
+            }
+            "ZCORN" => {
+                let [nx, ny, nz] = need("ZCORN")?;
+                let (rec, next) = record(&ts, k, &kw)?;
+                zcorn = Some(reals(&ts, &kw, &rec, 8 * nx * ny * nz)?);
+                k = next;
+            }
+            "ACTNUM" => {
+                let [nx, ny, nz] = need("ACTNUM")?;
+                let (rec, next) = record(&ts, k, &kw)?;
+                let v = reals(&ts, &kw, &rec, nx * ny * nz)?;
+                actnum = Some(v.iter().map(|&a| a != 0.0).collect::<Vec<bool>>());
+                k = next;
+            }
+            "MAPAXES" => {
+                let (rec, next) = record(&ts, k, &kw)?;
+                let v = reals(&ts, &kw, &rec, 6)?;
+                mapaxes = Some([v[0], v[1], v[2], v[3], v[4], v[5]]);
+                k = next;
+            }
+            "FAULTS" => {
+                let dd = need("FAULTS")?;
+                loop {
+                    let (rec, next) = record(&ts, k, &kw)?;
+                    k = next;
+                    if rec.is_empty() {
+                        break;
+                    }
+                    let (name, face) = fault_face(&ts, &kw, &rec, dd)?;
+                    match faults.iter_mut().find(|f| f.name == name) {
+                        Some(f) => f.faces.push(face),
+                        None => faults.push(Fault {
+                            name,
+                            faces: vec![face],
+                        }),
+                    }
+                }
+            }
+            _ => k = skip(&ts, k, &kw)?,
+        }
+    }
+    let missing = |what: &str| parse_err(path, 0, format!("no {what} in the file"));
+    let [nx, ny, nz] = d.ok_or_else(|| missing("SPECGRID or DIMENS"))?;
+    let coord = coord.ok_or_else(|| missing("COORD"))?;
+    let zcorn = zcorn.ok_or_else(|| missing("ZCORN"))?;
+    Ok(CornerPointGrid {
+        nx,
+        ny,
+        nz,
+        coord,
+        zcorn,
+        actnum: actnum.unwrap_or_else(|| vec![true; nx * ny * nz]),
+        mapaxes,
+        faults,
+    })
+}
+
+/// A well of a deck: head column (0-based i, j), completed layers (0-based,
+/// inclusive) and the wellbore radius from COMPDAT's diameter, when given.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Well {
+    pub name: String,
+    pub i: usize,
+    pub j: usize,
+    pub k: Option<[usize; 2]>,
+    pub radius: Option<f64>,
+}
+
+/// The wells of a deck, from WELSPECS (head column) and COMPDAT (layers,
+/// diameter). Included files that do not exist are skipped and named in
+/// the second value (a deck's other data is not needed here).
+pub fn read_wells(path: &Path) -> Result<(Vec<Well>, Vec<String>)> {
+    let ts = Tokens::read(path, true)?;
+    let mut wells: Vec<Well> = vec![];
+    let mut k = 0;
+    let text = |r: &Record, n: usize| r.get(n).cloned().flatten().map(|t| t.text);
+    while k < ts.toks.len() {
+        let kw = ts.toks[k].clone();
+        k += 1;
+        if !is_keyword(&kw) {
+            continue; // data of a keyword this reader does not know
+        }
+        match kw.text.as_str() {
+            "WELSPECS" | "COMPDAT" => loop {
+                let (rec, next) = record(&ts, k, &kw)?;
+                k = next;
+                if rec.is_empty() {
+                    break;
+                }
+                let name = text(&rec, 0).ok_or_else(|| {
+                    ts.error(&kw, format!("{} record without a well name", kw.text))
+                })?;
+                let (ci, cj) = if kw.text == "WELSPECS" {
+                    (2, 3)
+                } else {
+                    (1, 2)
+                };
+                let one_based = |n: usize, what: &str| -> Result<Option<usize>> {
+                    match rec.get(n).cloned().flatten() {
+                        None => Ok(None),
+                        Some(t) => {
+                            let v: usize = number(&ts, &Some(t.clone()), &kw, what)?;
+                            if v == 0 {
+                                return Err(ts.error(
+                                    &t,
+                                    format!("{} '{name}': {what} is 1-based, found 0", kw.text),
+                                ));
+                            }
+                            Ok(Some(v - 1))
+                        }
+                    }
+                };
+                let (i, j) = (one_based(ci, "I")?, one_based(cj, "J")?);
+                let at = wells.iter().position(|w| w.name == name);
+                let w = match at {
+                    Some(at) => &mut wells[at],
+                    None => {
+                        let (Some(i), Some(j)) = (i, j) else {
+                            return Err(ts.error(
+                                &kw,
+                                format!("{} '{name}': no I, J for a new well", kw.text),
+                            ));
+                        };
+                        wells.push(Well {
+                            name: name.clone(),
+                            i,
+                            j,
+                            k: None,
+                            radius: None,
+                        });
+                        wells.last_mut().expect("just pushed")
+                    }
+                };
+                if kw.text == "WELSPECS" {
+                    if let (Some(i), Some(j)) = (i, j) {
+                        (w.i, w.j) = (i, j);
+                    }
+                } else {
+                    if let (Some(k1), Some(k2)) = (one_based(3, "K1")?, one_based(4, "K2")?) {
+                        let [a, b] = w.k.unwrap_or([k1.min(k2), k1.max(k2)]);
+                        w.k = Some([a.min(k1.min(k2)), b.max(k1.max(k2))]);
+                    }
+                    if let Some(t) = rec.get(8).cloned().flatten() {
+                        let dia: f64 = number(&ts, &Some(t), &kw, "COMPDAT diameter")?;
+                        if dia > 0.0 && dia.is_finite() {
+                            w.radius = Some(dia / 2.0);
+                        }
+                    }
+                }
+            },
+            _ => k = skip(&ts, k, &kw)?,
+        }
+    }
+    Ok((wells, ts.missing))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(name: &str, text: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("orthomesh-eclipse-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    const ONE_CELL: &str = "-- a unit cube
+SPECGRID
+ 1 1 1 1 F /
+COORD
+ 0 0 0  0 0 1   1 0 0  1 0 1
+ 0 1 0  0 1 1   1 1 0  1 1 1 /
+ZCORN 4*0 4*1 /
+ACTNUM 1 /
+";
+
+    #[test]
+    fn a_unit_cube_with_repeats() {
+        let g = read_grid(&write("cube.grdecl", ONE_CELL)).unwrap();
+        assert_eq!((g.nx, g.ny, g.nz), (1, 1, 1));
+        assert_eq!(g.corner(0, 0, 0, 0), [0.0, 0.0, 0.0]);
+        assert_eq!(g.corner(0, 0, 0, 7), [1.0, 1.0, 1.0]);
+        assert_eq!(g.corner(0, 0, 0, 2), [0.0, 1.0, 0.0]);
+        assert!(g.active(0, 0, 0));
+    }
+
+    #[test]
+    fn bad_grids_are_errors_with_lines() {
+        let short = ONE_CELL.replace("ZCORN 4*0 4*1 /", "ZCORN 4*0 3*1 /");
+        let e = read_grid(&write("short.grdecl", &short))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("ZCORN has 7 values, the grid needs 8"), "{e}");
+        let open = ONE_CELL.replace("ACTNUM 1 /", "ACTNUM 1");
+        let e = read_grid(&write("open.grdecl", &open))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("not ended by '/'") && e.contains(":8:"), "{e}");
+        let nan = ONE_CELL.replace("ZCORN 4*0", "ZCORN 4*x");
+        assert!(read_grid(&write("nan.grdecl", &nan)).is_err());
+        let inc = "INCLUDE 'nowhere.grdecl' /\n";
+        assert!(matches!(
+            read_grid(&write("inc.grdecl", inc)),
+            Err(Error::Io { .. })
+        ));
+    }
+
+    #[test]
+    fn includes_faults_and_wells() {
+        write("part.inc", "ZCORN 4*0 4*1 /\n");
+        let main = ONE_CELL.replace("ZCORN 4*0 4*1 /", "INCLUDE\n 'part.inc' /")
+            + "FAULTS\n 'F1' 1 1 1 1 1 1 X /\n 'F1' 1 1 1 1 1 1 Y- /\n/\n";
+        let g = read_grid(&write("main.grdecl", &main)).unwrap();
+        assert_eq!(g.corner(0, 0, 0, 7), [1.0, 1.0, 1.0]);
+        assert_eq!(g.faults.len(), 1);
+        assert_eq!(g.faults[0].faces[1].axis, 'Y');
+        assert_eq!(g.faults[0].faces[1].sign, -1);
+        let deck = "RUNSPEC\nOIL\nWATER\nINCLUDE\n 'missing.inc' /\nWELSPECS\n 'P1' 'G' 3 4 1* 'OIL' /\n/\nCOMPDAT\n 'P1' 3 4 2 5 'OPEN' 1* 1* 0.5 /\n 'P1' 3 4 7 7 'OPEN' /\n/\nWCONPROD\n 'P1' 'OPEN' /\n/\n";
+        let (wells, missing) = read_wells(&write("case.data", deck)).unwrap();
+        assert_eq!(missing.len(), 1);
+        assert_eq!(
+            wells,
+            vec![Well {
+                name: "P1".into(),
+                i: 2,
+                j: 3,
+                k: Some([1, 6]),
+                radius: Some(0.25)
+            }]
+        );
+    }
+}
