@@ -39,6 +39,7 @@ pub mod domain;
 pub mod error;
 pub mod exact;
 pub mod generate;
+pub mod hybrid;
 pub mod io;
 pub mod mesh;
 pub mod relocate;

@@ -185,18 +185,45 @@ impl Mesh {
     /// Largest |cos| between an interior face and the line joining the two
     /// sites beside it (0 for an orthogonal mesh).
     pub fn orthogonality_defect(&self) -> f64 {
-        let v = |p: [f64; 2]| Vector2::from(p);
         self.faces
             .iter()
-            .map(|&[a, b, c, d]| {
-                let e = v(self.points[b as usize]) - v(self.points[a as usize]);
-                let s = v(self.sites[d as usize]) - v(self.sites[c as usize]);
-                if e.norm() > MEASURE * self.size && s.norm() > 0.0 {
-                    (e.dot(&s) / (e.norm() * s.norm())).abs()
-                } else {
-                    0.0
-                }
-            })
+            .map(|&f| self.face_defect(f))
             .fold(0.0, f64::max)
+    }
+
+    /// |cos| between face a -> b and the segment from site c to site d (0
+    /// when too short to measure).
+    pub fn face_defect(&self, [a, b, c, d]: [u32; 4]) -> f64 {
+        let v = |p: [f64; 2]| Vector2::from(p);
+        let e = v(self.points[b as usize]) - v(self.points[a as usize]);
+        let s = v(self.sites[d as usize]) - v(self.sites[c as usize]);
+        if e.norm() > MEASURE * self.size && s.norm() > 0.0 {
+            (e.dot(&s) / (e.norm() * s.norm())).abs()
+        } else {
+            0.0
+        }
+    }
+
+    /// Finds the faces by matching each cell edge with its reverse in
+    /// another cell; returns how many edges have no twin and are not in
+    /// `boundary` (hanging nodes, overlaps: 0 for a conforming mesh).
+    pub(crate) fn match_faces(&mut self, boundary: &crate::FastSet<(u32, u32)>) -> usize {
+        let mut owner: FastMap<(u32, u32), u32> = FastMap::default();
+        for (c, cell) in self.cells.iter().enumerate() {
+            for e in 0..cell.len() {
+                owner.insert((cell[e], cell[(e + 1) % cell.len()]), c as u32);
+            }
+        }
+        self.faces.clear();
+        let mut unmatched = 0;
+        for (&(a, b), &c) in &owner {
+            match owner.get(&(b, a)) {
+                Some(&d) if a < b => self.faces.push([a, b, c, d]),
+                Some(_) => {}
+                None => unmatched += usize::from(!boundary.contains(&(a, b))),
+            }
+        }
+        self.faces.sort_unstable();
+        unmatched
     }
 }

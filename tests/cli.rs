@@ -124,3 +124,69 @@ fn demo_writes_mesh_picture_and_report() {
         "{help}"
     );
 }
+
+#[test]
+fn hybrid_from_a_deck_and_from_options() {
+    let dir = scratch("hybrid");
+    let grids = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
+    let grid = grids.join("SPE9.GRDECL").display().to_string();
+    let deck = grids.join("SPE9_CP.DATA").display().to_string();
+    let vtu = dir.join("spe9.vtu");
+    let json = dir.join("spe9.json");
+    let (code, err) = orthomesh(&[
+        "hybrid",
+        "--grid",
+        &grid,
+        "--deck",
+        &deck,
+        "-o",
+        vtu.to_str().unwrap(),
+        "--report",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("26 wells") && err.contains("PERMVALUES.DATA"),
+        "{err}"
+    );
+    let report = std::fs::read_to_string(&json).unwrap();
+    assert!(report.contains("\"unmatched_faces\": 0"), "{report}");
+    // A well by column, one by map position; bad ones fail and write nothing.
+    let vtu2 = dir.join("two.vtu");
+    let (code, err) = orthomesh(&[
+        "hybrid",
+        "--grid",
+        &grid,
+        "--well",
+        "A:5:5:0.5",
+        "--well-xy",
+        "B:4000:4000",
+        "--layer",
+        "3",
+        "-o",
+        vtu2.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for bad in [
+        ["--well", "A:0:5"],
+        ["--well", "A:5"],
+        ["--well", "A:x:5"],
+        ["--layer", "16"],
+    ] {
+        let vtu3 = dir.join("bad.vtu");
+        let mut args = vec![
+            "hybrid",
+            "--grid",
+            &grid,
+            "--well",
+            "B:9:9",
+            "-o",
+            vtu3.to_str().unwrap(),
+        ];
+        args.extend(bad);
+        let (code, err) = orthomesh(&args);
+        assert_eq!(code, 1, "{bad:?}: {err}");
+        assert!(err.contains("error"), "{err}");
+        assert!(!vtu3.exists());
+    }
+}

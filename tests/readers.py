@@ -23,7 +23,9 @@ def check(path):
     states = vtk_to_numpy(v.GetOutput().GetCellData().GetArray("ValidityState"))
     bad = np.nonzero(states)[0]
     assert len(bad) == 0, f"{path}: vtkCellValidator flags cells {bad[:10]} states {states[bad[:10]]}"
-    for name in ("site", "weight", "site_inside"):
+    # hybrid meshes carry region and ijk instead of site_inside
+    names = ("site", "weight", "region", "ijk") if path.name.startswith("hybrid") else ("site", "weight", "site_inside")
+    for name in names:
         assert grid.GetCellData().GetArray(name) is not None, f"{path}: no cell array {name}"
 
     m = pv.read(path)

@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand};
 use orthomesh::conform::{conform, Options, Outcome};
 use orthomesh::error::{Error, Result};
+use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
 use orthomesh::{backend::default_backend, io, Complex};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -33,19 +34,51 @@ enum Command {
     Conform {
         /// Input file: .poly (vertices, segments, holes) or .edg (segments).
         input: PathBuf,
-        /// Output mesh (.vtu, polygons, cell data site/weight/site_inside).
-        #[arg(short, long, value_name = "MESH.vtu")]
-        output: PathBuf,
-        /// Also draw the mesh, sites and segments as SVG.
-        #[arg(long, value_name = "PICTURE.svg")]
-        svg: Option<PathBuf>,
-        /// Write the report (certificate, LP, timings) as JSON.
-        #[arg(long, value_name = "REPORT.json")]
-        report: Option<PathBuf>,
+        #[command(flatten)]
+        out: Outputs,
         /// Write the conforming mesh even when some sites cannot be inside
         /// their cells (the report counts them; the picture shows them red).
         #[arg(long)]
         allow_sites_outside: bool,
+    },
+    /// Hybrid reservoir mesh of one layer of a corner-point grid: reservoir
+    /// cells, radial meshes around vertical wells, and conforming orthogonal
+    /// transition meshes in cavities between them.
+    ///
+    /// Wells come from the deck (WELSPECS head column, COMPDAT diameter) and
+    /// from --well options. Cell data: region (0 reservoir, 1 transition,
+    /// 2 well), ijk (1-based; -1 outside the reservoir grid), site, weight.
+    Hybrid {
+        /// The corner-point grid (Eclipse GRDECL).
+        #[arg(long, value_name = "GRID.grdecl")]
+        grid: PathBuf,
+        /// A deck whose WELSPECS/COMPDAT give wells.
+        #[arg(long, value_name = "CASE.DATA")]
+        deck: Option<PathBuf>,
+        /// A vertical well in column I, J (1-based, as in the deck), with a
+        /// wellbore radius in grid units (default: the deck's, else 0.1).
+        #[arg(long = "well", value_name = "NAME:I:J[:RADIUS]")]
+        wells: Vec<String>,
+        /// A vertical well at map position X, Y.
+        #[arg(long = "well-xy", value_name = "NAME:X:Y[:RADIUS]")]
+        wells_xy: Vec<String>,
+        /// The layer to mesh (1-based).
+        #[arg(long, default_value_t = 1)]
+        layer: usize,
+        /// Rings of each radial mesh.
+        #[arg(long, default_value_t = 8)]
+        rings: usize,
+        /// Sectors of each radial mesh.
+        #[arg(long, default_value_t = 32)]
+        sectors: usize,
+        /// Outer radius of the radial meshes, in shortest sides of the well's cell.
+        #[arg(long, default_value_t = 0.9)]
+        outer: f64,
+        /// Layers of cells added to each cavity around what the radial mesh reaches.
+        #[arg(long, default_value_t = 0)]
+        margin: usize,
+        #[command(flatten)]
+        out: Outputs,
     },
     /// Mesh built-in data (a cavity around a well) and write mesh, picture
     /// and report into a directory.
@@ -54,6 +87,20 @@ enum Command {
         #[arg(long, default_value = "orthomesh-demo")]
         out_dir: PathBuf,
     },
+}
+
+/// Where the results go.
+#[derive(clap::Args)]
+struct Outputs {
+    /// Output mesh (.vtu: polygons with cell data site and weight).
+    #[arg(short, long, value_name = "MESH.vtu")]
+    output: PathBuf,
+    /// Also draw the mesh, sites and constraint segments as SVG.
+    #[arg(long, value_name = "PICTURE.svg")]
+    svg: Option<PathBuf>,
+    /// Write the report (certificate, weights, timings) as JSON.
+    #[arg(long, value_name = "REPORT.json")]
+    report: Option<PathBuf>,
 }
 
 const DEMO: &str = include_str!("../../data/demo.poly");
@@ -73,9 +120,12 @@ fn run(cmd: Command) -> Result<()> {
     match cmd {
         Command::Conform {
             input,
-            output,
-            svg,
-            report,
+            out:
+                Outputs {
+                    output,
+                    svg,
+                    report,
+                },
             allow_sites_outside,
         } => {
             let cx = io::read_complex(&input)?;
@@ -92,6 +142,97 @@ fn run(cmd: Command) -> Result<()> {
                 svg.as_deref(),
                 report.as_deref(),
             )
+        }
+        Command::Hybrid {
+            grid,
+            deck,
+            wells,
+            wells_xy,
+            layer,
+            rings,
+            sectors,
+            outer,
+            margin,
+            out:
+                Outputs {
+                    output,
+                    svg,
+                    report,
+                },
+        } => {
+            let g = io::eclipse::read_grid(&grid)?;
+            let mut list: Vec<WellInput> = vec![];
+            if let Some(deck) = &deck {
+                let (found, missing) = io::eclipse::read_wells(deck)?;
+                for m in missing {
+                    eprintln!(
+                        "note: {}: include {m} not found (not needed for wells)",
+                        deck.display()
+                    );
+                }
+                for w in found {
+                    list.push(WellInput {
+                        name: w.name,
+                        at: WellAt::Column(w.i, w.j),
+                        radius: w.radius.unwrap_or(DEFAULT_WELL_RADIUS),
+                    });
+                }
+            }
+            for spec in &wells {
+                let (name, a, b, r) = well_spec(spec)?;
+                let (i, j) = (one_based(a, spec)?, one_based(b, spec)?);
+                list.retain(|w| w.name != name);
+                list.push(WellInput {
+                    name,
+                    at: WellAt::Column(i, j),
+                    radius: r,
+                });
+            }
+            for spec in &wells_xy {
+                let (name, x, y, r) = well_spec(spec)?;
+                list.retain(|w| w.name != name);
+                list.push(WellInput {
+                    name,
+                    at: WellAt::Xy([x, y]),
+                    radius: r,
+                });
+            }
+            if layer == 0 {
+                return Err(Error::Usage("--layer is 1-based".into()));
+            }
+            let opts = HybridOptions {
+                layer: layer - 1,
+                rings,
+                sectors,
+                outer,
+                margin,
+            };
+            let h = hybrid::build(&default_backend(), &g, &list, &opts)?;
+            let mut texts = vec![(output.clone(), h.vtu())];
+            if let Some(p) = svg {
+                let inside = vec![true; h.mesh.cells.len()];
+                texts.push((p, io::svg::to_string(&h.mesh, &inside, &h.constraints)));
+            }
+            if let Some(p) = report {
+                let text = serde_json::to_string_pretty(&h.report)
+                    .map_err(|e| Error::Usage(e.to_string()))?;
+                texts.push((p, text + "\n"));
+            }
+            for (p, t) in &texts {
+                io::write_atomic(p, t.as_bytes())?;
+            }
+            let r = &h.report;
+            eprintln!(
+                "{}: layer {}, {} wells -> {} reservoir, {} transition, {} well cells; {} cavities ({} cells); faces without a twin inside: {}",
+                grid.display(), layer, r.wells.len(), r.cells[0], r.cells[1], r.cells[2], r.cavities, r.cavity_cells, r.unmatched_faces
+            );
+            for (pair, d) in &r.orthogonality_defect {
+                eprintln!("orthogonality defect {pair}: {d:.2e}");
+            }
+            for (p, _) in &texts {
+                eprintln!("wrote {}", p.display());
+            }
+            Ok(())
         }
         Command::Demo { out_dir } => {
             let name = Path::new("demo.poly");
@@ -175,6 +316,39 @@ fn write_all(
         eprintln!("wrote {}", p.display());
     }
     Ok(())
+}
+
+/// Wellbore radius when neither the deck nor the option gives one.
+const DEFAULT_WELL_RADIUS: f64 = 0.1;
+
+/// NAME:A:B[:RADIUS]
+fn well_spec(spec: &str) -> Result<(String, f64, f64, f64)> {
+    let parts: Vec<&str> = spec.split(':').collect();
+    let bad = || Error::Usage(format!("well '{spec}': expected NAME:A:B[:RADIUS]"));
+    if !(3..=4).contains(&parts.len()) || parts[0].is_empty() {
+        return Err(bad());
+    }
+    let num = |t: &str| {
+        t.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(bad)
+    };
+    let r = match parts.get(3) {
+        Some(t) => num(t)?,
+        None => DEFAULT_WELL_RADIUS,
+    };
+    Ok((parts[0].to_string(), num(parts[1])?, num(parts[2])?, r))
+}
+
+fn one_based(v: f64, spec: &str) -> Result<usize> {
+    if v >= 1.0 && v.fract() == 0.0 && v < 1e9 {
+        Ok(v as usize - 1)
+    } else {
+        Err(Error::Usage(format!(
+            "well '{spec}': I and J are whole numbers from 1"
+        )))
+    }
 }
 
 fn ok(b: bool) -> &'static str {

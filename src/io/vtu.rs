@@ -5,9 +5,26 @@
 use crate::mesh::Mesh;
 use std::fmt::Write;
 
+/// A cell array of integers with 1 or more components per cell.
+pub struct IntArray<'a> {
+    pub name: &'a str,
+    pub components: usize,
+    pub values: Vec<i64>,
+}
+
 /// The .vtu text of a 2D mesh, with cell data `site` (3 components),
 /// `weight` (power(x) = |x - site|^2 - weight) and `site_inside` (0/1).
 pub fn to_string(mesh: &Mesh, site_inside: &[bool]) -> String {
+    let inside = IntArray {
+        name: "site_inside",
+        components: 1,
+        values: site_inside.iter().map(|&b| i64::from(b)).collect(),
+    };
+    to_string_with(mesh, &[inside])
+}
+
+/// The .vtu text of a 2D mesh with `site`, `weight` and the given arrays.
+pub fn to_string_with(mesh: &Mesh, arrays: &[IntArray]) -> String {
     let mut s = String::with_capacity(64 * (mesh.points.len() + mesh.cells.len()));
     let n_conn: usize = mesh.cells.iter().map(Vec::len).sum();
     let _ = write!(
@@ -48,9 +65,16 @@ pub fn to_string(mesh: &Mesh, site_inside: &[bool]) -> String {
     for w in &mesh.weights {
         let _ = writeln!(s, "{w:e}");
     }
-    s.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"site_inside\" format=\"ascii\">\n");
-    for &b in site_inside {
-        let _ = writeln!(s, "{}", u8::from(b));
+    for a in arrays {
+        let _ = write!(
+            s,
+            "</DataArray>\n<DataArray type=\"Int64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
+            a.name, a.components
+        );
+        for c in a.values.chunks(a.components) {
+            let line: Vec<String> = c.iter().map(i64::to_string).collect();
+            let _ = writeln!(s, "{}", line.join(" "));
+        }
     }
     s.push_str("</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     s

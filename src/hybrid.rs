@@ -1,0 +1,780 @@
+//! Hybrid reservoir meshes in map view (paper section 5, method.md section 6):
+//! a layer of a corner-point grid, radial meshes around vertical wells, and
+//! between them, in cavities cut out of the grid, transition meshes from the
+//! 2D core. The result is one conforming polygon mesh: active reservoir cells
+//! outside the cavities, transition cells, radial cells.
+
+use crate::backend::Backend;
+use crate::complex::Complex;
+use crate::conform::{conform, Options, Report};
+use crate::error::{Error, Result};
+use crate::io::eclipse::CornerPointGrid;
+use crate::io::vtu::IntArray;
+use crate::mesh::Mesh;
+use crate::FastMap;
+use serde::Serialize;
+use std::f64::consts::TAU;
+
+/// Where a well is: a grid column (0-based) or a map position.
+#[derive(Debug, Clone, PartialEq)]
+pub enum WellAt {
+    Column(usize, usize),
+    Xy([f64; 2]),
+}
+
+/// A vertical well.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WellInput {
+    pub name: String,
+    pub at: WellAt,
+    /// Wellbore radius.
+    pub radius: f64,
+}
+
+/// Choices for the hybrid mesh.
+#[derive(Debug, Clone)]
+pub struct HybridOptions {
+    /// The layer (0-based) whose map view is meshed.
+    pub layer: usize,
+    /// Rings and sectors of each radial mesh.
+    pub rings: usize,
+    pub sectors: usize,
+    /// Outer radius of the radial meshes, as a multiple of the shortest side
+    /// of the well's cell.
+    pub outer: f64,
+    /// Layers of cells added around the cells the radial mesh reaches.
+    pub margin: usize,
+}
+
+impl Default for HybridOptions {
+    fn default() -> Self {
+        // method.md section 6: a radial mesh close to the cavity sides and
+        // many sectors keep two-point flux near the radial solution. An
+        // outer radius of 0.9 cells reaches the 8 neighbours: a 3 x 3
+        // cavity, 0.6 cells between the well polygon and its sides, and
+        // room for wells three columns apart.
+        HybridOptions {
+            layer: 0,
+            rings: 8,
+            sectors: 32,
+            outer: 0.9,
+            margin: 0,
+        }
+    }
+}
+
+/// Which part of the hybrid mesh a cell belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Region {
+    Reservoir = 0,
+    Transition = 1,
+    Well = 2,
+}
+
+/// The hybrid mesh and how it was made.
+#[derive(Debug, Clone)]
+pub struct Hybrid {
+    /// Cells, sites, weights; faces between cells.
+    pub mesh: Mesh,
+    pub region: Vec<Region>,
+    /// The reservoir cell (i, j, k), 0-based, for reservoir cells.
+    pub ijk: Vec<Option<[usize; 3]>>,
+    /// The transition meshes' constraints: cavity boundaries, well polygons.
+    pub constraints: Complex,
+    pub report: HybridReport,
+}
+
+impl Hybrid {
+    /// The .vtu text: polygons with cell data site, weight, region (0
+    /// reservoir, 1 transition, 2 well) and ijk (1-based; -1 elsewhere).
+    pub fn vtu(&self) -> String {
+        let region = IntArray {
+            name: "region",
+            components: 1,
+            values: self.region.iter().map(|&r| r as i64).collect(),
+        };
+        let ijk = IntArray {
+            name: "ijk",
+            components: 3,
+            values: self
+                .ijk
+                .iter()
+                .flat_map(|c| c.map_or([-1; 3], |c| c.map(|x| x as i64 + 1)))
+                .collect(),
+        };
+        crate::io::vtu::to_string_with(&self.mesh, &[region, ijk])
+    }
+}
+
+/// What the report says about the hybrid mesh.
+#[derive(Debug, Clone, Serialize)]
+pub struct HybridReport {
+    pub layer: usize,
+    pub wells: Vec<String>,
+    pub cavities: usize,
+    pub cavity_cells: usize,
+    pub cells: [usize; 3],
+    /// Largest |cos| between a face and its two sites' segment, per pair
+    /// of regions: reservoir-reservoir, reservoir-transition,
+    /// transition-transition, transition-well, well-well.
+    pub orthogonality_defect: Vec<(String, f64)>,
+    /// Faces that are not shared by two cells nor on the outer boundary: 0
+    /// for a conforming mesh (no hanging nodes).
+    pub unmatched_faces: usize,
+    /// Cavities grown because system 3 was infeasible.
+    pub notes: Vec<String>,
+    /// The transition meshes' own report (certificate, weights, sites).
+    pub transition: Report,
+}
+
+/// Map view of one layer: a point per pillar, a quadrilateral per column.
+struct MapView {
+    pillar: Vec<[f64; 2]>,
+    nx: usize,
+}
+
+impl MapView {
+    /// Each pillar's point at the mean depth of the layer's top corners on it.
+    fn new(g: &CornerPointGrid, k: usize) -> MapView {
+        let (nx, ny) = (g.nx, g.ny);
+        let mut sum = vec![(0.0, 0u32); (nx + 1) * (ny + 1)];
+        for j in 0..ny {
+            for i in 0..nx {
+                for c in 0..4 {
+                    let (di, dj) = (c & 1, c >> 1);
+                    let z = g.corner(i, j, k, c)[2];
+                    let s = &mut sum[(j + dj) * (nx + 1) + i + di];
+                    s.0 += z;
+                    s.1 += 1;
+                }
+            }
+        }
+        let pillar = sum
+            .iter()
+            .enumerate()
+            .map(|(p, &(z, n))| {
+                let c = g.coord[p];
+                let z = z / f64::from(n.max(1));
+                let (dz, t) = (c[5] - c[2], z - c[2]);
+                let f = if dz != 0.0 { t / dz } else { 0.0 };
+                [c[0] + f * (c[3] - c[0]), c[1] + f * (c[4] - c[1])]
+            })
+            .collect();
+        MapView { pillar, nx }
+    }
+
+    fn pid(&self, i: usize, j: usize) -> u32 {
+        (j * (self.nx + 1) + i) as u32
+    }
+
+    /// Pillar ids of column (i, j), counter-clockwise in the map.
+    fn quad(&self, i: usize, j: usize) -> [u32; 4] {
+        let q = [
+            self.pid(i, j),
+            self.pid(i + 1, j),
+            self.pid(i + 1, j + 1),
+            self.pid(i, j + 1),
+        ];
+        if signed_area(&q.map(|p| self.pillar[p as usize])) < 0.0 {
+            [q[0], q[3], q[2], q[1]]
+        } else {
+            q
+        }
+    }
+
+    fn centroid(&self, i: usize, j: usize) -> [f64; 2] {
+        centroid(&self.quad(i, j).map(|p| self.pillar[p as usize]))
+    }
+}
+
+fn signed_area(p: &[[f64; 2]]) -> f64 {
+    let o = p[0];
+    (1..p.len() - 1)
+        .map(|k| {
+            let (a, b) = (p[k], p[k + 1]);
+            (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+        })
+        .sum::<f64>()
+        / 2.0
+}
+
+fn centroid(p: &[[f64; 2]]) -> [f64; 2] {
+    let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    let o = p[0];
+    for k in 1..p.len() - 1 {
+        let (b, c) = (p[k], p[k + 1]);
+        let t = ((b[0] - o[0]) * (c[1] - o[1]) - (b[1] - o[1]) * (c[0] - o[0])) / 2.0;
+        a += t;
+        cx += t * (o[0] + b[0] + c[0]) / 3.0;
+        cy += t * (o[1] + b[1] + c[1]) / 3.0;
+    }
+    if a == 0.0 {
+        let n = p.len() as f64;
+        return [
+            p.iter().map(|q| q[0]).sum::<f64>() / n,
+            p.iter().map(|q| q[1]).sum::<f64>() / n,
+        ];
+    }
+    [cx / a, cy / a]
+}
+
+/// Distance from x to the polygon (0 inside).
+fn distance_to_polygon(x: [f64; 2], p: &[[f64; 2]]) -> f64 {
+    let n = p.len();
+    let mut inside = true;
+    let mut best = f64::INFINITY;
+    for e in 0..n {
+        let (a, b) = (p[e], p[(e + 1) % n]);
+        let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
+        let (vx, vy) = (x[0] - a[0], x[1] - a[1]);
+        inside &= ux * vy - uy * vx >= 0.0;
+        let t = ((ux * vx + uy * vy) / (ux * ux + uy * uy)).clamp(0.0, 1.0);
+        best = best.min((vx - t * ux).hypot(vy - t * uy));
+    }
+    if inside {
+        0.0
+    } else {
+        best
+    }
+}
+
+/// One well placed: centre, radii of its rings, and how far its cavity
+/// reaches: at least the 8 columns around it, so that the well polygon is
+/// never close to a long cavity side (system 3 would fail).
+struct Placed {
+    name: String,
+    centre: [f64; 2],
+    radii: Vec<f64>,
+    reach: f64,
+}
+
+/// Times a cavity may grow before system 3's infeasibility is an error.
+const MAX_GROWTH: usize = 4;
+
+/// Radii r_0 = wellbore ... r_n = outer, in geometric progression.
+fn ring_radii(rw: f64, outer: f64, rings: usize) -> Vec<f64> {
+    (0..=rings)
+        .map(|k| rw * (outer / rw).powf(k as f64 / rings as f64))
+        .collect()
+}
+
+fn polygon_point(c: [f64; 2], r: f64, s: usize, m: usize) -> [f64; 2] {
+    let a = TAU * s as f64 / m as f64;
+    [c[0] + r * a.cos(), c[1] + r * a.sin()]
+}
+
+/// Builds the hybrid mesh of one layer with the given wells.
+pub fn build<B: Backend + ?Sized>(
+    backend: &B,
+    grid: &CornerPointGrid,
+    wells: &[WellInput],
+    opts: &HybridOptions,
+) -> Result<Hybrid> {
+    let k = opts.layer;
+    if k >= grid.nz {
+        return Err(Error::Usage(format!(
+            "layer {} outside 1..{}",
+            k + 1,
+            grid.nz
+        )));
+    }
+    if opts.rings == 0 || opts.sectors < 3 {
+        return Err(Error::Usage(
+            "radial meshes need at least 1 ring and 3 sectors".into(),
+        ));
+    }
+    if wells.is_empty() {
+        return Err(Error::Usage("a hybrid mesh needs at least one well".into()));
+    }
+    let view = MapView::new(grid, k);
+    let (nx, ny) = (grid.nx, grid.ny);
+    let quad_points = |i: usize, j: usize| view.quad(i, j).map(|p| view.pillar[p as usize]);
+
+    // Place the wells.
+    let mut placed: Vec<Placed> = vec![];
+    for w in wells {
+        let (centre, column) = match w.at {
+            WellAt::Column(i, j) => {
+                if i >= nx || j >= ny {
+                    return Err(Error::Usage(format!(
+                        "well {}: column ({}, {}) outside the grid (1..{nx}, 1..{ny})",
+                        w.name,
+                        i + 1,
+                        j + 1
+                    )));
+                }
+                (view.centroid(i, j), (i, j))
+            }
+            WellAt::Xy(x) => {
+                let col = (0..ny)
+                    .flat_map(|j| (0..nx).map(move |i| (i, j)))
+                    .find(|&(i, j)| distance_to_polygon(x, &quad_points(i, j)) == 0.0)
+                    .ok_or_else(|| {
+                        Error::Usage(format!("well {}: {x:?} is outside the grid", w.name))
+                    })?;
+                (x, col)
+            }
+        };
+        if !grid.active(column.0, column.1, k) {
+            return Err(Error::Usage(format!(
+                "well {}: cell ({}, {}, {}) is inactive",
+                w.name,
+                column.0 + 1,
+                column.1 + 1,
+                k + 1
+            )));
+        }
+        let q = quad_points(column.0, column.1);
+        let side = (0..4)
+            .map(|e| (q[(e + 1) % 4][0] - q[e][0]).hypot(q[(e + 1) % 4][1] - q[e][1]))
+            .fold(f64::INFINITY, f64::min);
+        placed.push(Placed {
+            name: w.name.clone(),
+            centre,
+            radii: vec![w.radius, opts.outer * side],
+            reach: 0.75 * side,
+        });
+    }
+    // A radial mesh reaches at most 0.3 of the way to the nearest other
+    // well and 0.6 of the way to the nearest inactive column or grid edge.
+    let mut obstacles: Vec<[[f64; 2]; 2]> = vec![];
+    for j in 0..ny {
+        for i in 0..nx {
+            let q = quad_points(i, j);
+            let edge = |e: usize| [q[e], q[(e + 1) % 4]];
+            if !grid.active(i, j, k) {
+                obstacles.extend((0..4).map(edge));
+            } else {
+                // sides on the grid's edge (ccw quads: bottom, right, top, left
+                // up to orientation; test all four against the neighbours)
+                let open = [
+                    (i, j.wrapping_sub(1)),
+                    (i + 1, j),
+                    (i, j + 1),
+                    (i.wrapping_sub(1), j),
+                ];
+                for (e, &(a, b)) in open.iter().enumerate() {
+                    if a >= nx || b >= ny {
+                        obstacles.push(edge(e));
+                    }
+                }
+            }
+        }
+    }
+    let to_segment = |x: [f64; 2], [a, b]: [[f64; 2]; 2]| {
+        let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
+        let (vx, vy) = (x[0] - a[0], x[1] - a[1]);
+        let t = ((ux * vx + uy * vy) / (ux * ux + uy * uy)).clamp(0.0, 1.0);
+        (vx - t * ux).hypot(vy - t * uy)
+    };
+    for a in 0..placed.len() {
+        let wall = obstacles
+            .iter()
+            .map(|&o| to_segment(placed[a].centre, o))
+            .fold(f64::INFINITY, f64::min);
+        let nearest = (0..placed.len())
+            .filter(|&b| b != a)
+            .map(|b| {
+                let (p, q) = (placed[a].centre, placed[b].centre);
+                (p[0] - q[0]).hypot(p[1] - q[1])
+            })
+            .fold(f64::INFINITY, f64::min);
+        let outer = placed[a].radii[1].min(0.3 * nearest).min(0.6 * wall);
+        let rw = placed[a].radii[0];
+        if !(rw > 0.0 && rw < outer / 2.0) {
+            return Err(Error::Usage(format!(
+                "well {}: radius {rw} must be positive and below half the outer radius {outer}",
+                placed[a].name
+            )));
+        }
+        placed[a].radii = ring_radii(rw, outer, opts.rings);
+    }
+    for a in 0..placed.len() {
+        for b in a + 1..placed.len() {
+            let (p, q) = (&placed[a], &placed[b]);
+            let d = (p.centre[0] - q.centre[0]).hypot(p.centre[1] - q.centre[1]);
+            if d <= p.radii.last().unwrap() + q.radii.last().unwrap() {
+                return Err(Error::Usage(format!(
+                    "wells {} and {}: their radial meshes overlap (centres {d} apart)",
+                    p.name, q.name
+                )));
+            }
+        }
+    }
+
+    // Cavities: the columns the radial meshes reach, plus a margin, plus
+    // any column they enclose, minus inactive columns (no rock to mesh).
+    let col = |i: usize, j: usize| j * nx + i;
+    let neighbours = |c: usize| {
+        let (i, j) = (c % nx, c / nx);
+        [
+            (i.wrapping_sub(1), j),
+            (i + 1, j),
+            (i, j.wrapping_sub(1)),
+            (i, j + 1),
+        ]
+        .into_iter()
+        .filter(|&(a, b)| a < nx && b < ny)
+        .map(move |(a, b)| col(a, b))
+    };
+    let grow = |cavity: &mut Vec<bool>, only: &dyn Fn(usize) -> bool| {
+        let before = cavity.clone();
+        for c in (0..nx * ny).filter(|&c| before[c] && only(c)) {
+            for d in neighbours(c) {
+                cavity[d] = true;
+            }
+        }
+        // columns enclosed by cavities join them
+        let mut outside = vec![false; nx * ny];
+        let mut stack: Vec<usize> = (0..nx * ny)
+            .filter(|&c| c % nx == 0 || c % nx == nx - 1 || c / nx == 0 || c / nx == ny - 1)
+            .collect();
+        while let Some(c) = stack.pop() {
+            if cavity[c] || std::mem::replace(&mut outside[c], true) {
+                continue;
+            }
+            stack.extend(neighbours(c));
+        }
+        for c in 0..nx * ny {
+            cavity[c] = (cavity[c] || !outside[c]) && grid.active(c % nx, c / nx, k);
+        }
+    };
+    // Connected cavities, as a label per column (usize::MAX outside).
+    let components = |cavity: &[bool]| {
+        let mut label = vec![usize::MAX; nx * ny];
+        for start in 0..nx * ny {
+            if !cavity[start] || label[start] != usize::MAX {
+                continue;
+            }
+            let mut stack = vec![start];
+            while let Some(c) = stack.pop() {
+                if label[c] != usize::MAX {
+                    continue;
+                }
+                label[c] = start;
+                stack.extend(neighbours(c).filter(|&d| cavity[d] && label[d] == usize::MAX));
+            }
+        }
+        label
+    };
+    let mut cavity = vec![false; nx * ny];
+    let mut well_column = vec![];
+    for w in &placed {
+        let r = w.radii.last().unwrap().max(w.reach);
+        for j in 0..ny {
+            for i in 0..nx {
+                let d = distance_to_polygon(w.centre, &quad_points(i, j));
+                if d < r {
+                    cavity[col(i, j)] = true;
+                }
+                if d == 0.0 && well_column.len() < placed.len() {
+                    well_column.push(col(i, j));
+                }
+            }
+        }
+    }
+    grow(&mut cavity, &|_| false);
+    for _ in 0..opts.margin {
+        grow(&mut cavity, &|_| true);
+    }
+
+    // The transition problem: cavity boundaries (column sides between a
+    // cavity column and anything else) and the wells' outer polygons, with
+    // a hole at each well. When system 3 is infeasible, the cavities beside
+    // the failing segments grow by a ring of cells and the problem is redone.
+    let m = opts.sectors;
+    let mut notes = vec![];
+    let (cx, out, outer_pieces) = loop {
+        let mut cx = Complex::default();
+        let mut owner = vec![]; // per segment, the cavity column it bounds
+        let mut outer_pieces: Vec<(u32, u32)> = vec![]; // on the outer boundary
+        let mut vid: FastMap<u32, u32> = FastMap::default();
+        let mut vertex = |cx: &mut Complex, p: u32| -> u32 {
+            *vid.entry(p).or_insert_with(|| {
+                cx.points.push(view.pillar[p as usize]);
+                cx.points.len() as u32 - 1
+            })
+        };
+        for j in 0..ny {
+            for i in 0..nx {
+                if !cavity[col(i, j)] {
+                    continue;
+                }
+                let sides = [
+                    ((i, j.wrapping_sub(1)), (view.pid(i, j), view.pid(i + 1, j))),
+                    ((i + 1, j), (view.pid(i + 1, j), view.pid(i + 1, j + 1))),
+                    ((i, j + 1), (view.pid(i + 1, j + 1), view.pid(i, j + 1))),
+                    ((i.wrapping_sub(1), j), (view.pid(i, j + 1), view.pid(i, j))),
+                ];
+                for ((a, b), (p, q)) in sides {
+                    if a < nx && b < ny && cavity[col(a, b)] {
+                        continue;
+                    }
+                    let (u, v) = (vertex(&mut cx, p), vertex(&mut cx, q));
+                    // A side on the mesh's outer boundary (no cell across)
+                    // may take extra vertices: split it into pieces no
+                    // longer than its distance to the nearest well polygon,
+                    // so that a well near the edge does not make system 3
+                    // infeasible.
+                    let outer_side = !(a < nx && b < ny && grid.active(a, b, k));
+                    let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
+                    let pieces = if outer_side {
+                        let gap = placed
+                            .iter()
+                            .map(|w| to_segment(w.centre, [pp, pq]) - w.radii.last().unwrap())
+                            .fold(f64::INFINITY, f64::min);
+                        let len = (pq[0] - pp[0]).hypot(pq[1] - pp[1]);
+                        ((len / gap.max(len / 64.0)).ceil() as usize).clamp(1, 64)
+                    } else {
+                        1
+                    };
+                    let mut from = u;
+                    for piece in 1..=pieces {
+                        let to = if piece == pieces {
+                            v
+                        } else {
+                            let t = piece as f64 / pieces as f64;
+                            cx.points
+                                .push([pp[0] + t * (pq[0] - pp[0]), pp[1] + t * (pq[1] - pp[1])]);
+                            cx.points.len() as u32 - 1
+                        };
+                        cx.segments.push([from, to]);
+                        owner.push(col(i, j));
+                        if outer_side {
+                            outer_pieces.push((from, to));
+                        }
+                        from = to;
+                    }
+                }
+            }
+        }
+        for (w, &c) in placed.iter().zip(&well_column) {
+            let r = *w.radii.last().unwrap();
+            let first = cx.points.len() as u32;
+            for s in 0..m {
+                cx.points.push(polygon_point(w.centre, r, s, m));
+            }
+            for s in 0..m as u32 {
+                cx.segments.push([first + s, first + (s + 1) % m as u32]);
+                owner.push(c);
+            }
+            cx.holes.push(w.centre);
+        }
+        let cx = Complex {
+            holes: cx.holes,
+            ..Complex::new(cx.points, cx.segments)
+        };
+        match conform(backend, &cx, &Options::default()) {
+            Ok(out) => break (cx, out, outer_pieces),
+            Err(Error::SegmentsMissTheirDuals { segments, .. }) if notes.len() < MAX_GROWTH => {
+                let label = components(&cavity);
+                let grown: crate::FastSet<usize> =
+                    segments.iter().map(|&s| label[owner[s as usize]]).collect();
+                let names: Vec<String> = placed
+                    .iter()
+                    .zip(&well_column)
+                    .filter(|(_, &c)| grown.contains(&label[c]))
+                    .map(|(w, _)| w.name.clone())
+                    .collect();
+                notes.push(format!(
+                    "system 3 infeasible for {} segments: the cavity around {} grew by a ring of cells",
+                    segments.len(),
+                    if names.is_empty() { "no well".to_string() } else { names.join(", ") }
+                ));
+                grow(&mut cavity, &|c| grown.contains(&label[c]));
+            }
+            Err(e) => return Err(e),
+        }
+    };
+    let cavity_cells = cavity.iter().filter(|&&c| c).count();
+
+    // Assemble: points shared by exact coordinates.
+    let mut mesh = Mesh::default();
+    let mut index: FastMap<[u64; 2], u32> = FastMap::default();
+    let mut point = |mesh: &mut Mesh, p: [f64; 2]| -> u32 {
+        *index
+            .entry(p.map(|x| (x + 0.0).to_bits()))
+            .or_insert_with(|| {
+                mesh.points.push(p);
+                mesh.points.len() as u32 - 1
+            })
+    };
+    let mut region = vec![];
+    let mut ijk = vec![];
+    for j in 0..ny {
+        for i in 0..nx {
+            if cavity[col(i, j)] || !grid.active(i, j, k) {
+                continue;
+            }
+            let q = quad_points(i, j);
+            let cell: Vec<u32> = q.iter().map(|&p| point(&mut mesh, p)).collect();
+            mesh.cells.push(cell);
+            let c = view.centroid(i, j);
+            mesh.sites.push(c);
+            // The corners have equal power: a rectangle's cells are then
+            // the power cells of their centres.
+            mesh.weights
+                .push((q[0][0] - c[0]).powi(2) + (q[0][1] - c[1]).powi(2));
+            region.push(Region::Reservoir);
+            ijk.push(Some([i, j, k]));
+        }
+    }
+    let t = &out.mesh;
+    for (c, cell) in t.cells.iter().enumerate() {
+        let cell: Vec<u32> = cell
+            .iter()
+            .map(|&p| point(&mut mesh, t.points[p as usize]))
+            .collect();
+        mesh.cells.push(cell);
+        mesh.sites.push(t.sites[c]);
+        mesh.weights.push(t.weights[c]);
+        region.push(Region::Transition);
+        ijk.push(None);
+    }
+    for w in &placed {
+        let r = &w.radii;
+        // Sites at the geometric mean radius, on the mid-angle rays: the ring
+        // faces are chords perpendicular to those rays, the sector faces
+        // their bisectors. Weights make each chord the radical line of the
+        // sites beside it.
+        let half = TAU / (2 * m) as f64;
+        let rho: Vec<f64> = (0..opts.rings).map(|q| (r[q] * r[q + 1]).sqrt()).collect();
+        let mut wt = vec![0.0; opts.rings];
+        for q in 1..opts.rings {
+            let h = r[q] * half.cos();
+            wt[q] = wt[q - 1] + rho[q] * rho[q]
+                - rho[q - 1] * rho[q - 1]
+                - 2.0 * h * (rho[q] - rho[q - 1]);
+        }
+        for q in 0..opts.rings {
+            for s in 0..m {
+                // The outer ring's corners are the transition's input
+                // vertices: the very same doubles (angle index taken mod m).
+                let corners = [(q, s), (q + 1, s), (q + 1, (s + 1) % m), (q, (s + 1) % m)];
+                let cell: Vec<u32> = corners
+                    .iter()
+                    .map(|&(rq, sq)| point(&mut mesh, polygon_point(w.centre, r[rq], sq, m)))
+                    .collect();
+                mesh.cells.push(cell);
+                let a = TAU * (s as f64 + 0.5) / m as f64;
+                mesh.sites.push([
+                    w.centre[0] + rho[q] * a.cos(),
+                    w.centre[1] + rho[q] * a.sin(),
+                ]);
+                mesh.weights.push(wt[q]);
+                region.push(Region::Well);
+                ijk.push(None);
+            }
+        }
+    }
+    let sizes = |r: Region| region.iter().filter(|&&x| x == r).count();
+    let cells = [
+        sizes(Region::Reservoir),
+        sizes(Region::Transition),
+        sizes(Region::Well),
+    ];
+    let (lo, hi) = crate::mesh::bbox(&mesh.points);
+    mesh.size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    // The outer boundary: sides of active columns next to inactive ones or
+    // the grid's edge. Every other cell edge must have a twin.
+    let active = |i: i64, j: i64| {
+        i >= 0
+            && j >= 0
+            && (i as usize) < nx
+            && (j as usize) < ny
+            && grid.active(i as usize, j as usize, k)
+    };
+    let mut boundary = crate::FastSet::default();
+    for j in 0..ny as i64 {
+        for i in 0..nx as i64 {
+            if !active(i, j) {
+                continue;
+            }
+            let q = quad_points(i as usize, j as usize);
+            let ids: Vec<u32> = q.iter().map(|&p| point(&mut mesh, p)).collect();
+            for e in 0..4 {
+                let (a, b) = (ids[e], ids[(e + 1) % 4]);
+                let mid = [
+                    (q[e][0] + q[(e + 1) % 4][0]) / 2.0,
+                    (q[e][1] + q[(e + 1) % 4][1]) / 2.0,
+                ];
+                // the column across this side
+                let across = [(0, -1), (1, 0), (0, 1), (-1, 0)]
+                    .iter()
+                    .map(|&(di, dj)| (i + di, j + dj))
+                    .find(|&(a2, b2)| {
+                        a2 >= 0
+                            && b2 >= 0
+                            && (a2 as usize) < nx
+                            && (b2 as usize) < ny
+                            && distance_to_polygon(mid, &quad_points(a2 as usize, b2 as usize))
+                                == 0.0
+                    });
+                if across.is_none_or(|(a2, b2)| !active(a2, b2)) {
+                    boundary.insert((a, b));
+                }
+            }
+        }
+    }
+    for &(a, b) in &outer_pieces {
+        let (pa, pb) = (cx.points[a as usize], cx.points[b as usize]);
+        let (ia, ib) = (point(&mut mesh, pa), point(&mut mesh, pb));
+        // the piece lies on the boundary one way or the other
+        boundary.insert((ia, ib));
+        boundary.insert((ib, ia));
+    }
+    for w in &placed {
+        for sct in 0..m {
+            let a = point(&mut mesh, polygon_point(w.centre, w.radii[0], sct, m));
+            let b = point(
+                &mut mesh,
+                polygon_point(w.centre, w.radii[0], (sct + 1) % m, m),
+            );
+            boundary.insert((b, a)); // the wellbore, seen from its cells
+        }
+    }
+    let unmatched = mesh.match_faces(&boundary);
+    let cavities = {
+        let label = components(&cavity);
+        (0..nx * ny).filter(|&c| label[c] == c).count()
+    };
+    let mut defect: Vec<(String, f64)> = vec![];
+    let name = |r: Region| match r {
+        Region::Reservoir => "reservoir",
+        Region::Transition => "transition",
+        Region::Well => "well",
+    };
+    for &[a, b, c, d] in &mesh.faces {
+        let (ra, rb) = (region[c as usize], region[d as usize]);
+        let (lo, hi) = if (ra as u8) <= (rb as u8) {
+            (ra, rb)
+        } else {
+            (rb, ra)
+        };
+        let key = format!("{}-{}", name(lo), name(hi));
+        let v = mesh.face_defect([a, b, c, d]);
+        match defect.iter_mut().find(|(k, _)| *k == key) {
+            Some(e) => e.1 = e.1.max(v),
+            None => defect.push((key, v)),
+        }
+    }
+    defect.sort_by(|x, y| x.0.cmp(&y.0));
+    let report = HybridReport {
+        layer: k,
+        wells: placed.iter().map(|w| w.name.clone()).collect(),
+        cavities,
+        cavity_cells,
+        cells,
+        orthogonality_defect: defect,
+        unmatched_faces: unmatched,
+        notes,
+        transition: out.report,
+    };
+    Ok(Hybrid {
+        mesh,
+        region,
+        ijk,
+        constraints: cx,
+        report,
+    })
+}
