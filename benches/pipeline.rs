@@ -9,6 +9,8 @@ use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
 use orthomesh::backend::{default_backend, Backend};
 use orthomesh::conform::{conform, Options};
 use orthomesh::generate::{cavities, staggered_chains};
+use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
+use orthomesh::io::eclipse::{read_grid, read_wells};
 use orthomesh::Complex;
 use std::time::{Duration, Instant};
 
@@ -93,6 +95,23 @@ fn ratios() {
             break;
         }
     }
+    let (grid, wells) = spe9_hybrid();
+    let t = Instant::now();
+    let h = hybrid::build(&b, &grid, &wells, &HybridOptions::default());
+    eprintln!(
+        "{:<34} {:>9} {:>12.1}  {}",
+        format!("{}/SPE9 top layer, 26 wells (hybrid)", b.name()),
+        h.as_ref().map_or(0, |h| h.report.transition.segments),
+        t.elapsed().as_secs_f64() * 1e3,
+        match &h {
+            Ok(h) => format!(
+                "{} cells, weights {}",
+                h.mesh.cells.len(),
+                h.report.transition.weights.method
+            ),
+            Err(e) => format!("error: {e}"),
+        }
+    );
     for (r, c) in [(10, 101), (32, 314)] {
         if row(
             format!("{}/staggered chains {r}x{c} (LP)", b.name()),
@@ -152,7 +171,41 @@ fn conform_pipeline(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, regular_triangulation, conform_pipeline);
+/// The SPE9 grid's top layer with all 26 wells of its deck (issue target:
+/// well under a second).
+fn spe9_hybrid() -> (orthomesh::io::eclipse::CornerPointGrid, Vec<WellInput>) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
+    let grid = read_grid(&dir.join("SPE9.GRDECL")).unwrap();
+    let (wells, _) = read_wells(&dir.join("SPE9_CP.DATA")).unwrap();
+    let wells = wells
+        .into_iter()
+        .map(|w| WellInput {
+            name: w.name,
+            at: WellAt::Column(w.i, w.j),
+            radius: w.radius.unwrap_or(0.5),
+        })
+        .collect();
+    (grid, wells)
+}
+
+fn hybrid_pipeline(c: &mut Criterion) {
+    let b = default_backend();
+    let (grid, wells) = spe9_hybrid();
+    let mut g = c.benchmark_group("hybrid");
+    g.sample_size(10).measurement_time(Duration::from_secs(5));
+    g.bench_function(
+        BenchmarkId::new(b.name(), "spe9-top-layer-26-wells"),
+        |bench| bench.iter(|| hybrid::build(&b, &grid, &wells, &HybridOptions::default()).unwrap()),
+    );
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    regular_triangulation,
+    conform_pipeline,
+    hybrid_pipeline
+);
 
 fn main() {
     // `cargo bench` passes --bench; `cargo test --benches` runs each

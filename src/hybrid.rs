@@ -48,16 +48,15 @@ pub struct HybridOptions {
 
 impl Default for HybridOptions {
     fn default() -> Self {
-        // method.md section 6: a radial mesh close to the cavity sides and
-        // many sectors keep two-point flux near the radial solution. An
-        // outer radius of 0.9 cells reaches the 8 neighbours: a 3 x 3
-        // cavity, 0.6 cells between the well polygon and its sides, and
-        // room for wells three columns apart.
+        // The flow check (tests/flow.rs) against Thiem's solution: 0.02% off
+        // with these (5 x 5-cell cavity, well polygon 0.6 cells from its
+        // sides, method.md section 6); 0.5-1% with an outer radius of 0.9
+        // cells; 3% with 4 rings. Crowded wells get smaller radial meshes.
         HybridOptions {
             layer: 0,
-            rings: 8,
+            rings: 12,
             sectors: 32,
-            outer: 0.9,
+            outer: 1.9,
             margin: 0,
         }
     }
@@ -81,10 +80,46 @@ pub struct Hybrid {
     pub ijk: Vec<Option<[usize; 3]>>,
     /// The transition meshes' constraints: cavity boundaries, well polygons.
     pub constraints: Complex,
+    /// Per cell: thickness and mid-depth (the reservoir cell's own; the
+    /// layer's mean for transition and well cells).
+    pub thickness: Vec<f64>,
+    pub depth: Vec<f64>,
     pub report: HybridReport,
 }
 
 impl Hybrid {
+    /// The TOUGH2 MESH text: an element per cell at its site and mid-depth
+    /// (z up), volume = area x thickness; a connection per interior face
+    /// with each site's distance to the face, the face's area (length x
+    /// mean thickness) and the gravity cosine from the depths.
+    pub fn tough(&self) -> Result<String> {
+        use crate::io::tough::{Connection, Element};
+        let m = &self.mesh;
+        let elements: Vec<Element> = (0..m.cells.len())
+            .map(|c| Element {
+                volume: m.area(&m.cells[c]) * self.thickness[c],
+                node: [m.sites[c][0], m.sites[c][1], -self.depth[c]],
+            })
+            .collect();
+        let conns = crate::flow::connections(m)
+            .into_iter()
+            .map(|c| {
+                let [a, b] = c.cells.map(|x| x as usize);
+                let (sa, sb) = (m.sites[a], m.sites[b]);
+                let (dx, dy, dz) = (sb[0] - sa[0], sb[1] - sa[1], self.depth[b] - self.depth[a]);
+                let len = (dx * dx + dy * dy + dz * dz).sqrt();
+                Connection {
+                    elements: [a, b],
+                    isot: if dx.abs() >= dy.abs() { 1 } else { 2 },
+                    d: c.d,
+                    area: c.area * (self.thickness[a] + self.thickness[b]) / 2.0,
+                    cos_gravity: if len > 0.0 { dz / len } else { 0.0 },
+                }
+            })
+            .collect::<Vec<_>>();
+        crate::io::tough::to_string(&elements, &conns, "ROCK1")
+    }
+
     /// The .vtu text: polygons with cell data site, weight, region (0
     /// reservoir, 1 transition, 2 well) and ijk (1-based; -1 elsewhere).
     pub fn vtu(&self) -> String {
@@ -118,6 +153,11 @@ pub struct HybridReport {
     /// of regions: reservoir-reservoir, reservoir-transition,
     /// transition-transition, transition-well, well-well.
     pub orthogonality_defect: Vec<(String, f64)>,
+    /// Two-point transmissibilities (unit permeability): all connections,
+    /// and those touching the transition or well regions (where none may be
+    /// negative or non-orthogonal).
+    pub transmissibility: crate::flow::TransmissibilityStats,
+    pub transmissibility_near_wells: crate::flow::TransmissibilityStats,
     /// Faces that are not shared by two cells nor on the outer boundary: 0
     /// for a conforming mesh (no hanging nodes).
     pub unmatched_faces: usize,
@@ -238,9 +278,8 @@ fn distance_to_polygon(x: [f64; 2], p: &[[f64; 2]]) -> f64 {
     }
 }
 
-/// One well placed: centre, radii of its rings, and how far its cavity
-/// reaches: at least the 8 columns around it, so that the well polygon is
-/// never close to a long cavity side (system 3 would fail).
+/// One well placed: centre, radii of its rings, and the shortest side of
+/// its column (`reach`), which sets how far its cavity extends.
 struct Placed {
     name: String,
     centre: [f64; 2],
@@ -332,7 +371,7 @@ pub fn build<B: Backend + ?Sized>(
             name: w.name.clone(),
             centre,
             radii: vec![w.radius, opts.outer * side],
-            reach: 0.75 * side,
+            reach: side,
         });
     }
     // A radial mesh reaches at most 0.3 of the way to the nearest other
@@ -460,7 +499,10 @@ pub fn build<B: Backend + ?Sized>(
     let mut cavity = vec![false; nx * ny];
     let mut well_column = vec![];
     for w in &placed {
-        let r = w.radii.last().unwrap().max(w.reach);
+        // Columns within half a cell of the well polygon: its distance to the
+        // cavity sides is then at least half their length, and they stay
+        // Gabriel (zero weights do).
+        let r = (w.radii.last().unwrap() + 0.5 * w.reach).max(0.75 * w.reach);
         for j in 0..ny {
             for i in 0..nx {
                 let d = distance_to_polygon(w.centre, &quad_points(i, j));
@@ -601,6 +643,27 @@ pub fn build<B: Backend + ?Sized>(
     };
     let mut region = vec![];
     let mut ijk = vec![];
+    let (mut thickness, mut depth) = (vec![], vec![]);
+    let column = |i: usize, j: usize| {
+        let z: Vec<f64> = (0..8).map(|c| grid.corner(i, j, k, c)[2]).collect();
+        let h = (4..8).map(|c| z[c] - z[c - 4]).sum::<f64>() / 4.0;
+        (h, z.iter().sum::<f64>() / 8.0)
+    };
+    let (mut h_sum, mut d_sum, mut n_active) = (0.0, 0.0, 0usize);
+    for j in 0..ny {
+        for i in 0..nx {
+            if grid.active(i, j, k) {
+                let (h, d) = column(i, j);
+                h_sum += h;
+                d_sum += d;
+                n_active += 1;
+            }
+        }
+    }
+    let layer = (
+        h_sum / n_active.max(1) as f64,
+        d_sum / n_active.max(1) as f64,
+    );
     for j in 0..ny {
         for i in 0..nx {
             if cavity[col(i, j)] || !grid.active(i, j, k) {
@@ -617,6 +680,9 @@ pub fn build<B: Backend + ?Sized>(
                 .push((q[0][0] - c[0]).powi(2) + (q[0][1] - c[1]).powi(2));
             region.push(Region::Reservoir);
             ijk.push(Some([i, j, k]));
+            let (h, d) = column(i, j);
+            thickness.push(h);
+            depth.push(d);
         }
     }
     let t = &out.mesh;
@@ -630,15 +696,23 @@ pub fn build<B: Backend + ?Sized>(
         mesh.weights.push(t.weights[c]);
         region.push(Region::Transition);
         ijk.push(None);
+        thickness.push(layer.0);
+        depth.push(layer.1);
     }
     for w in &placed {
         let r = &w.radii;
-        // Sites at the geometric mean radius, on the mid-angle rays: the ring
-        // faces are chords perpendicular to those rays, the sector faces
-        // their bisectors. Weights make each chord the radical line of the
-        // sites beside it.
+        // Sites on the mid-angle rays, at beta r_q: the ring faces are chords
+        // perpendicular to those rays, the sector faces their bisectors, and
+        // beta makes every ring-to-ring link carry radial flow exactly: with
+        // r_{q+1} = alpha r_q, the two-point transmissibility of the chord,
+        // 2 r_{q+1} sin(h) / (rho_{q+1} - rho_q), equals the sector's radial
+        // one, 2h / ln(alpha) (method.md section 6; beats the geometric mean
+        // and the mid-radius). Weights make each chord the radical line of
+        // the sites beside it.
         let half = TAU / (2 * m) as f64;
-        let rho: Vec<f64> = (0..opts.rings).map(|q| (r[q] * r[q + 1]).sqrt()).collect();
+        let alpha = r[1] / r[0];
+        let beta = alpha * half.sin() * alpha.ln() / (half * (alpha - 1.0));
+        let rho: Vec<f64> = (0..opts.rings).map(|q| beta * r[q]).collect();
         let mut wt = vec![0.0; opts.rings];
         for q in 1..opts.rings {
             let h = r[q] * half.cos();
@@ -664,6 +738,8 @@ pub fn build<B: Backend + ?Sized>(
                 mesh.weights.push(wt[q]);
                 region.push(Region::Well);
                 ijk.push(None);
+                thickness.push(layer.0);
+                depth.push(layer.1);
             }
         }
     }
@@ -759,7 +835,14 @@ pub fn build<B: Backend + ?Sized>(
         }
     }
     defect.sort_by(|x, y| x.0.cmp(&y.0));
+    let conns = crate::flow::connections(&mesh);
+    let transmissibility = crate::flow::stats(&mesh, &conns, |_| true);
+    let transmissibility_near_wells = crate::flow::stats(&mesh, &conns, |c| {
+        c.iter().any(|&x| region[x as usize] != Region::Reservoir)
+    });
     let report = HybridReport {
+        transmissibility,
+        transmissibility_near_wells,
         layer: k,
         wells: placed.iter().map(|w| w.name.clone()).collect(),
         cavities,
@@ -775,6 +858,8 @@ pub fn build<B: Backend + ?Sized>(
         region,
         ijk,
         constraints: cx,
+        thickness,
+        depth,
         report,
     })
 }

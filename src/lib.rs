@@ -38,6 +38,7 @@ pub mod diagram;
 pub mod domain;
 pub mod error;
 pub mod exact;
+pub mod flow;
 pub mod generate;
 pub mod hybrid;
 pub mod io;

@@ -29,19 +29,16 @@ fn write(tag: &str, h: &orthomesh::hybrid::Hybrid) {
     if let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") {
         let path = Path::new(&dir).join(format!("hybrid-{tag}.vtu"));
         orthomesh::io::write_atomic(&path, h.vtu().as_bytes()).unwrap();
+        let mesh = Path::new(&dir).join(format!("hybrid-{tag}.tough"));
+        orthomesh::io::write_atomic(&mesh, h.tough().unwrap().as_bytes()).unwrap();
     }
 }
 
 #[test]
 fn spe9_top_layer_with_all_26_wells() {
     let g = read_grid(&data("SPE9.GRDECL")).unwrap();
-    let h = build(
-        &default_backend(),
-        &g,
-        &spe9_wells(),
-        &HybridOptions::default(),
-    )
-    .unwrap();
+    let opts = HybridOptions::default();
+    let h = build(&default_backend(), &g, &spe9_wells(), &opts).unwrap();
     let r = &h.report;
     assert_eq!(r.wells.len(), 26);
     assert_eq!(r.unmatched_faces, 0, "hanging nodes or overlaps");
@@ -49,7 +46,10 @@ fn spe9_top_layer_with_all_26_wells() {
     assert!(c.conforms() && c.sites_inside_cells, "{:?}", c.problems);
     // Every column is a reservoir cell or part of a cavity.
     assert_eq!(r.cells[0] + r.cavity_cells, 24 * 25);
-    assert_eq!(r.cells[2], 26 * 8 * 32);
+    assert_eq!(r.cells[2], 26 * opts.rings * opts.sectors);
+    let t = &r.transmissibility;
+    assert_eq!((t.negative, t.non_orthogonal), (0, 0));
+    assert!(t.connections > h.mesh.cells.len());
     for (pair, d) in &r.orthogonality_defect {
         assert!(*d < 1e-9, "{pair}: {d}");
     }

@@ -70,7 +70,38 @@ def check_grid(path):
     assert worst <= tol, f"{path}: corners differ from resdata's by {worst} (tolerance {tol})"
     return nx * ny * nz, worst
 
+def check_tough(path):
+    """Reads a TOUGH2 MESH with PyTOUGH and toughio; the element count must be
+    the .vtu's cell count, volumes, distances and areas positive."""
+    import t2data, toughio
+    from t2grids import t2grid
+    d = t2data.t2data()
+    d.grid = t2grid()
+    d.grid.add_rocktype(t2data.rocktype("ROCK1"))
+    f = t2data.t2data_parser(str(path), "r", read_function=d.read_function)
+    d.read_meshfile(f)
+    f.close()
+    vtu = path.with_suffix(".vtu")
+    cells = vtk_cells(vtu)
+    assert d.grid.num_blocks == cells, f"{path}: PyTOUGH reads {d.grid.num_blocks} elements, the .vtu has {cells} cells"
+    assert all(b.volume > 0 for b in d.grid.blocklist), f"{path}: a volume is not positive"
+    for c in d.grid.connectionlist:
+        assert c.distance[0] > 0 and c.distance[1] > 0 and c.area > 0, f"{path}: {c.block[0].name}-{c.block[1].name}"
+    m = toughio.read_input(str(path))
+    assert len(m["elements"]) == cells, f"{path}: toughio reads {len(m['elements'])} elements"
+    assert len(m["connections"]) == d.grid.num_connections, f"{path}: toughio and PyTOUGH disagree on connections"
+    return cells, d.grid.num_connections
+
+def vtk_cells(path):
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(str(path))
+    r.Update()
+    return r.GetOutput().GetNumberOfCells()
+
 def main(folder):
+    for f in sorted(pathlib.Path(folder).rglob("*.tough")):
+        cells, conns = check_tough(f)
+        print(f"PyTOUGH and toughio agree: {f.name}: {cells} elements, {conns} connections")
     for f in sorted(pathlib.Path(folder).rglob("*.corners.json")):
         cells, worst = check_grid(f)
         print(f"resdata agrees: {f.name}: {cells} cells, corners within {worst:.2e}")

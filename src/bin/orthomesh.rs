@@ -66,17 +66,20 @@ enum Command {
         #[arg(long, default_value_t = 1)]
         layer: usize,
         /// Rings of each radial mesh.
-        #[arg(long, default_value_t = 8)]
+        #[arg(long, default_value_t = 12)]
         rings: usize,
         /// Sectors of each radial mesh.
         #[arg(long, default_value_t = 32)]
         sectors: usize,
         /// Outer radius of the radial meshes, in shortest sides of the well's cell.
-        #[arg(long, default_value_t = 0.9)]
+        #[arg(long, default_value_t = 1.9)]
         outer: f64,
         /// Layers of cells added to each cavity around what the radial mesh reaches.
         #[arg(long, default_value_t = 0)]
         margin: usize,
+        /// Also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
+        #[arg(long, value_name = "MESH")]
+        tough: Option<PathBuf>,
         #[command(flatten)]
         out: Outputs,
     },
@@ -153,6 +156,7 @@ fn run(cmd: Command) -> Result<()> {
             sectors,
             outer,
             margin,
+            tough,
             out:
                 Outputs {
                     output,
@@ -209,6 +213,9 @@ fn run(cmd: Command) -> Result<()> {
             };
             let h = hybrid::build(&default_backend(), &g, &list, &opts)?;
             let mut texts = vec![(output.clone(), h.vtu())];
+            if let Some(p) = tough {
+                texts.push((p, h.tough()?));
+            }
             if let Some(p) = svg {
                 let inside = vec![true; h.mesh.cells.len()];
                 texts.push((p, io::svg::to_string(&h.mesh, &inside, &h.constraints)));

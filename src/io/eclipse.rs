@@ -231,6 +231,39 @@ pub struct CornerPointGrid {
 }
 
 impl CornerPointGrid {
+    /// A Cartesian block grid of nx x ny x nz cells of size dx, dy, dz,
+    /// all active, from the origin, depth increasing with k.
+    pub fn cartesian(n: [usize; 3], d: [f64; 3]) -> CornerPointGrid {
+        let [nx, ny, nz] = n;
+        let coord = (0..=ny)
+            .flat_map(|j| {
+                (0..=nx).map(move |i| {
+                    let (x, y) = (i as f64 * d[0], j as f64 * d[1]);
+                    [x, y, 0.0, x, y, nz as f64 * d[2]]
+                })
+            })
+            .collect();
+        let mut zcorn = vec![0.0; 8 * nx * ny * nz];
+        for k in 0..nz {
+            for b in 0..2 {
+                let z = (k + b) as f64 * d[2];
+                for r in 0..4 * nx * ny {
+                    zcorn[(2 * k + b) * 4 * nx * ny + r] = z;
+                }
+            }
+        }
+        CornerPointGrid {
+            nx,
+            ny,
+            nz,
+            coord,
+            zcorn,
+            actnum: vec![true; nx * ny * nz],
+            mapaxes: None,
+            faults: vec![],
+        }
+    }
+
     pub fn cell_index(&self, i: usize, j: usize, k: usize) -> usize {
         i + self.nx * (j + self.ny * k)
     }
@@ -569,6 +602,13 @@ ACTNUM 1 /
         assert_eq!(g.corner(0, 0, 0, 7), [1.0, 1.0, 1.0]);
         assert_eq!(g.corner(0, 0, 0, 2), [0.0, 1.0, 0.0]);
         assert!(g.active(0, 0, 0));
+    }
+
+    #[test]
+    fn cartesian_grids_have_box_cells() {
+        let g = CornerPointGrid::cartesian([3, 2, 2], [10.0, 5.0, 2.0]);
+        assert_eq!(g.corner(2, 1, 1, 7), [30.0, 10.0, 4.0]);
+        assert_eq!(g.corner(1, 0, 1, 0), [10.0, 0.0, 2.0]);
     }
 
     #[test]

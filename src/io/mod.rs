@@ -4,6 +4,7 @@ pub mod eclipse;
 pub mod edg;
 pub mod poly;
 pub mod svg;
+pub mod tough;
 pub mod vtu;
 
 use crate::complex::Complex;

@@ -1,0 +1,155 @@
+//! TOUGH2 `MESH` files (ELEME and CONNE blocks, fixed columns; formats.md):
+//! elements with their volume and node (the site, not the centroid), and
+//! connections with the distances from each node to the interface (they
+//! differ in a power diagram), the interface area and the gravity cosine.
+
+use crate::error::{Error, Result};
+use std::fmt::Write;
+
+/// An element: volume and node position (x, y, z; z up).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Element {
+    pub volume: f64,
+    pub node: [f64; 3],
+}
+
+/// A connection between elements a and b.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Connection {
+    pub elements: [usize; 2],
+    /// Permeability index: 1, 2 or 3.
+    pub isot: u8,
+    pub d: [f64; 2],
+    pub area: f64,
+    /// Cosine of the angle between gravity and the line from a to b
+    /// (positive when b is below a).
+    pub cos_gravity: f64,
+}
+
+/// Element names: three characters (a letter, then letters or digits) and
+/// two digits, as TOUGH reads them: 26 x 36 x 36 x 100 names.
+pub fn name(n: usize) -> Result<String> {
+    const MAX: usize = 26 * 36 * 36 * 100;
+    if n >= MAX {
+        return Err(Error::Usage(format!(
+            "{n} elements: TOUGH's five-character names run out at {MAX}"
+        )));
+    }
+    let digits = b"0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ";
+    let (head, tail) = (n / 100, n % 100);
+    let c = [
+        (b'A' + (head / (36 * 36)) as u8) as char,
+        digits[(head / 36) % 36] as char,
+        digits[head % 36] as char,
+    ];
+    Ok(format!("{}{}{}{tail:02}", c[0], c[1], c[2]))
+}
+
+/// A real in ten columns, as many digits as fit (Fortran E10.4 or better).
+fn e10(x: f64) -> String {
+    for digits in (1..=5).rev() {
+        let s = format!("{x:.digits$E}");
+        // Rust writes 1.2345E2: give the exponent a sign and two digits.
+        let (m, e) = s.split_once('E').expect("exponent");
+        let e: i32 = e.parse().expect("exponent");
+        let t = format!("{m}E{}{:02}", if e < 0 { '-' } else { '+' }, e.abs());
+        if t.len() <= 10 {
+            return format!("{t:>10}");
+        }
+    }
+    format!("{:>10}", if x < 0.0 { "-9.9E+99" } else { "9.9E+99" })
+}
+
+/// The MESH file text. All elements get rock type `rock` (5 characters).
+pub fn to_string(elements: &[Element], connections: &[Connection], rock: &str) -> Result<String> {
+    let mut s = String::with_capacity(81 * (elements.len() + connections.len()) + 64);
+    s.push_str("ELEME\n");
+    let names: Vec<String> = (0..elements.len()).map(name).collect::<Result<_>>()?;
+    for (e, n) in elements.iter().zip(&names) {
+        if !(e.volume.is_finite() && e.node.iter().all(|x| x.is_finite())) {
+            return Err(Error::Usage(format!(
+                "element {n}: non-finite volume or node"
+            )));
+        }
+        let _ = writeln!(
+            s,
+            "{n:5}{:10}{rock:>5}{}{:20}{}{}{}",
+            "",
+            e10(e.volume),
+            "",
+            e10(e.node[0]),
+            e10(e.node[1]),
+            e10(e.node[2])
+        );
+    }
+    s.push_str("\nCONNE\n");
+    for c in connections {
+        let _ = writeln!(
+            s,
+            "{}{}{:15}{:5}{}{}{}{}",
+            names[c.elements[0]],
+            names[c.elements[1]],
+            "",
+            c.isot,
+            e10(c.d[0]),
+            e10(c.d[1]),
+            e10(c.area),
+            e10(c.cos_gravity)
+        );
+    }
+    s.push('\n');
+    Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_with_two_digits_last() {
+        assert_eq!(name(0).unwrap(), "A0000");
+        assert_eq!(name(123).unwrap(), "A0123");
+        assert_eq!(name(3600).unwrap(), "A1000");
+        assert_eq!(name(129599).unwrap(), "AZZ99");
+        assert_eq!(name(129600).unwrap(), "B0000");
+        assert!(name(26 * 36 * 36 * 100).is_err());
+    }
+
+    #[test]
+    fn reals_fill_ten_columns() {
+        for (x, want) in [
+            (1234.5, "1.2345E+03"),
+            (-0.000125, "-1.250E-04"),
+            (0.0, "0.0000E+00"),
+        ] {
+            assert_eq!(e10(x), want);
+        }
+        assert_eq!(e10(1e-300).len(), 10);
+    }
+
+    #[test]
+    fn columns_are_where_tough_reads_them() {
+        let e = Element {
+            volume: 100.0,
+            node: [5.0, 5.0, -0.5],
+        };
+        let c = Connection {
+            elements: [0, 1],
+            isot: 1,
+            d: [5.0, 5.0],
+            area: 10.0,
+            cos_gravity: 0.0,
+        };
+        let text = to_string(&[e.clone(), e], &[c], "ROCK1").unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(&lines[1][0..5], "A0000");
+        assert_eq!(&lines[1][15..20], "ROCK1");
+        assert_eq!(&lines[1][20..30], "1.0000E+02");
+        assert_eq!(&lines[1][50..60], "5.0000E+00");
+        assert_eq!(&lines[1][70..80], "-5.000E-01");
+        let conne = lines.iter().position(|l| *l == "CONNE").unwrap() + 1;
+        assert_eq!(&lines[conne][0..10], "A0000A0001");
+        assert_eq!(&lines[conne][25..30], "    1");
+        assert_eq!(&lines[conne][50..60], "1.0000E+01");
+    }
+}
