@@ -167,6 +167,11 @@ pub struct HybridReport {
     pub transition: Report,
 }
 
+/// The map position of every pillar for layer k (index j (nx+1) + i).
+pub(crate) fn map_view(g: &CornerPointGrid, k: usize) -> Vec<[f64; 2]> {
+    MapView::new(g, k).pillar
+}
+
 /// Map view of one layer: a point per pillar, a quadrilateral per column.
 struct MapView {
     pillar: Vec<[f64; 2]>,

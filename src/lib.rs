@@ -42,6 +42,7 @@ pub mod flow;
 pub mod generate;
 pub mod hybrid;
 pub mod io;
+pub mod layers;
 pub mod mesh;
 pub mod relocate;
 pub mod sites;

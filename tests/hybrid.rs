@@ -93,3 +93,50 @@ fn bad_wells_are_errors() {
         .to_string();
     assert!(e.contains("at least one well"), "{e}");
 }
+
+#[test]
+fn spe9_in_2_5d() {
+    let g = read_grid(&data("SPE9.GRDECL")).unwrap();
+    let opts = HybridOptions::default();
+    let h = build(&default_backend(), &g, &spe9_wells(), &opts).unwrap();
+    let l = orthomesh::layers::extrude(&h, &g).unwrap();
+    assert_eq!(l.cells.len(), 15 * h.mesh.cells.len());
+    // Volumes add up to the grid's (less the wellbores), to the precision
+    // of mean thicknesses over cells that straddle columns.
+    let grid_volume: f64 = (0..15)
+        .flat_map(|k| (0..25).flat_map(move |j| (0..24).map(move |i| (i, j, k))))
+        .map(|(i, j, k)| {
+            let z: Vec<f64> = (0..8).map(|c| g.corner(i, j, k, c)[2]).collect();
+            300.0 * 300.0 * (4..8).map(|c| z[c] - z[c - 4]).sum::<f64>() / 4.0
+        })
+        .sum();
+    let total: f64 = l.volume.iter().sum();
+    assert!(
+        (total - grid_volume).abs() < 1e-3 * grid_volume,
+        "{total} vs {grid_volume}"
+    );
+    // Every polyhedron is closed: each edge in two of its faces, once each way.
+    for faces in &l.cells {
+        let mut edges = std::collections::HashMap::new();
+        for f in faces {
+            for e in 0..f.len() {
+                *edges.entry((f[e], f[(e + 1) % f.len()])).or_insert(0) += 1;
+            }
+        }
+        assert!(edges
+            .iter()
+            .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1)));
+    }
+    let tough = l.tough(&h).unwrap();
+    let conne = tough
+        .lines()
+        .skip_while(|l| *l != "CONNE")
+        .filter(|l| l.len() > 30)
+        .count();
+    let vertical = tough
+        .lines()
+        .filter(|l| l.len() > 30 && &l[25..30] == "    3")
+        .count();
+    assert_eq!(vertical, 14 * h.mesh.cells.len());
+    assert!(conne > vertical);
+}

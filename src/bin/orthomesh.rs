@@ -62,9 +62,13 @@ enum Command {
         /// A vertical well at map position X, Y.
         #[arg(long = "well-xy", value_name = "NAME:X:Y[:RADIUS]")]
         wells_xy: Vec<String>,
-        /// The layer to mesh (1-based).
+        /// The layer whose map view is meshed (1-based).
         #[arg(long, default_value_t = 1)]
         layer: usize,
+        /// 2.5D: map the mesh onto every layer of the grid and write
+        /// polyhedra (type 42) and, with --tough, vertical connections too.
+        #[arg(long)]
+        layers: bool,
         /// Rings of each radial mesh.
         #[arg(long, default_value_t = 12)]
         rings: usize,
@@ -152,6 +156,7 @@ fn run(cmd: Command) -> Result<()> {
             wells,
             wells_xy,
             layer,
+            layers,
             rings,
             sectors,
             outer,
@@ -212,9 +217,24 @@ fn run(cmd: Command) -> Result<()> {
                 margin,
             };
             let h = hybrid::build(&default_backend(), &g, &list, &opts)?;
-            let mut texts = vec![(output.clone(), h.vtu())];
-            if let Some(p) = tough {
-                texts.push((p, h.tough()?));
+            let mut texts = vec![];
+            if layers {
+                let l = orthomesh::layers::extrude(&h, &g)?;
+                eprintln!(
+                    "2.5D: {} polyhedra over {} layers ({} top faces split where the horizon warps)",
+                    l.cells.len(),
+                    g.nz,
+                    l.split_faces
+                );
+                texts.push((output.clone(), l.vtu(&h)));
+                if let Some(p) = tough {
+                    texts.push((p, l.tough(&h)?));
+                }
+            } else {
+                texts.push((output.clone(), h.vtu()));
+                if let Some(p) = tough {
+                    texts.push((p, h.tough()?));
+                }
             }
             if let Some(p) = svg {
                 let inside = vec![true; h.mesh.cells.len()];

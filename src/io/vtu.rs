@@ -23,21 +23,31 @@ pub fn to_string(mesh: &Mesh, site_inside: &[bool]) -> String {
     to_string_with(mesh, &[inside])
 }
 
+/// The file's start up to the points (written exactly), leaving the
+/// Points element open.
+pub(crate) fn begin(s: &mut String, points: &[[f64; 3]], cells: usize) {
+    let _ = write!(
+        s,
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n\
+         <UnstructuredGrid>\n<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{cells}\">\n<Points>\n\
+         <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+        points.len()
+    );
+    for p in points {
+        if p[2] == 0.0 {
+            let _ = writeln!(s, "{:e} {:e} 0", p[0], p[1]);
+        } else {
+            let _ = writeln!(s, "{:e} {:e} {:e}", p[0], p[1], p[2]);
+        }
+    }
+}
+
 /// The .vtu text of a 2D mesh with `site`, `weight` and the given arrays.
 pub fn to_string_with(mesh: &Mesh, arrays: &[IntArray]) -> String {
     let mut s = String::with_capacity(64 * (mesh.points.len() + mesh.cells.len()));
     let n_conn: usize = mesh.cells.iter().map(Vec::len).sum();
-    let _ = write!(
-        s,
-        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n\
-         <UnstructuredGrid>\n<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n<Points>\n\
-         <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
-        mesh.points.len(),
-        mesh.cells.len()
-    );
-    for p in &mesh.points {
-        let _ = writeln!(s, "{:e} {:e} 0", p[0], p[1]);
-    }
+    let points: Vec<[f64; 3]> = mesh.points.iter().map(|p| [p[0], p[1], 0.0]).collect();
+    begin(&mut s, &points, mesh.cells.len());
     s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
     for c in &mesh.cells {
         let line: Vec<String> = c.iter().map(u32::to_string).collect();

@@ -1,0 +1,338 @@
+//! 2.5D (paper section 5.3): the 2D hybrid mesh mapped onto every layer of
+//! the corner-point grid. Each mesh point keeps its map position and gets
+//! the depth of every layer horizon (pillar depths at grid corners,
+//! interpolated inside a column elsewhere); each cell of each layer becomes
+//! a prism-like polyhedron between two horizons. Side faces are vertical,
+//! hence planar; top and bottom faces are split into triangles (the same
+//! fan from above and below) when the horizon warps them.
+
+use crate::error::{Error, Result};
+use crate::hybrid::Hybrid;
+use crate::io::eclipse::CornerPointGrid;
+use crate::io::tough::{Connection, Element};
+use std::fmt::Write;
+
+/// The layered mesh: points (x, y, z up), and per cell its faces, each a
+/// list of point ids counter-clockwise seen from outside.
+#[derive(Debug, Clone, Default)]
+pub struct Layered {
+    pub points: Vec<[f64; 3]>,
+    pub cells: Vec<Vec<Vec<u32>>>,
+    /// Per cell: the 2D cell and the layer.
+    pub origin: Vec<(u32, usize)>,
+    /// Per cell: volume, node (site at mid-depth).
+    pub volume: Vec<f64>,
+    pub node: Vec<[f64; 3]>,
+    /// Top faces split into triangles because the horizon is not planar there.
+    pub split_faces: usize,
+}
+
+/// Relative distance from a face's plane above which it is split (vtk's
+/// own tolerance for planar faces).
+const PLANAR: f64 = 1.2e-7;
+
+/// Horizon depths (positive down) at every pillar: horizon h is the top of
+/// layer h (h = nz: the bottom of the last layer), averaged over the
+/// corners on that pillar.
+fn pillar_depths(g: &CornerPointGrid) -> Vec<Vec<f64>> {
+    let (nx, ny, nz) = (g.nx, g.ny, g.nz);
+    let mut sum = vec![vec![(0.0, 0u32); (nx + 1) * (ny + 1)]; nz + 1];
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                for c in 0..8 {
+                    let (di, dj, b) = (c & 1, (c >> 1) & 1, c >> 2);
+                    let s = &mut sum[k + b][(j + dj) * (nx + 1) + i + di];
+                    s.0 += g.corner(i, j, k, c)[2];
+                    s.1 += 1;
+                }
+            }
+        }
+    }
+    sum.iter()
+        .map(|h| h.iter().map(|&(z, n)| z / f64::from(n.max(1))).collect())
+        .collect()
+}
+
+/// Barycentric weights of x in triangle (a, b, c), or None outside.
+fn barycentric(x: [f64; 2], a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Option<[f64; 3]> {
+    let det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    if det == 0.0 {
+        return None;
+    }
+    let l1 = ((x[0] - a[0]) * (c[1] - a[1]) - (x[1] - a[1]) * (c[0] - a[0])) / det;
+    let l2 = ((b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])) / det;
+    let l0 = 1.0 - l1 - l2;
+    let eps = -1e-9;
+    (l0 >= eps && l1 >= eps && l2 >= eps).then_some([l0, l1, l2])
+}
+
+/// Maps a hybrid mesh built on `h.report.layer` onto every layer of `g`.
+/// Reservoir cells inactive in a layer are left out of it.
+pub fn extrude(h: &Hybrid, g: &CornerPointGrid) -> Result<Layered> {
+    let m = &h.mesh;
+    let (nx, ny, nz) = (g.nx, g.ny, g.nz);
+    let view = crate::hybrid::map_view(g, h.report.layer);
+    let depth = pillar_depths(g);
+    // Which pillars are mesh points (same doubles), the others: the column.
+    let mut at_pillar: crate::FastMap<[u64; 2], usize> = crate::FastMap::default();
+    for (p, xy) in view.iter().enumerate() {
+        at_pillar.insert(xy.map(|v| (v + 0.0).to_bits()), p);
+    }
+    let pid = |i: usize, j: usize| j * (nx + 1) + i;
+    let columns: Vec<(usize, usize)> = (0..ny).flat_map(|j| (0..nx).map(move |i| (i, j))).collect();
+    // Per mesh point: pillar weights [(pillar, weight)].
+    let mut weights: Vec<Vec<(usize, f64)>> = Vec::with_capacity(m.points.len());
+    let mut last = 0;
+    for x in &m.points {
+        if let Some(&p) = at_pillar.get(&x.map(|v| (v + 0.0).to_bits())) {
+            weights.push(vec![(p, 1.0)]);
+            continue;
+        }
+        // nearby columns first: points come in runs
+        let found = (0..columns.len())
+            .map(|k| (last + k) % columns.len())
+            .find_map(|k| {
+                let (i, j) = columns[k];
+                let q = [pid(i, j), pid(i + 1, j), pid(i + 1, j + 1), pid(i, j + 1)];
+                let v = q.map(|p| view[p]);
+                for (a, b, c) in [(0, 1, 2), (0, 2, 3)] {
+                    if let Some(l) = barycentric(*x, v[a], v[b], v[c]) {
+                        return Some((k, vec![(q[a], l[0]), (q[b], l[1]), (q[c], l[2])]));
+                    }
+                }
+                None
+            });
+        let (k, w) = found.ok_or_else(|| {
+            Error::Usage(format!("mesh point {x:?} lies in no column of the grid"))
+        })?;
+        last = k;
+        weights.push(w);
+    }
+    let z_at = |p: usize, hz: usize| -> f64 {
+        // z up: minus the depth
+        -weights[p]
+            .iter()
+            .map(|&(q, w)| w * depth[hz][q])
+            .sum::<f64>()
+    };
+    let n = m.points.len();
+    let mut out = Layered::default();
+    for hz in 0..=nz {
+        for (p, x) in m.points.iter().enumerate() {
+            out.points.push([x[0], x[1], z_at(p, hz)]);
+        }
+    }
+    let id = |hz: usize, p: u32| (hz * n) as u32 + p;
+    for k in 0..nz {
+        for (c, cell) in m.cells.iter().enumerate() {
+            if let Some([i, j, _]) = h.ijk[c] {
+                if !g.active(i, j, k) {
+                    continue;
+                }
+            }
+            let top: Vec<u32> = cell.iter().map(|&p| id(k, p)).collect();
+            let bottom: Vec<u32> = cell.iter().map(|&p| id(k + 1, p)).collect();
+            let mut faces: Vec<Vec<u32>> = vec![];
+            for (ring, upward) in [(&top, true), (&bottom, false)] {
+                let pts: Vec<[f64; 3]> = ring.iter().map(|&q| out.points[q as usize]).collect();
+                if planar(&pts) {
+                    let mut f = ring.clone();
+                    if !upward {
+                        f.reverse();
+                    }
+                    faces.push(f);
+                } else {
+                    out.split_faces += usize::from(upward);
+                    for t in 1..ring.len() - 1 {
+                        faces.push(if upward {
+                            vec![ring[0], ring[t], ring[t + 1]]
+                        } else {
+                            vec![ring[0], ring[t + 1], ring[t]]
+                        });
+                    }
+                }
+            }
+            for e in 0..cell.len() {
+                let f = (e + 1) % cell.len();
+                faces.push(vec![top[e], bottom[e], bottom[f], top[f]]);
+            }
+            let area = m.area(cell);
+            let mid = |p: usize, hz: usize| out.points[id(hz, cell[p]) as usize][2];
+            let thick = (0..cell.len())
+                .map(|p| mid(p, k) - mid(p, k + 1))
+                .sum::<f64>()
+                / cell.len() as f64;
+            let zc = (0..cell.len())
+                .map(|p| mid(p, k) + mid(p, k + 1))
+                .sum::<f64>()
+                / (2 * cell.len()) as f64;
+            if thick.is_nan() || thick <= 0.0 {
+                // pinched or inverted layer here: no volume to mesh
+                continue;
+            }
+            out.cells.push(faces);
+            out.origin.push((c as u32, k));
+            out.volume.push(area * thick);
+            out.node.push([m.sites[c][0], m.sites[c][1], zc]);
+        }
+    }
+    Ok(out)
+}
+
+fn planar(p: &[[f64; 3]]) -> bool {
+    // Newell's normal, then the largest distance from the mean plane.
+    let mut nrm = [0.0; 3];
+    for k in 0..p.len() {
+        let (a, b) = (p[k], p[(k + 1) % p.len()]);
+        nrm[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        nrm[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        nrm[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    let len = (nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]).sqrt();
+    if len == 0.0 {
+        return false;
+    }
+    let c: Vec<f64> = (0..3)
+        .map(|d| p.iter().map(|q| q[d]).sum::<f64>() / p.len() as f64)
+        .collect();
+    let size = p
+        .iter()
+        .flat_map(|a| {
+            p.iter()
+                .map(move |b| (0..3).map(|d| (a[d] - b[d]).powi(2)).sum::<f64>())
+        })
+        .fold(0.0f64, f64::max)
+        .sqrt();
+    p.iter().all(|q| {
+        let d = (0..3).map(|k| (q[k] - c[k]) * nrm[k]).sum::<f64>() / len;
+        d.abs() <= PLANAR * size
+    })
+}
+
+impl Layered {
+    /// VTU with polyhedra (type 42), classic faces/faceoffsets layout; cell
+    /// data region, ijk (1-based, -1 outside the grid), layer (1-based).
+    pub fn vtu(&self, h: &Hybrid) -> String {
+        let mut s = String::new();
+        crate::io::vtu::begin(&mut s, &self.points, self.cells.len());
+        s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+        let mut offsets = vec![];
+        let mut n = 0;
+        for faces in &self.cells {
+            let mut ids: Vec<u32> = faces.iter().flatten().copied().collect();
+            ids.sort_unstable();
+            ids.dedup();
+            n += ids.len();
+            offsets.push(n);
+            let line: Vec<String> = ids.iter().map(u32::to_string).collect();
+            let _ = writeln!(s, "{}", line.join(" "));
+        }
+        s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+        for o in offsets {
+            let _ = writeln!(s, "{o}");
+        }
+        s.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+        for _ in &self.cells {
+            s.push_str("42\n");
+        }
+        s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"faces\" format=\"ascii\">\n");
+        let mut face_offsets = vec![];
+        let mut total = 0;
+        for faces in &self.cells {
+            let mut line = vec![faces.len().to_string()];
+            for f in faces {
+                line.push(f.len().to_string());
+                line.extend(f.iter().map(u32::to_string));
+            }
+            total += line.len();
+            face_offsets.push(total);
+            let _ = writeln!(s, "{}", line.join(" "));
+        }
+        s.push_str(
+            "</DataArray>\n<DataArray type=\"Int64\" Name=\"faceoffsets\" format=\"ascii\">\n",
+        );
+        for o in face_offsets {
+            let _ = writeln!(s, "{o}");
+        }
+        s.push_str("</DataArray>\n</Cells>\n<CellData Scalars=\"region\">\n");
+        s.push_str("<DataArray type=\"Float64\" Name=\"site\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+        for p in &self.node {
+            let _ = writeln!(s, "{:e} {:e} {:e}", p[0], p[1], p[2]);
+        }
+        s.push_str("</DataArray>\n<DataArray type=\"Float64\" Name=\"weight\" format=\"ascii\">\n");
+        for &(c, _) in &self.origin {
+            let _ = writeln!(s, "{:e}", h.mesh.weights[c as usize]);
+        }
+        s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"region\" format=\"ascii\">\n");
+        for &(c, _) in &self.origin {
+            let _ = writeln!(s, "{}", h.region[c as usize] as i64);
+        }
+        s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"ijk\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+        for &(c, k) in &self.origin {
+            match h.ijk[c as usize] {
+                Some([i, j, _]) => {
+                    let _ = writeln!(s, "{} {} {}", i + 1, j + 1, k + 1);
+                }
+                None => s.push_str("-1 -1 -1\n"),
+            }
+        }
+        s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"layer\" format=\"ascii\">\n");
+        for &(_, k) in &self.origin {
+            let _ = writeln!(s, "{}", k + 1);
+        }
+        s.push_str("</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+        s
+    }
+
+    /// TOUGH2 MESH: lateral connections from the 2D faces in each layer
+    /// (area: face length x the mean thickness of the two cells), vertical
+    /// ones between a cell and the one below it (area: the cell's map area).
+    pub fn tough(&self, h: &Hybrid) -> Result<String> {
+        let m = &h.mesh;
+        let elements: Vec<Element> = self
+            .volume
+            .iter()
+            .zip(&self.node)
+            .map(|(&volume, &node)| Element { volume, node })
+            .collect();
+        let mut index: crate::FastMap<(u32, usize), usize> = crate::FastMap::default();
+        for (e, &o) in self.origin.iter().enumerate() {
+            index.insert(o, e);
+        }
+        let thick = |e: usize| self.volume[e] / m.area(&m.cells[self.origin[e].0 as usize]);
+        let mut conns = vec![];
+        let lateral = crate::flow::connections(m);
+        for k in 0..=self.origin.iter().map(|o| o.1).max().unwrap_or(0) {
+            for c in &lateral {
+                let (Some(&a), Some(&b)) =
+                    (index.get(&(c.cells[0], k)), index.get(&(c.cells[1], k)))
+                else {
+                    continue;
+                };
+                let (na, nb) = (self.node[a], self.node[b]);
+                let d = [nb[0] - na[0], nb[1] - na[1], nb[2] - na[2]];
+                let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                conns.push(Connection {
+                    elements: [a, b],
+                    isot: if d[0].abs() >= d[1].abs() { 1 } else { 2 },
+                    d: c.d,
+                    area: c.area * (thick(a) + thick(b)) / 2.0,
+                    cos_gravity: if len > 0.0 { -d[2] / len } else { 0.0 },
+                });
+            }
+        }
+        for (a, &(c, k)) in self.origin.iter().enumerate() {
+            if let Some(&b) = index.get(&(c, k + 1)) {
+                conns.push(Connection {
+                    elements: [a, b],
+                    isot: 3,
+                    d: [thick(a) / 2.0, thick(b) / 2.0],
+                    area: m.area(&m.cells[c as usize]),
+                    cos_gravity: 1.0,
+                });
+            }
+        }
+        crate::io::tough::to_string(&elements, &conns, "ROCK1")
+    }
+}
