@@ -161,6 +161,8 @@ pub struct HybridReport {
     /// Faces that are not shared by two cells nor on the outer boundary: 0
     /// for a conforming mesh (no hanging nodes).
     pub unmatched_faces: usize,
+    /// Fault segments inside cavities (chains with free ends there).
+    pub fault_segments: usize,
     /// Cavities grown because system 3 was infeasible.
     pub notes: Vec<String>,
     /// The transition meshes' own report (certificate, weights, sites).
@@ -292,6 +294,45 @@ struct Placed {
     reach: f64,
 }
 
+/// The pillar edges of the grid's faults at layer k, in map view: (pillar,
+/// pillar, column on one side, column on the other); columns outside the
+/// grid have an index of nx or ny (or wrap below 0).
+fn fault_edges(
+    g: &CornerPointGrid,
+    k: usize,
+    view: &MapView,
+) -> Vec<(u32, u32, (usize, usize), (usize, usize))> {
+    let mut out = vec![];
+    for f in &g.faults {
+        for face in &f.faces {
+            if k < face.k[0] || k > face.k[1] {
+                continue;
+            }
+            for j in face.j[0]..=face.j[1] {
+                for i in face.i[0]..=face.i[1] {
+                    // the side of column (i, j) the face names, and the column across
+                    let (di, dj) = match (face.axis, face.sign) {
+                        ('X', 1) => (1, 0),
+                        ('X', _) => (-1, 0),
+                        ('Y', 1) => (0, 1),
+                        ('Y', _) => (0, -1),
+                        _ => continue, // Z faces have no trace in map view
+                    };
+                    let across = ((i as i64 + di) as usize, (j as i64 + dj) as usize);
+                    let (p, q) = match (di, dj) {
+                        (1, 0) => (view.pid(i + 1, j), view.pid(i + 1, j + 1)),
+                        (-1, 0) => (view.pid(i, j), view.pid(i, j + 1)),
+                        (0, 1) => (view.pid(i, j + 1), view.pid(i + 1, j + 1)),
+                        _ => (view.pid(i, j), view.pid(i + 1, j)),
+                    };
+                    out.push((p, q, (i, j), across));
+                }
+            }
+        }
+    }
+    out
+}
+
 /// Times a cavity may grow before system 3's infeasibility is an error.
 const MAX_GROWTH: usize = 4;
 
@@ -380,7 +421,8 @@ pub fn build<B: Backend + ?Sized>(
         });
     }
     // A radial mesh reaches at most 0.3 of the way to the nearest other
-    // well and 0.6 of the way to the nearest inactive column or grid edge.
+    // well and 0.6 of the way to the nearest inactive column, grid edge or
+    // fault.
     let mut obstacles: Vec<[[f64; 2]; 2]> = vec![];
     for j in 0..ny {
         for i in 0..nx {
@@ -404,6 +446,10 @@ pub fn build<B: Backend + ?Sized>(
                 }
             }
         }
+    }
+    // Faults are walls too: a radial mesh must not cross one.
+    for (p, q, _, _) in fault_edges(grid, k, &view) {
+        obstacles.push([view.pillar[p as usize], view.pillar[q as usize]]);
     }
     let to_segment = |x: [f64; 2], [a, b]: [[f64; 2]; 2]| {
         let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
@@ -531,10 +577,22 @@ pub fn build<B: Backend + ?Sized>(
     // the failing segments grow by a ring of cells and the problem is redone.
     let m = opts.sectors;
     let mut notes = vec![];
+    let mut fault_segments: usize;
+    // Pieces for a side that may be split: none longer than its distance to
+    // the nearest well polygon, so that it stays Gabriel.
+    let pieces_near_wells = |pp: [f64; 2], pq: [f64; 2]| {
+        let gap = placed
+            .iter()
+            .map(|w| to_segment(w.centre, [pp, pq]) - w.radii.last().unwrap())
+            .fold(f64::INFINITY, f64::min);
+        let len = (pq[0] - pp[0]).hypot(pq[1] - pp[1]);
+        ((len / gap.max(len / 64.0)).ceil() as usize).clamp(1, 64)
+    };
     let (cx, out, outer_pieces) = loop {
         let mut cx = Complex::default();
         let mut owner = vec![]; // per segment, the cavity column it bounds
         let mut outer_pieces: Vec<(u32, u32)> = vec![]; // on the outer boundary
+        fault_segments = 0;
         let mut vid: FastMap<u32, u32> = FastMap::default();
         let mut vertex = |cx: &mut Complex, p: u32| -> u32 {
             *vid.entry(p).or_insert_with(|| {
@@ -566,12 +624,7 @@ pub fn build<B: Backend + ?Sized>(
                     let outer_side = !(a < nx && b < ny && grid.active(a, b, k));
                     let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
                     let pieces = if outer_side {
-                        let gap = placed
-                            .iter()
-                            .map(|w| to_segment(w.centre, [pp, pq]) - w.radii.last().unwrap())
-                            .fold(f64::INFINITY, f64::min);
-                        let len = (pq[0] - pp[0]).hypot(pq[1] - pp[1]);
-                        ((len / gap.max(len / 64.0)).ceil() as usize).clamp(1, 64)
+                        pieces_near_wells(pp, pq)
                     } else {
                         1
                     };
@@ -592,6 +645,36 @@ pub fn build<B: Backend + ?Sized>(
                         }
                         from = to;
                     }
+                }
+            }
+        }
+        // Faults: pillar edges between two cavity columns become chains of
+        // segments with free ends inside the cavity (sides between a cavity
+        // column and another already are segments).
+        let mut seen_fault_edges = crate::FastSet::default();
+        for (p, q, a, b) in fault_edges(grid, k, &view) {
+            let in_cavity = |c: (usize, usize)| c.0 < nx && c.1 < ny && cavity[col(c.0, c.1)];
+            if in_cavity(a) && in_cavity(b) && seen_fault_edges.insert((p.min(q), p.max(q))) {
+                // Inside a cavity a fault side may take extra vertices (cells
+                // on both sides are transition cells): pieces no longer than
+                // its distance to the nearest well polygon.
+                let (u, v) = (vertex(&mut cx, p), vertex(&mut cx, q));
+                let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
+                let mut from = u;
+                let pieces = pieces_near_wells(pp, pq);
+                for piece in 1..=pieces {
+                    let to = if piece == pieces {
+                        v
+                    } else {
+                        let t = piece as f64 / pieces as f64;
+                        cx.points
+                            .push([pp[0] + t * (pq[0] - pp[0]), pp[1] + t * (pq[1] - pp[1])]);
+                        cx.points.len() as u32 - 1
+                    };
+                    cx.segments.push([from, to]);
+                    owner.push(col(a.0, a.1));
+                    fault_segments += 1;
+                    from = to;
                 }
             }
         }
@@ -855,6 +938,7 @@ pub fn build<B: Backend + ?Sized>(
         cells,
         orthogonality_defect: defect,
         unmatched_faces: unmatched,
+        fault_segments,
         notes,
         transition: out.report,
     };

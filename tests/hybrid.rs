@@ -140,3 +140,78 @@ fn spe9_in_2_5d() {
     assert_eq!(vertical, 14 * h.mesh.cells.len());
     assert!(conne > vertical);
 }
+
+/// A 11 x 11 Cartesian grid of 10 m cells written as GRDECL with a fault
+/// that ends next to the well: along the east sides of column I = 6 for
+/// J = 3..5, and a part far away along the north sides of row J = 9.
+fn faulted_grid() -> std::path::PathBuf {
+    use std::fmt::Write;
+    let g = orthomesh::io::eclipse::CornerPointGrid::cartesian([11, 11, 2], [10.0, 10.0, 5.0]);
+    let mut s = String::from("SPECGRID\n 11 11 2 1 F /\nCOORD\n");
+    for p in &g.coord {
+        let _ = writeln!(s, "{} {} {} {} {} {}", p[0], p[1], p[2], p[3], p[4], p[5]);
+    }
+    s += "/\nZCORN\n";
+    for z in &g.zcorn {
+        let _ = writeln!(s, "{z}");
+    }
+    s += "/\nFAULTS\n 'F1' 6 6 3 5 1 2 X /\n 'F1' 7 9 9 9 1 2 Y /\n/\n";
+    let dir = std::env::temp_dir().join(format!("orthomesh-hybrid-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("faulted.grdecl");
+    std::fs::write(&path, s).unwrap();
+    path
+}
+
+#[test]
+fn a_fault_through_a_cavity_is_a_chain_of_mesh_edges() {
+    let g = read_grid(&faulted_grid()).unwrap();
+    assert_eq!(g.faults.len(), 1);
+    assert_eq!(g.faults[0].faces.len(), 2);
+    let well = WellInput {
+        name: "W".into(),
+        at: WellAt::Column(5, 4),
+        radius: 0.1,
+    };
+    let h = build(&default_backend(), &g, &[well], &HybridOptions::default()).unwrap();
+    let r = &h.report;
+    // The cavity is columns I = 5..7, J = 4..6 (1-based): the fault's two
+    // sides between J = 4 and 5 are inside it (split where the well is
+    // near), ending at a free end.
+    assert!(r.fault_segments >= 2, "{}", r.fault_segments);
+    let degree = h.constraints.degrees();
+    assert_eq!(
+        degree.iter().filter(|&&d| d == 1).count(),
+        1,
+        "one free end"
+    );
+    let c = &r.transition.certificate;
+    assert!(c.conforms() && c.sites_inside_cells, "{:?}", c.problems);
+    assert_eq!(r.unmatched_faces, 0);
+    assert_eq!(
+        (
+            r.transmissibility.negative,
+            r.transmissibility.non_orthogonal
+        ),
+        (0, 0)
+    );
+    // Each fault segment in the cavity is an edge of the hybrid mesh.
+    let edges: std::collections::HashSet<(u32, u32)> = h
+        .mesh
+        .cells
+        .iter()
+        .flat_map(|cell| (0..cell.len()).map(move |e| (cell[e], cell[(e + 1) % cell.len()])))
+        .collect();
+    // The fault line x = 60 from y = 30 to 50 is covered by mesh edges.
+    let on_fault: f64 = edges
+        .iter()
+        .filter(|&&(a, b)| a < b || !edges.contains(&(b, a)))
+        .map(|&(a, b)| (h.mesh.points[a as usize], h.mesh.points[b as usize]))
+        .filter(|(p, q)| {
+            p[0] == 60.0 && q[0] == 60.0 && p[1].min(q[1]) >= 30.0 && p[1].max(q[1]) <= 50.0
+        })
+        .map(|(p, q)| (p[1] - q[1]).abs())
+        .sum();
+    assert!((on_fault - 20.0).abs() < 1e-9, "{on_fault}");
+    write("faulted", &h);
+}
