@@ -294,14 +294,12 @@ struct Placed {
     reach: f64,
 }
 
+type FaultEdge = (u32, u32, (usize, usize), (usize, usize));
+
 /// The pillar edges of the grid's faults at layer k, in map view: (pillar,
 /// pillar, column on one side, column on the other); columns outside the
 /// grid have an index of nx or ny (or wrap below 0).
-fn fault_edges(
-    g: &CornerPointGrid,
-    k: usize,
-    view: &MapView,
-) -> Vec<(u32, u32, (usize, usize), (usize, usize))> {
+fn fault_edges(g: &CornerPointGrid, k: usize, view: &MapView) -> Vec<FaultEdge> {
     let mut out = vec![];
     for f in &g.faults {
         for face in &f.faces {
@@ -588,6 +586,19 @@ pub fn build<B: Backend + ?Sized>(
         let len = (pq[0] - pp[0]).hypot(pq[1] - pp[1]);
         ((len / gap.max(len / 64.0)).ceil() as usize).clamp(1, 64)
     };
+    // The side u - v cut into equal pieces (new vertices in between).
+    let split = |cx: &mut Complex, u: u32, v: u32, pieces: usize| -> Vec<(u32, u32)> {
+        let (pu, pv) = (cx.points[u as usize], cx.points[v as usize]);
+        let mut ids = vec![u];
+        for piece in 1..pieces {
+            let t = piece as f64 / pieces as f64;
+            cx.points
+                .push([pu[0] + t * (pv[0] - pu[0]), pu[1] + t * (pv[1] - pu[1])]);
+            ids.push(cx.points.len() as u32 - 1);
+        }
+        ids.push(v);
+        ids.windows(2).map(|w| (w[0], w[1])).collect()
+    };
     let (cx, out, outer_pieces) = loop {
         let mut cx = Complex::default();
         let mut owner = vec![]; // per segment, the cavity column it bounds
@@ -628,22 +639,12 @@ pub fn build<B: Backend + ?Sized>(
                     } else {
                         1
                     };
-                    let mut from = u;
-                    for piece in 1..=pieces {
-                        let to = if piece == pieces {
-                            v
-                        } else {
-                            let t = piece as f64 / pieces as f64;
-                            cx.points
-                                .push([pp[0] + t * (pq[0] - pp[0]), pp[1] + t * (pq[1] - pp[1])]);
-                            cx.points.len() as u32 - 1
-                        };
+                    for (from, to) in split(&mut cx, u, v, pieces) {
                         cx.segments.push([from, to]);
                         owner.push(col(i, j));
                         if outer_side {
                             outer_pieces.push((from, to));
                         }
-                        from = to;
                     }
                 }
             }
@@ -660,21 +661,10 @@ pub fn build<B: Backend + ?Sized>(
                 // its distance to the nearest well polygon.
                 let (u, v) = (vertex(&mut cx, p), vertex(&mut cx, q));
                 let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
-                let mut from = u;
-                let pieces = pieces_near_wells(pp, pq);
-                for piece in 1..=pieces {
-                    let to = if piece == pieces {
-                        v
-                    } else {
-                        let t = piece as f64 / pieces as f64;
-                        cx.points
-                            .push([pp[0] + t * (pq[0] - pp[0]), pp[1] + t * (pq[1] - pp[1])]);
-                        cx.points.len() as u32 - 1
-                    };
+                for (from, to) in split(&mut cx, u, v, pieces_near_wells(pp, pq)) {
                     cx.segments.push([from, to]);
                     owner.push(col(a.0, a.1));
                     fault_segments += 1;
-                    from = to;
                 }
             }
         }
