@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# The main job on built-in data: a cavity around a well, meshed, certified,
-# written as orthomesh-demo/demo.vtu (ParaView), demo.svg (picture), demo.json.
+# The main job on built-in data: a hybrid reservoir mesh (a Cartesian layer,
+# a well, a fault through the well's cavity), its transition mesh certified,
+# written as orthomesh-demo/demo.vtu (ParaView), demo.svg (picture),
+# demo.json (report) and demo.mesh (TOUGH2 MESH).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh

@@ -141,6 +141,33 @@ impl Hybrid {
     }
 }
 
+/// Built-in example: a 15 x 15-cell Cartesian layer of 10 m cells, one well
+/// of radius 0.1 m in column (7, 8) (1-based), and a fault along the east
+/// sides of column I = 8 for J = 6..8 that ends inside the well's cavity.
+pub fn demo() -> (CornerPointGrid, Vec<WellInput>, HybridOptions) {
+    let mut grid = CornerPointGrid::cartesian([15, 15, 1], [10.0, 10.0, 5.0]);
+    grid.faults.push(crate::io::eclipse::Fault {
+        name: "F1".into(),
+        faces: vec![crate::io::eclipse::FaultFace {
+            i: [7, 7],
+            j: [5, 7],
+            k: [0, 0],
+            axis: 'X',
+            sign: 1,
+        }],
+    });
+    let well = WellInput {
+        name: "W1".into(),
+        at: WellAt::Column(6, 7),
+        radius: 0.1,
+    };
+    let opts = HybridOptions {
+        margin: 1,
+        ..Default::default()
+    };
+    (grid, vec![well], opts)
+}
+
 /// What the report says about the hybrid mesh.
 #[derive(Debug, Clone, Serialize)]
 pub struct HybridReport {

@@ -26,7 +26,10 @@
 //!
 //! Pipeline stages, one module each: [`complex`] (input and validation),
 //! [`domain`], [`weights`] (LP), [`sites`], [`relocate`], [`diagram`],
-//! [`mesh`], [`certify`]; [`conform`] runs them in order.
+//! [`mesh`], [`certify`]; [`conform`] runs them in order. Reservoir meshes:
+//! [`hybrid`] (corner-point layer, radial wells, cavities, faults),
+//! [`layers`] (2.5D), [`flow`] (two-point flux check); readers and writers
+//! in [`io`] (Triangle, CGAL, Eclipse, VTU, SVG, TOUGH2).
 
 #![deny(unsafe_code)]
 

@@ -101,11 +101,13 @@ fn demo_writes_mesh_picture_and_report() {
     let dir = scratch("demo");
     let (code, err) = orthomesh(&["demo", "--out-dir", dir.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
-    for f in ["demo.vtu", "demo.svg", "demo.json"] {
+    for f in ["demo.vtu", "demo.svg", "demo.json", "demo.mesh"] {
         assert!(dir.join(f).exists(), "{f}");
     }
     assert!(
-        err.contains("certificate: vertices ok segments ok tiling ok sites-inside ok"),
+        err.contains("certificate: vertices ok segments ok tiling ok sites-inside ok")
+            && err.contains("faces without a twin: 0")
+            && err.contains("fault segments in cavities"),
         "{err}"
     );
     let (code, help) = {

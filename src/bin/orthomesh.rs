@@ -110,8 +110,6 @@ struct Outputs {
     report: Option<PathBuf>,
 }
 
-const DEMO: &str = include_str!("../../data/demo.poly");
-
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli.command) {
@@ -249,10 +247,7 @@ fn run(cmd: Command) -> Result<()> {
                 io::write_atomic(p, t.as_bytes())?;
             }
             let r = &h.report;
-            eprintln!(
-                "{}: layer {}, {} wells -> {} reservoir, {} transition, {} well cells; {} cavities ({} cells); faces without a twin inside: {}",
-                grid.display(), layer, r.wells.len(), r.cells[0], r.cells[1], r.cells[2], r.cavities, r.cavity_cells, r.unmatched_faces
-            );
+            summarise(&format!("{}, layer {layer}", grid.display()), &h);
             for (pair, d) in &r.orthogonality_defect {
                 eprintln!("orthogonality defect {pair}: {d:.2e}");
             }
@@ -262,24 +257,56 @@ fn run(cmd: Command) -> Result<()> {
             Ok(())
         }
         Command::Demo { out_dir } => {
-            let name = Path::new("demo.poly");
-            let cx = io::poly::parse(DEMO, name)?;
-            let opts = Options {
-                compare_with_raw: true,
-                ..Default::default()
-            };
-            let out = conform(&default_backend(), &cx, &opts)?;
+            let (g, wells, opts) = hybrid::demo();
+            let h = hybrid::build(&default_backend(), &g, &wells, &opts)?;
             std::fs::create_dir_all(&out_dir).map_err(|e| Error::Io {
                 path: out_dir.clone(),
                 message: e.to_string(),
             })?;
-            let (vtu, svg, json) = (
-                out_dir.join("demo.vtu"),
-                out_dir.join("demo.svg"),
-                out_dir.join("demo.json"),
-            );
-            write_all(&out, &cx, name, &vtu, Some(&svg), Some(&json))
+            let inside = vec![true; h.mesh.cells.len()];
+            let report =
+                serde_json::to_string_pretty(&h.report).map_err(|e| Error::Usage(e.to_string()))?;
+            let texts = [
+                (out_dir.join("demo.vtu"), h.vtu()),
+                (
+                    out_dir.join("demo.svg"),
+                    io::svg::to_string(&h.mesh, &inside, &h.constraints),
+                ),
+                (out_dir.join("demo.json"), report + "\n"),
+                (out_dir.join("demo.mesh"), h.tough()?),
+            ];
+            for (p, t) in &texts {
+                io::write_atomic(p, t.as_bytes())?;
+            }
+            summarise("built-in grid (15 x 15 cells, a fault)", &h);
+            for (p, _) in &texts {
+                eprintln!("wrote {}", p.display());
+            }
+            Ok(())
         }
+    }
+}
+
+/// What the hybrid mesh came to, on standard error.
+fn summarise(what: &str, h: &hybrid::Hybrid) {
+    let r = &h.report;
+    let c = &r.transition.certificate;
+    eprintln!(
+        "{what}: {} wells -> {} reservoir, {} transition, {} well cells; {} cavities ({} columns); {} fault segments in cavities",
+        r.wells.len(), r.cells[0], r.cells[1], r.cells[2], r.cavities, r.cavity_cells, r.fault_segments
+    );
+    eprintln!(
+        "transition certificate: vertices {} segments {} tiling {} sites-inside {}; faces without a twin: {}; negative transmissibilities {}, non-orthogonal connections {}",
+        ok(c.vertices_are_mesh_vertices),
+        ok(c.segments_are_single_edges),
+        ok(c.cells_tile_domain),
+        ok(c.sites_inside_cells),
+        r.unmatched_faces,
+        r.transmissibility.negative,
+        r.transmissibility.non_orthogonal
+    );
+    for n in &r.notes {
+        eprintln!("note: {n}");
     }
 }
 
