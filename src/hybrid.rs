@@ -180,6 +180,10 @@ pub struct HybridReport {
     /// of regions: reservoir-reservoir, reservoir-transition,
     /// transition-transition, transition-well, well-well.
     pub orthogonality_defect: Vec<(String, f64)>,
+    /// Interface faces (between regions) whose defect exceeds 1e-6: the
+    /// reservoir cell's ijk (1-based) when one side is a reservoir cell, the
+    /// pair of regions, the defect. The first 100.
+    pub non_orthogonal_interfaces: Vec<(Option<[usize; 3]>, String, f64)>,
     /// Two-point transmissibilities (unit permeability): all connections,
     /// and those touching the transition or well regions (where none may be
     /// negative or non-orthogonal).
@@ -925,6 +929,7 @@ pub fn build<B: Backend + ?Sized>(
         Region::Transition => "transition",
         Region::Well => "well",
     };
+    let mut interfaces = vec![];
     for &[a, b, c, d] in &mesh.faces {
         let (ra, rb) = (region[c as usize], region[d as usize]);
         let (lo, hi) = if (ra as u8) <= (rb as u8) {
@@ -934,6 +939,12 @@ pub fn build<B: Backend + ?Sized>(
         };
         let key = format!("{}-{}", name(lo), name(hi));
         let v = mesh.face_defect([a, b, c, d]);
+        if ra != rb && v > crate::flow::ORTHOGONAL && interfaces.len() < 100 {
+            let cell = ijk[c as usize]
+                .or(ijk[d as usize])
+                .map(|x| x.map(|v| v + 1));
+            interfaces.push((cell, key.clone(), v));
+        }
         match defect.iter_mut().find(|(k, _)| *k == key) {
             Some(e) => e.1 = e.1.max(v),
             None => defect.push((key, v)),
@@ -954,6 +965,7 @@ pub fn build<B: Backend + ?Sized>(
         cavity_cells,
         cells,
         orthogonality_defect: defect,
+        non_orthogonal_interfaces: interfaces,
         unmatched_faces: unmatched,
         fault_segments,
         notes,

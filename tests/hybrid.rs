@@ -49,6 +49,7 @@ fn spe9_top_layer_with_all_26_wells() {
     assert_eq!(r.cells[2], 26 * opts.rings * opts.sectors);
     let t = &r.transmissibility;
     assert_eq!((t.negative, t.non_orthogonal), (0, 0));
+    assert!(r.non_orthogonal_interfaces.is_empty());
     assert!(t.connections > h.mesh.cells.len());
     for (pair, d) in &r.orthogonality_defect {
         assert!(*d < 1e-9, "{pair}: {d}");
@@ -214,4 +215,34 @@ fn a_fault_through_a_cavity_is_a_chain_of_mesh_edges() {
         .sum();
     assert!((on_fault - 20.0).abs() < 1e-9, "{on_fault}");
     write("faulted", &h);
+}
+
+#[test]
+fn distorted_corner_point_cells_report_their_interface_defects() {
+    // emerald: rotated, left-handed, distorted columns.
+    let g = read_grid(&data("emerald.grdecl")).unwrap();
+    let well = WellInput {
+        name: "W".into(),
+        at: WellAt::Column(1, 1),
+        radius: 0.1,
+    };
+    let h = build(&default_backend(), &g, &[well], &HybridOptions::default()).unwrap();
+    let r = &h.report;
+    let c = &r.transition.certificate;
+    assert!(c.conforms() && c.sites_inside_cells, "{:?}", c.problems);
+    assert_eq!(r.unmatched_faces, 0);
+    assert_eq!(r.transmissibility.negative, 0);
+    // Reservoir centres off their interfaces' perpendiculars: named, per face.
+    assert!(!r.non_orthogonal_interfaces.is_empty());
+    assert!(r
+        .non_orthogonal_interfaces
+        .iter()
+        .all(|(ijk, pair, d)| ijk.is_some() && pair == "reservoir-transition" && *d > 1e-6));
+    // The transition and well regions stay orthogonal among themselves.
+    for (pair, d) in &r.orthogonality_defect {
+        if !pair.contains("reservoir") {
+            assert!(*d < 1e-6, "{pair}: {d}");
+        }
+    }
+    write("emerald", &h);
 }
