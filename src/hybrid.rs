@@ -44,6 +44,8 @@ pub struct HybridOptions {
     pub outer: f64,
     /// Layers of cells added around the cells the radial mesh reaches.
     pub margin: usize,
+    /// Called as stages advance: (stage, done, of).
+    pub progress: Option<fn(&str, usize, usize)>,
 }
 
 impl Default for HybridOptions {
@@ -58,6 +60,7 @@ impl Default for HybridOptions {
             sectors: 32,
             outer: 1.9,
             margin: 0,
+            progress: None,
         }
     }
 }
@@ -406,7 +409,13 @@ pub fn build<B: Backend + ?Sized>(
 
     // Place the wells.
     let mut placed: Vec<Placed> = vec![];
-    for w in wells {
+    let tell = |stage: &str, done: usize, of: usize| {
+        if let Some(f) = opts.progress {
+            f(stage, done, of);
+        }
+    };
+    for (n, w) in wells.iter().enumerate() {
+        tell("placing wells", n + 1, wells.len());
         let (centre, column) = match w.at {
             WellAt::Column(i, j) => {
                 if i >= nx || j >= ny {
@@ -715,6 +724,7 @@ pub fn build<B: Backend + ?Sized>(
             holes: cx.holes,
             ..Complex::new(cx.points, cx.segments)
         };
+        tell("transition mesh (attempt)", notes.len() + 1, MAX_GROWTH + 1);
         match conform(backend, &cx, &Options::default()) {
             Ok(out) => break (cx, out, outer_pieces),
             Err(Error::SegmentsMissTheirDuals { segments, .. }) if notes.len() < MAX_GROWTH => {
@@ -739,6 +749,7 @@ pub fn build<B: Backend + ?Sized>(
     };
     let cavity_cells = cavity.iter().filter(|&&c| c).count();
 
+    tell("assembling", 1, 1);
     // Assemble: points shared by exact coordinates.
     let mut mesh = Mesh::default();
     let mut index: FastMap<[u64; 2], u32> = FastMap::default();

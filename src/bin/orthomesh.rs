@@ -5,6 +5,7 @@ use orthomesh::conform::{conform, Options, Outcome};
 use orthomesh::error::{Error, Result};
 use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
 use orthomesh::{backend::default_backend, io, Complex};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -213,8 +214,14 @@ fn run(cmd: Command) -> Result<()> {
                 sectors,
                 outer,
                 margin,
+                // a progress bar when there are many wells and someone watches
+                progress: (list.len() >= MANY_WELLS && std::io::stderr().is_terminal())
+                    .then_some(bar as fn(&str, usize, usize)),
             };
             let h = hybrid::build(&default_backend(), &g, &list, &opts)?;
+            if opts.progress.is_some() {
+                eprintln!();
+            }
             let mut texts = vec![];
             if layers {
                 let l = orthomesh::layers::extrude(&h, &g)?;
@@ -370,6 +377,20 @@ fn write_all(
         eprintln!("wrote {}", p.display());
     }
     Ok(())
+}
+
+/// From this many wells on, `hybrid` shows a progress bar on a terminal.
+const MANY_WELLS: usize = 50;
+
+/// One line redrawn in place: stage, bar, count.
+fn bar(stage: &str, done: usize, of: usize) {
+    let width = 30;
+    let full = (done * width).checked_div(of).unwrap_or(width);
+    eprint!(
+        "\r{stage:<28} [{}{}] {done}/{of}   ",
+        "#".repeat(full),
+        " ".repeat(width - full)
+    );
 }
 
 /// Wellbore radius when neither the deck nor the option gives one.
