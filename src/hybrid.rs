@@ -31,6 +31,17 @@ pub struct WellInput {
     pub radius: f64,
 }
 
+impl WellInput {
+    /// A well in column (i, j), 0-based.
+    pub fn column(name: &str, i: usize, j: usize, radius: f64) -> WellInput {
+        WellInput {
+            name: name.into(),
+            at: WellAt::Column(i, j),
+            radius,
+        }
+    }
+}
+
 /// Choices for the hybrid mesh.
 #[derive(Debug, Clone)]
 pub struct HybridOptions {
@@ -46,6 +57,9 @@ pub struct HybridOptions {
     pub margin: usize,
     /// Called as stages advance: (stage, done, of).
     pub progress: Option<fn(&str, usize, usize)>,
+    /// Faults given as map polylines: their parts inside cavities become
+    /// constraint chains, ending a quarter cell short of the cavity sides.
+    pub fault_lines: Vec<Vec<[f64; 2]>>,
 }
 
 impl Default for HybridOptions {
@@ -61,6 +75,7 @@ impl Default for HybridOptions {
             outer: 1.9,
             margin: 0,
             progress: None,
+            fault_lines: vec![],
         }
     }
 }
@@ -159,16 +174,11 @@ pub fn demo() -> (CornerPointGrid, Vec<WellInput>, HybridOptions) {
             sign: 1,
         }],
     });
-    let well = WellInput {
-        name: "W1".into(),
-        at: WellAt::Column(6, 7),
-        radius: 0.1,
-    };
     let opts = HybridOptions {
         margin: 1,
         ..Default::default()
     };
-    (grid, vec![well], opts)
+    (grid, vec![WellInput::column("W1", 6, 7, 0.1)], opts)
 }
 
 /// What the report says about the hybrid mesh.
@@ -330,6 +340,86 @@ struct Placed {
 
 type FaultEdge = (u32, u32, (usize, usize), (usize, usize));
 
+/// The parts of a polyline inside the cavities, as chains of points: cut
+/// where it crosses a cavity side and pulled back by `gap` from there
+/// (parts shorter than that are dropped).
+fn clip_to_cavity(
+    line: &[[f64; 2]],
+    sides: &[[[f64; 2]; 2]],
+    inside: &dyn Fn([f64; 2]) -> bool,
+    gap: f64,
+) -> Vec<Vec<[f64; 2]>> {
+    let at =
+        |a: [f64; 2], b: [f64; 2], t: f64| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+    let mut chains: Vec<Vec<[f64; 2]>> = vec![];
+    let mut current: Vec<[f64; 2]> = vec![];
+    // (point, whether a chain may end here without a pull-back)
+    for w in line.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len = d[0].hypot(d[1]);
+        if len == 0.0 {
+            continue;
+        }
+        let mut cuts: Vec<f64> = sides
+            .iter()
+            .filter_map(|[p, q]| {
+                let e = [q[0] - p[0], q[1] - p[1]];
+                let den = d[0] * e[1] - d[1] * e[0];
+                if den == 0.0 {
+                    return None;
+                }
+                let t = ((p[0] - a[0]) * e[1] - (p[1] - a[1]) * e[0]) / den;
+                let u = ((p[0] - a[0]) * d[1] - (p[1] - a[1]) * d[0]) / den;
+                ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)).then_some(t)
+            })
+            .collect();
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup();
+        let cut = |t: f64| cuts.contains(&t);
+        let mut bounds = vec![0.0];
+        bounds.extend(cuts.iter().copied().filter(|&t| t > 0.0 && t < 1.0));
+        bounds.push(1.0);
+        for iv in bounds.windows(2) {
+            let (t0, t1) = (iv[0], iv[1]);
+            if !inside(at(a, b, (t0 + t1) / 2.0)) {
+                if !current.is_empty() {
+                    chains.push(std::mem::take(&mut current));
+                }
+                continue;
+            }
+            // pulled back from where the line meets a cavity side
+            let s = if cut(t0) { t0 + gap / len } else { t0 };
+            let e = if cut(t1) { t1 - gap / len } else { t1 };
+            if s >= e {
+                if !current.is_empty() {
+                    chains.push(std::mem::take(&mut current));
+                }
+                continue;
+            }
+            if cut(t0) || current.is_empty() {
+                if !current.is_empty() {
+                    chains.push(std::mem::take(&mut current));
+                }
+                current.push(at(a, b, s));
+            }
+            current.push(at(a, b, e));
+            if cut(t1) {
+                chains.push(std::mem::take(&mut current));
+            }
+        }
+    }
+    if !current.is_empty() {
+        chains.push(current);
+    }
+    chains.retain(|c| c.len() >= 2);
+    for c in &mut chains {
+        c.dedup();
+    }
+    chains.retain(|c| c.len() >= 2);
+    chains
+}
+
 /// The pillar edges of the grid's faults at layer k, in map view: (pillar,
 /// pillar, column on one side, column on the other); columns outside the
 /// grid have an index of nx or ny (or wrap below 0).
@@ -489,6 +579,9 @@ pub fn build<B: Backend + ?Sized>(
     for (p, q, _, _) in fault_edges(grid, k, &view) {
         obstacles.push([view.pillar[p as usize], view.pillar[q as usize]]);
     }
+    for line in &opts.fault_lines {
+        obstacles.extend(line.windows(2).map(|w| [w[0], w[1]]));
+    }
     let to_segment = |x: [f64; 2], [a, b]: [[f64; 2]; 2]| {
         let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
         let (vx, vy) = (x[0] - a[0], x[1] - a[1]);
@@ -616,6 +709,7 @@ pub fn build<B: Backend + ?Sized>(
     let m = opts.sectors;
     let mut notes = vec![];
     let mut fault_segments: usize;
+    let typical_side = placed.iter().map(|w| w.reach).fold(f64::INFINITY, f64::min);
     // Pieces for a side that may be split: none longer than its distance to
     // the nearest well polygon, so that it stays Gabriel.
     let pieces_near_wells = |pp: [f64; 2], pq: [f64; 2]| {
@@ -705,6 +799,35 @@ pub fn build<B: Backend + ?Sized>(
                     cx.segments.push([from, to]);
                     owner.push(col(a.0, a.1));
                     fault_segments += 1;
+                }
+            }
+        }
+        // Fault polylines: the parts inside cavities, pulled back a quarter
+        // cell from where they leave one, so that they end inside it.
+        let boundary_sides: Vec<[[f64; 2]; 2]> = cx
+            .segments
+            .iter()
+            .map(|s| [cx.points[s[0] as usize], cx.points[s[1] as usize]])
+            .collect();
+        let in_cavity_at = |x: [f64; 2]| {
+            (0..nx * ny)
+                .any(|c| cavity[c] && distance_to_polygon(x, &quad_points(c % nx, c / nx)) == 0.0)
+        };
+        for line in &opts.fault_lines {
+            for chain in clip_to_cavity(line, &boundary_sides, &in_cavity_at, 0.5 * typical_side) {
+                let mut prev: Option<u32> = None;
+                for x in chain {
+                    cx.points.push(x);
+                    let id = cx.points.len() as u32 - 1;
+                    if let Some(p) = prev {
+                        let pieces = pieces_near_wells(cx.points[p as usize], x);
+                        for (from, to) in split(&mut cx, p, id, pieces) {
+                            cx.segments.push([from, to]);
+                            owner.push(well_column[0]);
+                            fault_segments += 1;
+                        }
+                    }
+                    prev = Some(id);
                 }
             }
         }

@@ -246,3 +246,26 @@ fn distorted_corner_point_cells_report_their_interface_defects() {
     }
     write("emerald", &h);
 }
+
+#[test]
+fn a_fault_polyline_is_clipped_to_the_cavity_with_free_ends() {
+    let g = orthomesh::io::eclipse::CornerPointGrid::cartesian([12, 12, 1], [10.0, 10.0, 5.0]);
+    let well = WellInput::column("W", 5, 5, 0.1);
+    // The middle vertex (70, 75) lies on a cavity side: the chain stops
+    // short of it as it does where the line leaves the cavity.
+    let opts = HybridOptions {
+        margin: 1,
+        fault_lines: vec![vec![[20.0, 30.0], [70.0, 75.0], [110.0, 60.0]]],
+        ..Default::default()
+    };
+    let h = build(&default_backend(), &g, &[well], &opts).unwrap();
+    let r = &h.report;
+    assert!(r.fault_segments > 0);
+    let c = &r.transition.certificate;
+    assert!(c.conforms() && c.sites_inside_cells, "{:?}", c.problems);
+    assert_eq!(r.unmatched_faces, 0);
+    // Free ends: the chain's ends have one segment each, away from the cavity sides.
+    let free = h.constraints.degrees().iter().filter(|&&d| d == 1).count();
+    assert_eq!(free, 2);
+    write("fault-line", &h);
+}

@@ -63,6 +63,10 @@ enum Command {
         /// A vertical well at map position X, Y.
         #[arg(long = "well-xy", value_name = "NAME:X:Y[:RADIUS]")]
         wells_xy: Vec<String>,
+        /// A fault as a map polyline: its parts inside cavities become
+        /// constraint chains (FAULTS in the grid are used too).
+        #[arg(long = "fault", value_name = "X1,Y1,X2,Y2[,...]")]
+        faults: Vec<String>,
         /// The layer whose map view is meshed (1-based).
         #[arg(long, default_value_t = 1)]
         layer: usize,
@@ -154,6 +158,7 @@ fn run(cmd: Command) -> Result<()> {
             deck,
             wells,
             wells_xy,
+            faults,
             layer,
             layers,
             rings,
@@ -215,6 +220,7 @@ fn run(cmd: Command) -> Result<()> {
                 outer,
                 margin,
                 // a progress bar when there are many wells and someone watches
+                fault_lines: faults.iter().map(|f| polyline(f)).collect::<Result<_>>()?,
                 progress: (list.len() >= MANY_WELLS && std::io::stderr().is_terminal())
                     .then_some(bar as fn(&str, usize, usize)),
             };
@@ -414,6 +420,17 @@ fn well_spec(spec: &str) -> Result<(String, f64, f64, f64)> {
         None => DEFAULT_WELL_RADIUS,
     };
     Ok((parts[0].to_string(), num(parts[1])?, num(parts[2])?, r))
+}
+
+/// X1,Y1,X2,Y2[,...]
+fn polyline(spec: &str) -> Result<Vec<[f64; 2]>> {
+    let v: Vec<f64> = spec
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+        .collect::<Option<_>>()
+        .filter(|v: &Vec<f64>| v.len() >= 4 && v.len() % 2 == 0)
+        .ok_or_else(|| Error::Usage(format!("fault '{spec}': expected X1,Y1,X2,Y2[,...]")))?;
+    Ok(v.chunks(2).map(|c| [c[0], c[1]]).collect())
 }
 
 fn one_based(v: f64, spec: &str) -> Result<usize> {
