@@ -57,6 +57,9 @@ pub struct HybridOptions {
     pub margin: usize,
     /// Called as stages advance: (stage, done, of).
     pub progress: Option<fn(&str, usize, usize)>,
+    /// Write the mesh even when some transition sites cannot be inside their
+    /// cells (after the cavities have grown as far as they can).
+    pub allow_sites_outside: bool,
     /// Faults given as map polylines: their parts inside cavities become
     /// constraint chains, ending a quarter cell short of the cavity sides.
     pub fault_lines: Vec<Vec<[f64; 2]>>,
@@ -75,6 +78,7 @@ impl Default for HybridOptions {
             outer: 1.9,
             margin: 0,
             progress: None,
+            allow_sites_outside: false,
             fault_lines: vec![],
         }
     }
@@ -708,6 +712,7 @@ pub fn build<B: Backend + ?Sized>(
     // the failing segments grow by a ring of cells and the problem is redone.
     let m = opts.sectors;
     let mut notes = vec![];
+    let mut give_up = false;
     let mut fault_segments: usize;
     let typical_side = placed.iter().map(|w| w.reach).fold(f64::INFINITY, f64::min);
     // Pieces for a side that may be split: none longer than its distance to
@@ -848,9 +853,14 @@ pub fn build<B: Backend + ?Sized>(
             ..Complex::new(cx.points, cx.segments)
         };
         tell("transition mesh (attempt)", notes.len() + 1, MAX_GROWTH + 1);
-        match conform(backend, &cx, &Options::default()) {
+        let allow = opts.allow_sites_outside && give_up;
+        let options = Options {
+            allow_sites_outside: allow,
+            ..Default::default()
+        };
+        match conform(backend, &cx, &options) {
             Ok(out) => break (cx, out, outer_pieces),
-            Err(Error::SegmentsMissTheirDuals { segments, .. }) if notes.len() < MAX_GROWTH => {
+            Err(Error::SegmentsMissTheirDuals { segments, .. }) if !give_up => {
                 let label = components(&cavity);
                 let grown: crate::FastSet<usize> =
                     segments.iter().map(|&s| label[owner[s as usize]]).collect();
@@ -860,12 +870,32 @@ pub fn build<B: Backend + ?Sized>(
                     .filter(|(_, &c)| grown.contains(&label[c]))
                     .map(|(w, _)| w.name.clone())
                     .collect();
-                notes.push(format!(
-                    "system 3 infeasible for {} segments: the cavity around {} grew by a ring of cells",
-                    segments.len(),
-                    if names.is_empty() { "no well".to_string() } else { names.join(", ") }
-                ));
+                let before = cavity.clone();
                 grow(&mut cavity, &|c| grown.contains(&label[c]));
+                let changed = cavity != before;
+                notes.push(if changed {
+                    format!(
+                        "system 3 infeasible for {} segments: the cavity around {} grew by a ring of cells",
+                        segments.len(),
+                        if names.is_empty() { "no well".to_string() } else { names.join(", ") }
+                    )
+                } else {
+                    format!(
+                        "system 3 infeasible for {} segments and the cavity cannot grow (grid edge or inactive cells){}",
+                        segments.len(),
+                        if opts.allow_sites_outside { ": sites outside their cells allowed" } else { "" }
+                    )
+                });
+                give_up = !changed || notes.len() >= MAX_GROWTH;
+                if give_up && !opts.allow_sites_outside {
+                    return Err(Error::SitesOutsideCells {
+                        sites: vec![format!(
+                            "{}; segments {:?} cannot cross their dual edges",
+                            notes.last().expect("just pushed"),
+                            segments
+                        )],
+                    });
+                }
             }
             Err(e) => return Err(e),
         }

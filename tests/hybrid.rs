@@ -269,3 +269,26 @@ fn a_fault_polyline_is_clipped_to_the_cavity_with_free_ends() {
     assert_eq!(free, 2);
     write("fault-line", &h);
 }
+
+#[test]
+fn a_cavity_that_cannot_grow_is_an_error_unless_allowed() {
+    // concave.grdecl is a single column: nowhere to grow.
+    let g = read_grid(&data("concave.grdecl")).unwrap();
+    let well = WellInput::column("W", 0, 0, 0.1);
+    let e = build(
+        &default_backend(),
+        &g,
+        std::slice::from_ref(&well),
+        &HybridOptions::default(),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("cannot grow"), "{e}");
+    let opts = HybridOptions {
+        allow_sites_outside: true,
+        ..Default::default()
+    };
+    let h = build(&default_backend(), &g, &[well], &opts).unwrap();
+    assert!(h.report.transition.certificate.conforms());
+    assert!(h.report.transition.certificate.sites_outside > 0);
+    assert!(h.report.notes.iter().any(|n| n.contains("cannot grow")));
+}

@@ -86,6 +86,10 @@ enum Command {
         /// Layers of cells added to each cavity around what the radial mesh reaches.
         #[arg(long, default_value_t = 0)]
         margin: usize,
+        /// Write the mesh even when some transition sites cannot be inside
+        /// their cells once the cavities have grown as far as they can.
+        #[arg(long)]
+        allow_sites_outside: bool,
         /// Also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
         #[arg(long, value_name = "MESH")]
         tough: Option<PathBuf>,
@@ -165,6 +169,7 @@ fn run(cmd: Command) -> Result<()> {
             sectors,
             outer,
             margin,
+            allow_sites_outside,
             tough,
             out:
                 Outputs {
@@ -221,6 +226,7 @@ fn run(cmd: Command) -> Result<()> {
                 margin,
                 // a progress bar when there are many wells and someone watches
                 fault_lines: faults.iter().map(|f| polyline(f)).collect::<Result<_>>()?,
+                allow_sites_outside,
                 progress: (list.len() >= MANY_WELLS && std::io::stderr().is_terminal())
                     .then_some(bar as fn(&str, usize, usize)),
             };
