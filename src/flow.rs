@@ -4,7 +4,6 @@
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::FastMap;
 use serde::Serialize;
 
 /// A connection between two cells across a face: its length (area per unit
@@ -54,12 +53,7 @@ pub fn connections(mesh: &Mesh) -> Vec<Connection> {
 
 /// Cell edges without a twin: the boundary.
 pub fn boundary_faces(mesh: &Mesh) -> Vec<BoundaryFace> {
-    let mut owner: FastMap<(u32, u32), u32> = FastMap::default();
-    for (c, cell) in mesh.cells.iter().enumerate() {
-        for e in 0..cell.len() {
-            owner.insert((cell[e], cell[(e + 1) % cell.len()]), c as u32);
-        }
-    }
+    let owner = mesh.edge_owners();
     let mut out: Vec<BoundaryFace> = owner
         .iter()
         .filter(|(&(a, b), _)| !owner.contains_key(&(b, a)))

@@ -320,17 +320,22 @@ fn distance_to_polygon(x: [f64; 2], p: &[[f64; 2]]) -> f64 {
     let mut best = f64::INFINITY;
     for e in 0..n {
         let (a, b) = (p[e], p[(e + 1) % n]);
-        let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
-        let (vx, vy) = (x[0] - a[0], x[1] - a[1]);
-        inside &= ux * vy - uy * vx >= 0.0;
-        let t = ((ux * vx + uy * vy) / (ux * ux + uy * uy)).clamp(0.0, 1.0);
-        best = best.min((vx - t * ux).hypot(vy - t * uy));
+        inside &= (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0]) >= 0.0;
+        best = best.min(to_segment(x, [a, b]));
     }
     if inside {
         0.0
     } else {
         best
     }
+}
+
+/// Distance from x to the segment a-b.
+fn to_segment(x: [f64; 2], [a, b]: [[f64; 2]; 2]) -> f64 {
+    let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
+    let (vx, vy) = (x[0] - a[0], x[1] - a[1]);
+    let t = ((ux * vx + uy * vy) / (ux * ux + uy * uy)).clamp(0.0, 1.0);
+    (vx - t * ux).hypot(vy - t * uy)
 }
 
 /// One well placed: centre, radii of its rings, and the shortest side of
@@ -586,12 +591,6 @@ pub fn build<B: Backend + ?Sized>(
     for line in &opts.fault_lines {
         obstacles.extend(line.windows(2).map(|w| [w[0], w[1]]));
     }
-    let to_segment = |x: [f64; 2], [a, b]: [[f64; 2]; 2]| {
-        let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
-        let (vx, vy) = (x[0] - a[0], x[1] - a[1]);
-        let t = ((ux * vx + uy * vy) / (ux * ux + uy * uy)).clamp(0.0, 1.0);
-        (vx - t * ux).hypot(vy - t * uy)
-    };
     for a in 0..placed.len() {
         let wall = obstacles
             .iter()

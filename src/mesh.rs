@@ -204,16 +204,22 @@ impl Mesh {
         }
     }
 
-    /// Finds the faces by matching each cell edge with its reverse in
-    /// another cell; returns how many edges have no twin and are not in
-    /// `boundary` (hanging nodes, overlaps: 0 for a conforming mesh).
-    pub(crate) fn match_faces(&mut self, boundary: &crate::FastSet<(u32, u32)>) -> usize {
-        let mut owner: FastMap<(u32, u32), u32> = FastMap::default();
+    /// Directed cell edge (a, b) -> the cell it bounds (on its left).
+    pub(crate) fn edge_owners(&self) -> FastMap<(u32, u32), u32> {
+        let mut owner = FastMap::default();
         for (c, cell) in self.cells.iter().enumerate() {
             for e in 0..cell.len() {
                 owner.insert((cell[e], cell[(e + 1) % cell.len()]), c as u32);
             }
         }
+        owner
+    }
+
+    /// Finds the faces by matching each cell edge with its reverse in
+    /// another cell; returns how many edges have no twin and are not in
+    /// `boundary` (hanging nodes, overlaps: 0 for a conforming mesh).
+    pub(crate) fn match_faces(&mut self, boundary: &crate::FastSet<(u32, u32)>) -> usize {
+        let owner = self.edge_owners();
         self.faces.clear();
         let mut unmatched = 0;
         for (&(a, b), &c) in &owner {
