@@ -345,6 +345,8 @@ struct Placed {
     centre: [f64; 2],
     radii: Vec<f64>,
     reach: f64,
+    /// The column the well is in.
+    column: (usize, usize),
 }
 
 type FaultEdge = (u32, u32, (usize, usize), (usize, usize));
@@ -555,6 +557,7 @@ pub fn build<B: Backend + ?Sized>(
             centre,
             radii: vec![w.radius, opts.outer * side],
             reach: side,
+            column,
         });
     }
     // A radial mesh reaches at most 0.3 of the way to the nearest other
@@ -682,7 +685,7 @@ pub fn build<B: Backend + ?Sized>(
         label
     };
     let mut cavity = vec![false; nx * ny];
-    let mut well_column = vec![];
+    let well_column: Vec<usize> = placed.iter().map(|w| col(w.column.0, w.column.1)).collect();
     for w in &placed {
         // Columns within half a cell of the well polygon: its distance to the
         // cavity sides is then at least half their length, and they stay
@@ -693,9 +696,6 @@ pub fn build<B: Backend + ?Sized>(
                 let d = distance_to_polygon(w.centre, &quad_points(i, j));
                 if d < r {
                     cavity[col(i, j)] = true;
-                }
-                if d == 0.0 && well_column.len() < placed.len() {
-                    well_column.push(col(i, j));
                 }
             }
         }
@@ -813,12 +813,15 @@ pub fn build<B: Backend + ?Sized>(
             .iter()
             .map(|s| [cx.points[s[0] as usize], cx.points[s[1] as usize]])
             .collect();
-        let in_cavity_at = |x: [f64; 2]| {
+        let cavity_column_at = |x: [f64; 2]| {
             (0..nx * ny)
-                .any(|c| cavity[c] && distance_to_polygon(x, &quad_points(c % nx, c / nx)) == 0.0)
+                .find(|&c| cavity[c] && distance_to_polygon(x, &quad_points(c % nx, c / nx)) == 0.0)
         };
+        let in_cavity_at = |x: [f64; 2]| cavity_column_at(x).is_some();
         for line in &opts.fault_lines {
             for chain in clip_to_cavity(line, &boundary_sides, &in_cavity_at, 0.5 * typical_side) {
+                // the cavity the chain is in, should it need to grow
+                let home = cavity_column_at(chain[0]).unwrap_or(well_column[0]);
                 let mut prev: Option<u32> = None;
                 for x in chain {
                     cx.points.push(x);
@@ -827,7 +830,7 @@ pub fn build<B: Backend + ?Sized>(
                         let pieces = pieces_near_wells(cx.points[p as usize], x);
                         for (from, to) in split(&mut cx, p, id, pieces) {
                             cx.segments.push([from, to]);
-                            owner.push(well_column[0]);
+                            owner.push(home);
                             fault_segments += 1;
                         }
                     }

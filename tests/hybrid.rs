@@ -292,3 +292,23 @@ fn a_cavity_that_cannot_grow_is_an_error_unless_allowed() {
     assert!(h.report.transition.certificate.sites_outside > 0);
     assert!(h.report.notes.iter().any(|n| n.contains("cannot grow")));
 }
+
+#[test]
+fn a_well_on_a_grid_line_and_one_inside_a_column() {
+    // The first well sits exactly on a pillar (it touches four columns);
+    // every well must keep its own column.
+    let g = orthomesh::io::eclipse::CornerPointGrid::cartesian([14, 14, 1], [10.0, 10.0, 5.0]);
+    let wells = [
+        WellInput {
+            name: "ON".into(),
+            at: WellAt::Xy([40.0, 40.0]),
+            radius: 0.1,
+        },
+        WellInput::column("IN", 10, 10, 0.1),
+    ];
+    let h = build(&default_backend(), &g, &wells, &HybridOptions::default()).unwrap();
+    let r = &h.report;
+    assert_eq!(r.cavities, 2);
+    assert_eq!(r.unmatched_faces, 0);
+    assert!(r.transition.certificate.conforms() && r.transition.certificate.sites_inside_cells);
+}
