@@ -117,26 +117,19 @@ impl Hybrid {
     pub fn tough(&self) -> Result<String> {
         use crate::io::tough::{Connection, Element};
         let m = &self.mesh;
+        let node = |c: usize| [m.sites[c][0], m.sites[c][1], -self.depth[c]];
         let elements: Vec<Element> = (0..m.cells.len())
             .map(|c| Element {
                 volume: m.area(&m.cells[c]) * self.thickness[c],
-                node: [m.sites[c][0], m.sites[c][1], -self.depth[c]],
+                node: node(c),
             })
             .collect();
         let conns = crate::flow::connections(m)
             .into_iter()
             .map(|c| {
                 let [a, b] = c.cells.map(|x| x as usize);
-                let (sa, sb) = (m.sites[a], m.sites[b]);
-                let (dx, dy, dz) = (sb[0] - sa[0], sb[1] - sa[1], self.depth[b] - self.depth[a]);
-                let len = (dx * dx + dy * dy + dz * dz).sqrt();
-                Connection {
-                    elements: [a, b],
-                    isot: if dx.abs() >= dy.abs() { 1 } else { 2 },
-                    d: c.d,
-                    area: c.area * (self.thickness[a] + self.thickness[b]) / 2.0,
-                    cos_gravity: if len > 0.0 { dz / len } else { 0.0 },
-                }
+                let area = c.area * (self.thickness[a] + self.thickness[b]) / 2.0;
+                Connection::lateral([a, b], node(a), node(b), c.d, area)
             })
             .collect::<Vec<_>>();
         crate::io::tough::to_string(&elements, &conns, "ROCK1")
@@ -270,7 +263,7 @@ impl MapView {
             self.pid(i + 1, j + 1),
             self.pid(i, j + 1),
         ];
-        if signed_area(&q.map(|p| self.pillar[p as usize])) < 0.0 {
+        if crate::mesh::shoelace(4, |k| self.pillar[q[k] as usize]) < 0.0 {
             [q[0], q[3], q[2], q[1]]
         } else {
             q
@@ -280,17 +273,6 @@ impl MapView {
     fn centroid(&self, i: usize, j: usize) -> [f64; 2] {
         centroid(&self.quad(i, j).map(|p| self.pillar[p as usize]))
     }
-}
-
-fn signed_area(p: &[[f64; 2]]) -> f64 {
-    let o = p[0];
-    (1..p.len() - 1)
-        .map(|k| {
-            let (a, b) = (p[k], p[k + 1]);
-            (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-        })
-        .sum::<f64>()
-        / 2.0
 }
 
 fn centroid(p: &[[f64; 2]]) -> [f64; 2] {

@@ -310,16 +310,14 @@ impl Layered {
                 else {
                     continue;
                 };
-                let (na, nb) = (self.node[a], self.node[b]);
-                let d = [nb[0] - na[0], nb[1] - na[1], nb[2] - na[2]];
-                let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                conns.push(Connection {
-                    elements: [a, b],
-                    isot: if d[0].abs() >= d[1].abs() { 1 } else { 2 },
-                    d: c.d,
-                    area: c.area * (thick(a) + thick(b)) / 2.0,
-                    cos_gravity: if len > 0.0 { -d[2] / len } else { 0.0 },
-                });
+                let area = c.area * (thick(a) + thick(b)) / 2.0;
+                conns.push(Connection::lateral(
+                    [a, b],
+                    self.node[a],
+                    self.node[b],
+                    c.d,
+                    area,
+                ));
             }
         }
         for (a, &(c, k)) in self.origin.iter().enumerate() {

@@ -34,6 +34,17 @@ pub struct Mesh {
     pub size: f64,
 }
 
+/// Signed area of a polygon (shoelace), relative to its first vertex: far
+/// from the origin (map coordinates) absolute products would cancel.
+pub(crate) fn shoelace(n: usize, at: impl Fn(usize) -> [f64; 2]) -> f64 {
+    let o = Vector2::from(at(0));
+    let v = |k: usize| Vector2::from(at(k)) - o;
+    (1..n.saturating_sub(1))
+        .map(|k| v(k).perp(&v(k + 1)))
+        .sum::<f64>()
+        / 2.0
+}
+
 /// Lower-left and upper-right corners of the points' bounding box.
 pub(crate) fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
     let mut lo = [f64::INFINITY; 2];
@@ -173,13 +184,9 @@ impl Mesh {
         Ok(m)
     }
 
-    /// Signed area of a cell (shoelace).
-    /// Relative to the first vertex: far from the origin (map coordinates)
-    /// absolute products would cancel catastrophically.
+    /// Signed area of a cell.
     pub fn area(&self, cell: &[u32]) -> f64 {
-        let o = Vector2::from(self.points[cell[0] as usize]);
-        let v = |i: u32| Vector2::from(self.points[i as usize]) - o;
-        cell.windows(2).map(|e| v(e[0]).perp(&v(e[1]))).sum::<f64>() / 2.0
+        shoelace(cell.len(), |k| self.points[cell[k] as usize])
     }
 
     /// Largest |cos| between an interior face and the line joining the two

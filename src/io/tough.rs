@@ -26,6 +26,29 @@ pub struct Connection {
     pub cos_gravity: f64,
 }
 
+impl Connection {
+    /// A lateral connection between elements with nodes `na`, `nb` (z up):
+    /// permeability index 1 or 2 by the larger horizontal component, the
+    /// gravity cosine from the nodes.
+    pub fn lateral(
+        elements: [usize; 2],
+        na: [f64; 3],
+        nb: [f64; 3],
+        d: [f64; 2],
+        area: f64,
+    ) -> Connection {
+        let v = [nb[0] - na[0], nb[1] - na[1], nb[2] - na[2]];
+        let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        Connection {
+            elements,
+            isot: if v[0].abs() >= v[1].abs() { 1 } else { 2 },
+            d,
+            area,
+            cos_gravity: if len > 0.0 { -v[2] / len } else { 0.0 },
+        }
+    }
+}
+
 /// Element names: three characters (a letter, then letters or digits) and
 /// two digits, as TOUGH reads them: 26 x 36 x 36 x 100 names.
 pub fn name(n: usize) -> Result<String> {
