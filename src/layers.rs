@@ -177,6 +177,19 @@ pub fn extrude(h: &Hybrid, g: &CornerPointGrid) -> Result<Layered> {
             out.node.push([m.sites[c][0], m.sites[c][1], zc]);
         }
     }
+    // Points of left-out cells (inactive, pinched) would be unused points
+    // in the output: readers flag those.
+    let mut new_id = vec![u32::MAX; out.points.len()];
+    let mut points = vec![];
+    for q in out.cells.iter_mut().flatten().flatten() {
+        let old = *q as usize;
+        if new_id[old] == u32::MAX {
+            new_id[old] = points.len() as u32;
+            points.push(out.points[old]);
+        }
+        *q = new_id[old];
+    }
+    out.points = points;
     Ok(out)
 }
 

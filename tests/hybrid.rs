@@ -26,11 +26,21 @@ fn spe9_wells() -> Vec<WellInput> {
 }
 
 fn write(tag: &str, h: &orthomesh::hybrid::Hybrid) {
+    write_files(&format!("hybrid-{tag}"), &h.vtu(), &h.tough().unwrap());
+}
+
+/// 2.5D meshes go to `layers-*` files: tests/readers.py validates them as
+/// polyhedra.
+fn write_layers(tag: &str, h: &orthomesh::hybrid::Hybrid, l: &orthomesh::layers::Layered) {
+    write_files(&format!("layers-{tag}"), &l.vtu(h), &l.tough(h).unwrap());
+}
+
+fn write_files(stem: &str, vtu: &str, tough: &str) {
     if let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") {
-        let path = Path::new(&dir).join(format!("hybrid-{tag}.vtu"));
-        orthomesh::io::write_atomic(&path, h.vtu().as_bytes()).unwrap();
-        let mesh = Path::new(&dir).join(format!("hybrid-{tag}.tough"));
-        orthomesh::io::write_atomic(&mesh, h.tough().unwrap().as_bytes()).unwrap();
+        let path = Path::new(&dir).join(format!("{stem}.vtu"));
+        orthomesh::io::write_atomic(&path, vtu.as_bytes()).unwrap();
+        let mesh = Path::new(&dir).join(format!("{stem}.tough"));
+        orthomesh::io::write_atomic(&mesh, tough.as_bytes()).unwrap();
     }
 }
 
@@ -101,6 +111,7 @@ fn spe9_in_2_5d() {
     let opts = HybridOptions::default();
     let h = build(&default_backend(), &g, &spe9_wells(), &opts).unwrap();
     let l = orthomesh::layers::extrude(&h, &g).unwrap();
+    write_layers("spe9", &h, &l);
     assert_eq!(l.cells.len(), 15 * h.mesh.cells.len());
     // Volumes add up to the grid's (less the wellbores), to the precision
     // of mean thicknesses over cells that straddle columns.
@@ -215,6 +226,9 @@ fn a_fault_through_a_cavity_is_a_chain_of_mesh_edges() {
         .sum();
     assert!((on_fault - 20.0).abs() < 1e-9, "{on_fault}");
     write("faulted", &h);
+    let l = orthomesh::layers::extrude(&h, &g).unwrap();
+    assert_eq!(l.cells.len(), 2 * h.mesh.cells.len());
+    write_layers("faulted", &h, &l);
 }
 
 #[test]
