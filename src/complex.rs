@@ -29,6 +29,11 @@ pub struct Complex {
     pub segment_ids: Vec<i64>,
     /// Things the reader changed and the user should know.
     pub notes: Vec<String>,
+    /// Per segment (or empty: none), a point that should lie on the
+    /// segment's dual line: the site of the cell across an interface, so
+    /// that the face is orthogonal to the link between the two sites. Met
+    /// where the weights LP can meet it (method.md section 6).
+    pub anchors: Vec<Option<[f64; 2]>>,
 }
 
 impl Complex {
@@ -43,7 +48,13 @@ impl Complex {
             vertex_ids,
             segment_ids,
             notes: vec![],
+            anchors: vec![],
         }
+    }
+
+    /// The anchor of segment s, if it has one.
+    pub fn anchor(&self, s: usize) -> Option<[f64; 2]> {
+        self.anchors.get(s).copied().flatten()
     }
 
     /// Checks that this is a simplicial complex: finite coordinates, distinct
@@ -78,6 +89,23 @@ impl Complex {
             return Err(Error::Degenerate(format!(
                 "hole {} has a NaN or infinite coordinate",
                 h + 1
+            )));
+        }
+
+        if !self.anchors.is_empty() && self.anchors.len() != self.segments.len() {
+            return Err(Error::Usage(format!(
+                "{} anchors for {} segments",
+                self.anchors.len(),
+                self.segments.len()
+            )));
+        }
+        let bad: Vec<i64> = (0..self.anchors.len())
+            .filter(|&s| self.anchors[s].is_some_and(|a| !a.iter().all(|c| c.is_finite())))
+            .map(sid)
+            .collect();
+        if !bad.is_empty() {
+            return Err(Error::Degenerate(format!(
+                "segments {bad:?} have an anchor with a NaN or infinite coordinate"
             )));
         }
 

@@ -82,6 +82,9 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
             if !segs.contains(&(a.min(b), a.max(b))) {
                 cx.segments.push([a, b]);
                 cx.segment_ids.push(next_id);
+                if !cx.anchors.is_empty() {
+                    cx.anchors.push(None);
+                }
                 next_id += 1;
                 hull_edges_added += 1;
             }
@@ -144,6 +147,9 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
         if keep_s[s] {
             rc.segments.push([map[a as usize], map[b as usize]]);
             rc.segment_ids.push(cx.segment_ids[s]);
+            if !cx.anchors.is_empty() {
+                rc.anchors.push(cx.anchors[s]);
+            }
         }
     }
     rc.notes.push(format!(

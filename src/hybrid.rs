@@ -458,6 +458,21 @@ fn ring_radii(rw: f64, outer: f64, rings: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Radii of the ring sites (ring q between radii r[q] and r[q + 1]) of a
+/// radial mesh with m sectors: see the assembly in `build`.
+fn site_radii(r: &[f64], m: usize) -> Vec<f64> {
+    let half = TAU / (2 * m) as f64;
+    let alpha = r[1] / r[0];
+    let beta = alpha * half.sin() * alpha.ln() / (half * (alpha - 1.0));
+    r[..r.len() - 1].iter().map(|&rq| beta * rq).collect()
+}
+
+/// The site of a radial cell: sector s's mid-angle ray at radius rho.
+fn radial_site(centre: [f64; 2], rho: f64, s: usize, m: usize) -> [f64; 2] {
+    let a = TAU * (s as f64 + 0.5) / m as f64;
+    [centre[0] + rho * a.cos(), centre[1] + rho * a.sin()]
+}
+
 fn polygon_point(c: [f64; 2], r: f64, s: usize, m: usize) -> [f64; 2] {
     let a = TAU * s as f64 / m as f64;
     [c[0] + r * a.cos(), c[1] + r * a.sin()]
@@ -722,6 +737,7 @@ pub fn build<B: Backend + ?Sized>(
     let (cx, out, outer_pieces) = loop {
         let mut cx = Complex::default();
         let mut owner = vec![]; // per segment, the cavity column it bounds
+        let mut anchors = vec![]; // per segment, the site across it
         let mut outer_pieces: Vec<(u32, u32)> = vec![]; // on the outer boundary
         fault_segments = 0;
         let mut vid: FastMap<u32, u32> = FastMap::default();
@@ -759,8 +775,12 @@ pub fn build<B: Backend + ?Sized>(
                     } else {
                         1
                     };
+                    // The reservoir cell across: its site should be on the
+                    // dual line of each piece (orthogonal interface).
+                    let across = (!outer_side).then(|| view.centroid(a, b));
                     for (from, to) in split(&mut cx, u, v, pieces) {
                         cx.segments.push([from, to]);
+                        anchors.push(across);
                         owner.push(col(i, j));
                         if outer_side {
                             outer_pieces.push((from, to));
@@ -783,6 +803,7 @@ pub fn build<B: Backend + ?Sized>(
                 let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
                 for (from, to) in split(&mut cx, u, v, pieces_near_wells(pp, pq)) {
                     cx.segments.push([from, to]);
+                    anchors.push(None);
                     owner.push(col(a.0, a.1));
                     fault_segments += 1;
                 }
@@ -812,6 +833,7 @@ pub fn build<B: Backend + ?Sized>(
                         let pieces = pieces_near_wells(cx.points[p as usize], x);
                         for (from, to) in split(&mut cx, p, id, pieces) {
                             cx.segments.push([from, to]);
+                            anchors.push(None);
                             owner.push(home);
                             fault_segments += 1;
                         }
@@ -822,18 +844,23 @@ pub fn build<B: Backend + ?Sized>(
         }
         for (w, &c) in placed.iter().zip(&well_column) {
             let r = *w.radii.last().unwrap();
+            // the outer ring's sites, across the chords
+            let rho = *site_radii(&w.radii, m).last().unwrap();
             let first = cx.points.len() as u32;
             for s in 0..m {
                 cx.points.push(polygon_point(w.centre, r, s, m));
             }
-            for s in 0..m as u32 {
-                cx.segments.push([first + s, first + (s + 1) % m as u32]);
+            for s in 0..m {
+                cx.segments
+                    .push([first + s as u32, first + ((s + 1) % m) as u32]);
+                anchors.push(Some(radial_site(w.centre, rho, s, m)));
                 owner.push(c);
             }
             cx.holes.push(w.centre);
         }
         let cx = Complex {
             holes: cx.holes,
+            anchors,
             ..Complex::new(cx.points, cx.segments)
         };
         tell("transition mesh (attempt)", notes.len() + 1, MAX_GROWTH + 1);
@@ -967,9 +994,7 @@ pub fn build<B: Backend + ?Sized>(
         // and the mid-radius). Weights make each chord the radical line of
         // the sites beside it.
         let half = TAU / (2 * m) as f64;
-        let alpha = r[1] / r[0];
-        let beta = alpha * half.sin() * alpha.ln() / (half * (alpha - 1.0));
-        let rho: Vec<f64> = (0..opts.rings).map(|q| beta * r[q]).collect();
+        let rho = site_radii(r, m);
         let mut wt = vec![0.0; opts.rings];
         for q in 1..opts.rings {
             let h = r[q] * half.cos();
@@ -987,11 +1012,7 @@ pub fn build<B: Backend + ?Sized>(
                     .map(|&(rq, sq)| point(&mut mesh, polygon_point(w.centre, r[rq], sq, m)))
                     .collect();
                 mesh.cells.push(cell);
-                let a = TAU * (s as f64 + 0.5) / m as f64;
-                mesh.sites.push([
-                    w.centre[0] + rho[q] * a.cos(),
-                    w.centre[1] + rho[q] * a.sin(),
-                ]);
+                mesh.sites.push(radial_site(w.centre, rho[q], s, m));
                 mesh.weights.push(wt[q]);
                 region.push(Region::Well);
                 ijk.push(None);

@@ -42,6 +42,12 @@ const MAX_GLOBAL_ROWS: usize = 5_000_000;
 const ELASTIC_MARGIN: f64 = 1e-3;
 /// Rounds of the lazy global form before giving up on adding rows locally.
 const GLOBAL_ROUNDS: usize = 40;
+/// An anchor within this fraction of its segment's length of the dual line
+/// is met (the hybrid report's orthogonality threshold is 1e-6).
+const ANCHOR_MET: f64 = 1e-9;
+/// Phase 2 cost of an anchor's violation (dimensionless, like the weights'
+/// cost sum |w_i| / l_i^2, which it outweighs).
+const ANCHOR_COST: f64 = 1e3;
 
 /// Verified weights and their regular triangulation.
 #[derive(Debug, Clone)]
@@ -77,23 +83,58 @@ pub struct WeightsReport {
     pub system3_feasible: bool,
     /// Why the LP gave no answer, when zero weights had to do.
     pub lp_error: Option<String>,
+    /// Segments with an anchor, and those whose anchor is on the dual line.
+    pub anchors: usize,
+    pub anchors_met: usize,
 }
 
 /// Finds weights for the domain's complex.
 pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> {
+    let mut out = solve_unanchored_first(backend, dom)?;
+    let cx = &dom.complex;
+    out.report.anchors = (0..cx.segments.len())
+        .filter(|&s| cx.anchor(s).is_some())
+        .count();
+    out.report.anchors_met = out.report.anchors - unmet_anchors(cx, &out.w).len();
+    Ok(out)
+}
+
+/// How far anchor c of segment s lies from the segment's dual line under
+/// weights w, as a fraction of the segment's length (the power difference
+/// of c to the segment's ends over 2 L^2).
+pub fn anchor_offset(cx: &Complex, w: &[f64], s: usize) -> Option<f64> {
+    let c = cx.anchor(s)?;
+    let [i, j] = cx.segments[s].map(|v| v as usize);
+    let (pi, pj) = (cx.points[i], cx.points[j]);
+    let d2 = |p: [f64; 2]| (c[0] - p[0]).powi(2) + (c[1] - p[1]).powi(2);
+    let l2 = (pj[0] - pi[0]).powi(2) + (pj[1] - pi[1]).powi(2);
+    Some(((d2(pi) - w[i]) - (d2(pj) - w[j])) / (2.0 * l2))
+}
+
+/// Anchored segments whose anchor is off the dual line under w.
+fn unmet_anchors(cx: &Complex, w: &[f64]) -> Vec<u32> {
+    (0..cx.segments.len())
+        .filter(|&s| anchor_offset(cx, w, s).is_some_and(|o| o.abs() > ANCHOR_MET))
+        .map(|s| s as u32)
+        .collect()
+}
+
+/// Zero weights when they serve (anchors included), else the LP.
+fn solve_unanchored_first<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> {
     let cx = &dom.complex;
     let n = cx.points.len();
     let zero = vec![0.0; n];
+    let unmet_at_zero = unmet_anchors(cx, &zero).len();
     let gabriel = |t: &Triangulation| {
         cx.segments
             .iter()
             .all(|s| strictly_gabriel(cx, t, s[0], s[1]))
     };
-    let zero_weights = |rt: Triangulation| Weights {
+    let zero_weights = |rt: Triangulation, method: &str| Weights {
         w: vec![0.0; n],
         rt,
         report: WeightsReport {
-            method: "zero".into(),
+            method: method.into(),
             system3_feasible: true,
             ..Default::default()
         },
@@ -102,20 +143,42 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
     // A constrained Delaunay triangulation that is Delaunay at every edge
     // is a Delaunay triangulation holding every segment: no second build.
     // (Its other edges are Delaunay by construction, with exact predicates.)
-    if delaunay(cx, &dom.cdt) && gabriel(&dom.cdt) {
-        return Ok(zero_weights(dom.cdt.clone()));
+    let zero_rt = if delaunay(cx, &dom.cdt) && gabriel(&dom.cdt) {
+        Some(dom.cdt.clone())
+    } else {
+        None
+    };
+    if let (Some(rt), 0) = (&zero_rt, unmet_at_zero) {
+        return Ok(zero_weights(rt.clone(), "zero"));
     }
     let rt0 = backend.regular(&cx.points, &zero)?;
-    if conforms(cx, &rt0).is_ok() && gabriel(&rt0) {
-        return Ok(zero_weights(rt0));
-    }
-    match lp(backend, dom, &rt0) {
+    let zero_rt =
+        zero_rt.or_else(|| (conforms(cx, &rt0).is_ok() && gabriel(&rt0)).then(|| rt0.clone()));
+    // Anchors that zero weights meet are kept as equalities; should they
+    // leave no weights at all, the LP runs again without anchors.
+    let has_anchors = !cx.anchors.is_empty();
+    let lpres = match lp(backend, dom, &rt0, has_anchors) {
+        Ok(w) if w.sys3_failed.is_empty() || !has_anchors => Ok(w),
+        Err(e) if !has_anchors => Err(e),
+        _ => lp(backend, dom, &rt0, false),
+    };
+    match (zero_rt, lpres) {
+        (Some(rt), Ok(w)) if unmet_anchors(cx, &w.w).len() >= unmet_at_zero => {
+            // Zero weights serve but for anchors, and the LP meets no more
+            // of them (keeping the margin it needs): zero weights.
+            let mut z = zero_weights(rt, "zero (the LP met no more anchors)");
+            z.report.lp_solves = w.report.lp_solves;
+            z.report.lp_rows = w.report.lp_rows;
+            z.report.lp_cols = w.report.lp_cols;
+            Ok(z)
+        }
+        (Some(rt), Err(Error::Lp(_))) => Ok(zero_weights(rt, "zero (the LP gave no answer)")),
         // The LP gave no answer (slivers beyond its precision, a solver
         // error, the time budget). Zero weights are still a regular
         // constrained triangulation when the Delaunay triangulation contains
         // every segment (checked exactly): use them, and check system 3 for
         // them exactly (its failure is then no proof).
-        Err(Error::Lp(m)) if conforms(cx, &rt0).is_ok() => {
+        (None, Err(Error::Lp(m))) if conforms(cx, &rt0).is_ok() => {
             let sys3_failed = sys3_failures(cx, &zero, &rt0);
             let report = WeightsReport {
                 method: "zero (the LP gave no answer)".into(),
@@ -130,12 +193,17 @@ pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> 
                 sys3_failed,
             })
         }
-        other => other,
+        (_, other) => other,
     }
 }
 
 /// The local form, then the lazy global form.
-fn lp<B: Backend + ?Sized>(backend: &B, dom: &Domain, rt0: &Triangulation) -> Result<Weights> {
+fn lp<B: Backend + ?Sized>(
+    backend: &B,
+    dom: &Domain,
+    rt0: &Triangulation,
+    anchored: bool,
+) -> Result<Weights> {
     let cx = &dom.complex;
     let n = cx.points.len();
     let units = Units::new(cx, &dom.cdt);
@@ -147,7 +215,7 @@ fn lp<B: Backend + ?Sized>(backend: &B, dom: &Domain, rt0: &Triangulation) -> Re
     // The local form fixes the triangulation, so its failures are no
     // verdict. First with weights free only near the segments that need
     // them (method.md section 2), then with all free.
-    let near = near_failures(cx, rt0, &dom.cdt);
+    let near = near_failures(cx, rt0, &dom.cdt, &unmet_anchors(cx, &vec![0.0; n]));
     let all = vec![true; n];
     let tries = if near.iter().all(|&f| f) {
         vec![all]
@@ -156,7 +224,10 @@ fn lp<B: Backend + ?Sized>(backend: &B, dom: &Domain, rt0: &Triangulation) -> Re
     };
     for free in tries {
         report.free_weights = free.iter().filter(|&&f| f).count();
-        let local = local_system(cx, &dom.cdt, &units, free);
+        let mut local = local_system(cx, &dom.cdt, &units, free);
+        if anchored {
+            anchor_rows(&mut local, cx, &units);
+        }
         if let Attempt::Found(found) = attempt(backend, cx, &local, false, &mut report)? {
             if found.sys3_failed.is_empty() {
                 return finish(found, report);
@@ -165,7 +236,7 @@ fn lp<B: Backend + ?Sized>(backend: &B, dom: &Domain, rt0: &Triangulation) -> Re
     }
     report.free_weights = n;
     report.method = "global".into();
-    global(backend, dom, &units, report)
+    global(backend, dom, &units, report, anchored)
 }
 
 /// A candidate from one LP attempt, verified to conform.
@@ -193,6 +264,9 @@ fn finish(found: Found, mut report: WeightsReport) -> Result<Weights> {
 enum Family {
     Sys1,
     Sys3(u32),
+    /// An anchor on a segment's dual line: in `rows`, an elastic equality
+    /// in phase 2 only.
+    Anchor,
 }
 
 /// sum(terms) - delta >= rhs  (or == rhs for equalities, without delta).
@@ -259,16 +333,49 @@ fn local_system(cx: &Complex, t: &Triangulation, units: &Units, free: Vec<bool>)
     sys
 }
 
+/// For each anchored segment (i, j) with anchor c: the power difference of
+/// c to i and j is zero, w_i - w_j = |c - p_i|^2 - |c - p_j|^2, over L^2.
+/// An equality where zero weights meet it (orthogonality already there is
+/// not traded for orthogonality elsewhere), else elastic in phase 2.
+fn anchor_rows(sys: &mut System, cx: &Complex, units: &Units) {
+    let p = &units.points;
+    let scale = units.unit2.sqrt();
+    let zero = vec![0.0; cx.points.len()];
+    for (s, &[i, j]) in cx.segments.iter().enumerate() {
+        let Some(c) = cx.anchor(s) else { continue };
+        let c = Vector2::new(c[0] / scale, c[1] / scale);
+        let d2 = |v: u32| (c - Vector2::from(p[v as usize])).norm_squared();
+        let l = rel(p, i, j).norm_squared();
+        let row = Row {
+            terms: vec![(i as usize, 1.0 / l), (j as usize, -1.0 / l)],
+            rhs: (d2(i) - d2(j)) / l,
+            family: Family::Anchor,
+        };
+        if anchor_offset(cx, &zero, s).is_some_and(|o| o.abs() <= ANCHOR_MET) {
+            sys.eqs.push(row);
+        } else {
+            sys.rows.push(row);
+        }
+    }
+}
+
 /// Endpoints of the segments that zero weights do not serve (not strictly
-/// Gabriel edges of the Delaunay triangulation), and two rings of
-/// constrained-Delaunay neighbours around them: the weights that may move.
-fn near_failures(cx: &Complex, dt: &Triangulation, cdt: &Triangulation) -> Vec<bool> {
+/// Gabriel edges of the Delaunay triangulation, or an anchor missed), and
+/// two rings of constrained-Delaunay neighbours around them: the weights
+/// that may move.
+fn near_failures(
+    cx: &Complex,
+    dt: &Triangulation,
+    cdt: &Triangulation,
+    unmet: &[u32],
+) -> Vec<bool> {
     let nb = cdt.neighbours(cx.points.len());
     let mut free = vec![false; cx.points.len()];
     let mut ring: Vec<u32> = cx
         .segments
         .iter()
         .filter(|s| !(dt.has_edge(s[0], s[1]) && strictly_gabriel(cx, dt, s[0], s[1])))
+        .chain(unmet.iter().map(|&s| &cx.segments[s as usize]))
         .flat_map(|s| [s[0], s[1]])
         .collect();
     for _ in 0..3 {
@@ -447,6 +554,15 @@ fn run(
     for r in sys.rows.iter().filter(finite) {
         let mut terms: Vec<_> = r.terms.iter().map(|&(c, v)| (col(c), v)).collect();
         match (r.family, mode) {
+            (Family::Anchor, Mode::Regularise { .. }) => {
+                // sum(terms) + s+ - s- == rhs, |violation| costed
+                let up = pb.add_column(ANCHOR_COST, 0.0..);
+                let down = pb.add_column(ANCHOR_COST, 0.0..);
+                terms.extend([(up, 1.0), (down, -1.0)]);
+                pb.add_row(r.rhs..=r.rhs, terms);
+                continue;
+            }
+            (Family::Anchor, _) => continue,
             (Family::Sys3(_), _) if !with3 => continue,
             (Family::Sys3(s), Mode::Elastic { costs, .. }) => {
                 // sum(terms) + slack_s >= rhs + small positive margin
@@ -578,7 +694,7 @@ fn attempt<B: Backend + ?Sized>(
             run(
                 sys,
                 true,
-                k3,
+                None,
                 &Mode::Regularise {
                     delta_min: m3 / 2.0,
                 },
@@ -794,6 +910,7 @@ fn global<B: Backend + ?Sized>(
     dom: &Domain,
     units: &Units,
     mut report: WeightsReport,
+    anchored: bool,
 ) -> Result<Weights> {
     let cx = &dom.complex;
     let p = &units.points;
@@ -842,6 +959,9 @@ fn global<B: Backend + ?Sized>(
             if let Some(j) = j {
                 sys3_rows(&mut sys, p, o as u32, i, j, &others);
             }
+        }
+        if anchored {
+            anchor_rows(&mut sys, cx, units);
         }
         let (found, w) = match attempt(backend, cx, &sys, true, &mut report)? {
             Attempt::Sys1Infeasible => {
@@ -954,6 +1074,26 @@ fn global<B: Backend + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn anchor_offsets_by_hand() {
+        let mut cx = Complex::new(
+            vec![[0.0, 0.0], [2.0, 0.0], [1.0, 3.0]],
+            vec![[0, 1], [1, 2]],
+        );
+        cx.anchors = vec![Some([1.5, 1.0]), None];
+        // power difference (3.25 - 1.25) over 2 L^2 = 8
+        assert_eq!(anchor_offset(&cx, &[0.0; 3], 0), Some(0.25));
+        assert_eq!(unmet_anchors(&cx, &[0.0; 3]), vec![0]);
+        // w_0 - w_1 = 2 puts the anchor on the radical line
+        assert_eq!(anchor_offset(&cx, &[2.0, 0.0, 0.0], 0), Some(0.0));
+        assert_eq!(anchor_offset(&cx, &[0.0; 3], 1), None);
+        assert!(cx.validate().is_ok());
+        cx.anchors = vec![Some([f64::NAN, 0.0]), None];
+        assert!(cx.validate().is_err());
+        cx.anchors = vec![None];
+        assert!(cx.validate().is_err());
+    }
 
     #[test]
     fn convexity_row_matches_the_incircle_sign() {

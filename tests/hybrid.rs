@@ -157,9 +157,22 @@ fn spe9_in_2_5d() {
 /// that ends next to the well: along the east sides of column I = 6 for
 /// J = 3..5, and a part far away along the north sides of row J = 9.
 fn faulted_grid() -> std::path::PathBuf {
-    use std::fmt::Write;
     let g = orthomesh::io::eclipse::CornerPointGrid::cartesian([11, 11, 2], [10.0, 10.0, 5.0]);
-    let mut s = String::from("SPECGRID\n 11 11 2 1 F /\nCOORD\n");
+    grdecl_file(
+        "faulted",
+        &g,
+        "FAULTS\n 'F1' 6 6 3 5 1 2 X /\n 'F1' 7 9 9 9 1 2 Y /\n/\n",
+    )
+}
+
+/// Writes grid g (and `extra` keywords) as GRDECL in a temporary folder.
+fn grdecl_file(
+    name: &str,
+    g: &orthomesh::io::eclipse::CornerPointGrid,
+    extra: &str,
+) -> std::path::PathBuf {
+    use std::fmt::Write;
+    let mut s = format!("SPECGRID\n {} {} {} 1 F /\nCOORD\n", g.nx, g.ny, g.nz);
     for p in &g.coord {
         let _ = writeln!(s, "{} {} {} {} {} {}", p[0], p[1], p[2], p[3], p[4], p[5]);
     }
@@ -167,10 +180,11 @@ fn faulted_grid() -> std::path::PathBuf {
     for z in &g.zcorn {
         let _ = writeln!(s, "{z}");
     }
-    s += "/\nFAULTS\n 'F1' 6 6 3 5 1 2 X /\n 'F1' 7 9 9 9 1 2 Y /\n/\n";
+    s += "/\n";
+    s += extra;
     let dir = std::env::temp_dir().join(format!("orthomesh-hybrid-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("faulted.grdecl");
+    let path = dir.join(format!("{name}.grdecl"));
     std::fs::write(&path, s).unwrap();
     path
 }
@@ -232,7 +246,7 @@ fn a_fault_through_a_cavity_is_a_chain_of_mesh_edges() {
 }
 
 #[test]
-fn distorted_corner_point_cells_report_their_interface_defects() {
+fn distorted_corner_point_cells_get_orthogonal_interfaces_from_the_lp() {
     // emerald: rotated, left-handed, distorted columns.
     let g = read_grid(&data("emerald.grdecl")).unwrap();
     let well = WellInput {
@@ -246,19 +260,54 @@ fn distorted_corner_point_cells_report_their_interface_defects() {
     assert!(c.conforms() && c.sites_inside_cells, "{:?}", c.problems);
     assert_eq!(r.unmatched_faces, 0);
     assert_eq!(r.transmissibility.negative, 0);
-    // Reservoir centres off their interfaces' perpendiculars: named, per face.
-    assert!(!r.non_orthogonal_interfaces.is_empty());
-    assert!(r
-        .non_orthogonal_interfaces
-        .iter()
-        .all(|(ijk, pair, d)| ijk.is_some() && pair == "reservoir-transition" && *d > 1e-6));
-    // The transition and well regions stay orthogonal among themselves.
+    // The weights put every reservoir centre and radial site across an
+    // interface on its dual line: every interface is orthogonal, though
+    // zero weights leave emerald's centres off.
+    let w = &r.transition.weights;
+    assert!(w.anchors > 0 && w.anchors_met == w.anchors, "{w:?}");
+    assert!(w.method != "zero", "{w:?}");
+    assert!(
+        r.non_orthogonal_interfaces.is_empty(),
+        "{:?}",
+        r.non_orthogonal_interfaces
+    );
     for (pair, d) in &r.orthogonality_defect {
-        if !pair.contains("reservoir") {
+        if pair != "reservoir-reservoir" {
             assert!(*d < 1e-6, "{pair}: {d}");
         }
     }
     write("emerald", &h);
+}
+
+#[test]
+fn sheared_cells_get_orthogonal_interfaces_from_the_lp() {
+    // Parallelogram cells: a centre is off the perpendicular bisectors of
+    // its sides, so zero weights leave every cavity side non-orthogonal.
+    let mut g = orthomesh::io::eclipse::CornerPointGrid::cartesian([11, 11, 1], [10.0, 10.0, 5.0]);
+    for p in &mut g.coord {
+        p[0] += 0.25 * p[1];
+        p[3] += 0.25 * p[4];
+    }
+    let g = read_grid(&grdecl_file("sheared", &g, "")).unwrap();
+    let well = WellInput::column("W", 6, 6, 0.1);
+    let h = build(&default_backend(), &g, &[well], &HybridOptions::default()).unwrap();
+    let r = &h.report;
+    let c = &r.transition.certificate;
+    assert!(c.conforms() && c.sites_inside_cells, "{:?}", c.problems);
+    let w = &r.transition.weights;
+    assert!(w.anchors > 0 && w.anchors_met == w.anchors, "{w:?}");
+    assert!(
+        r.non_orthogonal_interfaces.is_empty(),
+        "{:?}",
+        r.non_orthogonal_interfaces
+    );
+    for (pair, d) in &r.orthogonality_defect {
+        if pair != "reservoir-reservoir" {
+            assert!(*d < 1e-6, "{pair}: {d}");
+        }
+    }
+    assert_eq!(r.transmissibility.negative, 0);
+    write("sheared", &h);
 }
 
 #[test]
