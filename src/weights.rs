@@ -172,14 +172,14 @@ fn solve_unanchored_first<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Res
             z.report.lp_cols = w.report.lp_cols;
             Ok(z)
         }
-        (Some(rt), Err(Error::Lp(_))) => Ok(zero_weights(rt, "zero (the LP gave no answer)")),
         // The LP gave no answer (slivers beyond its precision, a solver
         // error, the time budget). Zero weights are still a regular
         // constrained triangulation when the Delaunay triangulation contains
         // every segment (checked exactly): use them, and check system 3 for
         // them exactly (its failure is then no proof).
-        (None, Err(Error::Lp(m))) if conforms(cx, &rt0).is_ok() => {
-            let sys3_failed = sys3_failures(cx, &zero, &rt0);
+        (zero_rt, Err(Error::Lp(m))) if zero_rt.is_some() || conforms(cx, &rt0).is_ok() => {
+            let rt = zero_rt.unwrap_or(rt0);
+            let sys3_failed = sys3_failures(cx, &zero, &rt);
             let report = WeightsReport {
                 method: "zero (the LP gave no answer)".into(),
                 system3_feasible: sys3_failed.is_empty(),
@@ -188,7 +188,7 @@ fn solve_unanchored_first<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Res
             };
             Ok(Weights {
                 w: zero,
-                rt: rt0,
+                rt,
                 report,
                 sys3_failed,
             })
@@ -215,7 +215,12 @@ fn lp<B: Backend + ?Sized>(
     // The local form fixes the triangulation, so its failures are no
     // verdict. First with weights free only near the segments that need
     // them (method.md section 2), then with all free.
-    let near = near_failures(cx, rt0, &dom.cdt, &unmet_anchors(cx, &vec![0.0; n]));
+    let unmet = if anchored {
+        unmet_anchors(cx, &vec![0.0; n])
+    } else {
+        vec![]
+    };
+    let near = near_failures(cx, rt0, &dom.cdt, &unmet);
     let all = vec![true; n];
     let tries = if near.iter().all(|&f| f) {
         vec![all]
