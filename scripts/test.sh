@@ -7,6 +7,6 @@ bash scripts/setup.sh
 python3 -m pip install -q --disable-pip-version-check -r scripts/requirements-readers.txt
 export ORTHOMESH_TEST_OUT="$PWD/target/test-meshes"
 rm -rf "$ORTHOMESH_TEST_OUT" && mkdir -p "$ORTHOMESH_TEST_OUT"
-cargo test --all-targets "$@"
-cargo test --doc "$@"
+cargo test --all-targets --features pure-rust "$@"
+cargo test --doc --features pure-rust "$@"
 python3 tests/readers.py "$ORTHOMESH_TEST_OUT"

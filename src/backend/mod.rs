@@ -3,6 +3,8 @@
 
 #[cfg(feature = "cgal")]
 mod cgal;
+#[cfg(feature = "pure-rust")]
+pub mod pure;
 #[cfg(feature = "cgal")]
 pub use cgal::Cgal;
 
