@@ -123,17 +123,24 @@ fn ratios() {
     }
 }
 
+/// Every backend compiled in (build with `--features pure-rust` for the
+/// pure-Rust ids beside CGAL's).
+fn backends() -> Vec<Box<dyn Backend>> {
+    orthomesh::backend::compiled()
+}
+
 fn regular_triangulation(c: &mut Criterion) {
-    let b = default_backend();
     let mut g = c.benchmark_group("regular_triangulation");
     g.sample_size(10).measurement_time(Duration::from_secs(3));
-    for n in [10_000usize, 100_000] {
+    for n in [10_000usize, 100_000, 1_000_000] {
         let pts = random_points(n, 7);
         let w: Vec<f64> = random_points(n, 11).iter().map(|p| p[0] * 1e-4).collect();
         g.throughput(Throughput::Elements(n as u64));
-        g.bench_with_input(BenchmarkId::new(b.name(), n), &n, |bench, _| {
-            bench.iter(|| b.regular(&pts, &w).unwrap())
-        });
+        for b in backends() {
+            g.bench_with_input(BenchmarkId::new(b.name(), n), &n, |bench, _| {
+                bench.iter(|| b.regular(&pts, &w).unwrap())
+            });
+        }
     }
     g.finish();
 }
@@ -141,7 +148,6 @@ fn regular_triangulation(c: &mut Criterion) {
 /// The whole pipeline on cavities around wells: zero weights, and, with the
 /// wells close to the cavity sides, the LP's local form.
 fn conform_pipeline(c: &mut Criterion) {
-    let b = default_backend();
     let cases: [(&str, Vec<Complex>); 2] = [
         (
             "conform_zero_weights",
@@ -161,11 +167,13 @@ fn conform_pipeline(c: &mut Criterion) {
         g.sample_size(10).measurement_time(Duration::from_secs(5));
         for cx in &inputs {
             g.throughput(Throughput::Elements(cx.segments.len() as u64));
-            g.bench_with_input(
-                BenchmarkId::new(b.name(), cx.segments.len()),
-                cx,
-                |bench, cx| bench.iter(|| conform(&b, cx, &allow()).unwrap()),
-            );
+            for b in backends() {
+                g.bench_with_input(
+                    BenchmarkId::new(b.name(), cx.segments.len()),
+                    cx,
+                    |bench, cx| bench.iter(|| conform(&*b, cx, &allow()).unwrap()),
+                );
+            }
         }
         g.finish();
     }
@@ -189,14 +197,17 @@ fn spe9_hybrid() -> (orthomesh::io::eclipse::CornerPointGrid, Vec<WellInput>) {
 }
 
 fn hybrid_pipeline(c: &mut Criterion) {
-    let b = default_backend();
     let (grid, wells) = spe9_hybrid();
     let mut g = c.benchmark_group("hybrid");
     g.sample_size(10).measurement_time(Duration::from_secs(5));
-    g.bench_function(
-        BenchmarkId::new(b.name(), "spe9-top-layer-26-wells"),
-        |bench| bench.iter(|| hybrid::build(&b, &grid, &wells, &HybridOptions::default()).unwrap()),
-    );
+    for b in backends() {
+        g.bench_function(
+            BenchmarkId::new(b.name(), "spe9-top-layer-26-wells"),
+            |bench| {
+                bench.iter(|| hybrid::build(&*b, &grid, &wells, &HybridOptions::default()).unwrap())
+            },
+        );
+    }
     g.finish();
 }
 

@@ -9,4 +9,6 @@ export ORTHOMESH_TEST_OUT="$PWD/target/test-meshes"
 rm -rf "$ORTHOMESH_TEST_OUT" && mkdir -p "$ORTHOMESH_TEST_OUT"
 cargo test --all-targets --features pure-rust "$@"
 cargo test --doc --features pure-rust "$@"
+# The build without CGAL: the pure-Rust backend alone runs every test.
+cargo test --all-targets --no-default-features --features pure-rust "$@"
 python3 tests/readers.py "$ORTHOMESH_TEST_OUT"

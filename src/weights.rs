@@ -699,7 +699,7 @@ fn attempt<B: Backend + ?Sized>(
             run(
                 sys,
                 true,
-                None,
+                k3,
                 &Mode::Regularise {
                     delta_min: m3 / 2.0,
                 },

@@ -79,6 +79,28 @@ fn spe9_top_layer_with_all_26_wells() {
     write("spe9", &h);
 }
 
+/// SPE9's hybrid mesh is the same on every backend compiled in.
+#[test]
+fn spe9_on_every_backend() {
+    let g = read_grid(&data("SPE9.GRDECL")).unwrap();
+    let opts = HybridOptions::default();
+    let key = |h: &orthomesh::hybrid::Hybrid| {
+        let r = &h.report;
+        (
+            r.cells,
+            r.transmissibility.connections,
+            r.transmissibility.non_orthogonal,
+            r.transition.weights.anchors_met,
+            r.transition.certificate.conforms(),
+        )
+    };
+    let keys: Vec<_> = orthomesh::backend::compiled()
+        .iter()
+        .map(|b| key(&build(&**b, &g, &spe9_wells(), &opts).unwrap()))
+        .collect();
+    assert!(keys.windows(2).all(|w| w[0] == w[1]), "{keys:?}");
+}
+
 #[test]
 fn bad_wells_are_errors() {
     let g = read_grid(&data("SPE9.GRDECL")).unwrap();

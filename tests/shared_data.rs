@@ -71,13 +71,60 @@ fn sys3_infeasible<B: Backend>(b: &B) {
 }
 
 #[test]
-fn shared_inputs_with_sites_inside_cgal() {
+fn shared_inputs_with_sites_inside_default_backend() {
     sites_inside(&default_backend());
 }
 
 #[test]
-fn shared_inputs_where_system_3_is_infeasible_cgal() {
+fn shared_inputs_where_system_3_is_infeasible_default_backend() {
     sys3_infeasible(&default_backend());
+}
+
+#[cfg(feature = "pure-rust")]
+#[test]
+fn shared_inputs_with_sites_inside_pure() {
+    sites_inside(&orthomesh::backend::pure::Pure);
+}
+
+#[cfg(feature = "pure-rust")]
+#[test]
+fn shared_inputs_where_system_3_is_infeasible_pure() {
+    sys3_infeasible(&orthomesh::backend::pure::Pure);
+}
+
+/// Every backend compiled in gives the same mesh size, weights method and
+/// certificate on every shared input.
+#[test]
+fn backends_agree_on_the_shared_inputs() {
+    let backends = orthomesh::backend::compiled();
+    for name in SITES_INSIDE.iter().chain(&SYS3_INFEASIBLE) {
+        let cx = read(name);
+        let outs: Vec<_> = backends
+            .iter()
+            .map(|b| {
+                run(&**b, &cx, name, true).unwrap_or_else(|e| panic!("{name} on {}: {e}", b.name()))
+            })
+            .collect();
+        let key = |o: &orthomesh::conform::Outcome| {
+            let c = &o.report.certificate;
+            (
+                o.mesh.cells.len(),
+                o.report.weights.method.clone(),
+                c.conforms(),
+                c.sites_inside_cells,
+                c.sites_outside,
+            )
+        };
+        for (b, o) in backends.iter().zip(&outs).skip(1) {
+            assert_eq!(
+                key(o),
+                key(&outs[0]),
+                "{name}: {} against {}",
+                b.name(),
+                backends[0].name()
+            );
+        }
+    }
 }
 
 /// The double hexagons are closed polygons only (every vertex on two

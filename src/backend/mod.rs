@@ -35,6 +35,35 @@ pub fn default_backend() -> Cgal {
     Cgal
 }
 
+/// The backend compiled in by default.
+#[cfg(not(feature = "cgal"))]
+pub fn default_backend() -> pure::Pure {
+    pure::Pure
+}
+
+/// Every backend compiled in, by name: "cgal" (feature cgal), "pure"
+/// (feature pure-rust).
+pub fn compiled() -> Vec<Box<dyn Backend>> {
+    vec![
+        #[cfg(feature = "cgal")]
+        Box::new(Cgal),
+        #[cfg(feature = "pure-rust")]
+        Box::new(pure::Pure),
+    ]
+}
+
+/// The compiled-in backend of that name.
+pub fn by_name(name: &str) -> Result<Box<dyn Backend>> {
+    let all = compiled();
+    let names: Vec<&str> = all.iter().map(|b| b.name()).collect();
+    let list = names.join(", ");
+    all.into_iter().find(|b| b.name() == name).ok_or_else(|| {
+        crate::error::Error::Usage(format!(
+            "backend {name:?} is not compiled in (this build has: {list})"
+        ))
+    })
+}
+
 /// A finite 2D triangulation as index triples, with its edge adjacency.
 #[derive(Debug, Clone, Default)]
 pub struct Triangulation {

@@ -444,12 +444,19 @@ impl Backend for Pure {
         Ok(regular_f64(points, weights))
     }
 
-    fn constrained_delaunay(&self, points: &[[f64; 2]], segments: &[[u32; 2]]) -> Result<Triangulation> {
+    fn constrained_delaunay(
+        &self,
+        points: &[[f64; 2]],
+        segments: &[[u32; 2]],
+    ) -> Result<Triangulation> {
         constrained_delaunay(points, segments)
     }
 
     fn regular_exact(&self, points: &[[Q; 2]], weights: &[Q]) -> Result<Triangulation> {
-        Ok(regular(&QPoints { p: points, w: weights }))
+        Ok(regular(&QPoints {
+            p: points,
+            w: weights,
+        }))
     }
 }
 
@@ -531,7 +538,9 @@ pub fn constrained_delaunay(points: &[[f64; 2]], segments: &[[u32; 2]]) -> Resul
         return Ok(collinear(&p, &brio(&p)));
     };
     if let Some(v) = e.at.iter().position(|&t| t == NONE) {
-        return Err(Error::Backend(format!("vertex {v} repeats another position")));
+        return Err(Error::Backend(format!(
+            "vertex {v} repeats another position"
+        )));
     }
     for &[a, b] in segments {
         e.insert_segment(a, b)?;
@@ -547,7 +556,10 @@ impl<P: Weighted> Engine<'_, P> {
         let mut t = first;
         loop {
             out.push(t);
-            let k = self.tri[t as usize].iter().position(|&x| x == v).expect("star");
+            let k = self.tri[t as usize]
+                .iter()
+                .position(|&x| x == v)
+                .expect("star");
             // across edge (k + 2) = (prev, v): the next triangle around v
             t = self.nbr[t as usize][(k + 2) % 3];
             if t == first || out.len() > self.tri.len() {
@@ -570,7 +582,9 @@ impl<P: Weighted> Engine<'_, P> {
             if x == b || y == b {
                 return Ok(()); // already an edge
             }
-            if self.p.orient(a, b, x) == Ordering::Less && self.p.orient(a, b, y) == Ordering::Greater {
+            if self.p.orient(a, b, x) == Ordering::Less
+                && self.p.orient(a, b, y) == Ordering::Greater
+            {
                 start = Some((t, (k + 1) % 3));
             }
         }
@@ -649,7 +663,10 @@ impl<P: Weighted> Engine<'_, P> {
                     self.nbr[n as usize][k] = m;
                 } else if let Some(&out) = rim.get(&(x, y)) {
                     self.nbr[n as usize][k] = out;
-                    let back = self.tri[out as usize].iter().position(|&z| z == y).expect("rim");
+                    let back = self.tri[out as usize]
+                        .iter()
+                        .position(|&z| z == y)
+                        .expect("rim");
                     self.nbr[out as usize][back] = n;
                 } else {
                     return bad("the new triangles do not close up");
@@ -879,8 +896,10 @@ mod tests {
     fn check_cdt(p: &[[f64; 2]], segs: &[[u32; 2]], t: &Triangulation) {
         let w = vec![0.0; p.len()];
         let pts = F64Points { p, w: &w };
-        let constrained: crate::FastSet<(u32, u32)> =
-            segs.iter().map(|s| (s[0].min(s[1]), s[0].max(s[1]))).collect();
+        let constrained: crate::FastSet<(u32, u32)> = segs
+            .iter()
+            .map(|s| (s[0].min(s[1]), s[0].max(s[1])))
+            .collect();
         for s in segs {
             assert!(t.has_edge(s[0], s[1]), "{s:?}");
         }

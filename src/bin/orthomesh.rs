@@ -4,7 +4,10 @@ use clap::{Parser, Subcommand};
 use orthomesh::conform::{conform, Options, Outcome};
 use orthomesh::error::{Error, Result};
 use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
-use orthomesh::{backend::default_backend, io, Complex};
+use orthomesh::{
+    backend::{default_backend, Backend},
+    io, Complex,
+};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -23,6 +26,10 @@ any error (bad input, no conforming mesh, sites outside cells), with nothing wri
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Triangulation backend: cgal (default when compiled in) or pure
+    /// (feature pure-rust).
+    #[arg(long, global = true, default_value_t = default_backend().name().to_string())]
+    backend: String,
 }
 
 #[derive(Subcommand)]
@@ -121,7 +128,7 @@ struct Outputs {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match run(cli.command) {
+    match run(cli.command, &cli.backend) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("orthomesh: error: {e}");
@@ -130,7 +137,9 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cmd: Command) -> Result<()> {
+fn run(cmd: Command, backend: &str) -> Result<()> {
+    let backend = orthomesh::backend::by_name(backend)?;
+    let backend = &*backend;
     match cmd {
         Command::Conform {
             input,
@@ -147,7 +156,7 @@ fn run(cmd: Command) -> Result<()> {
                 allow_sites_outside,
                 compare_with_raw: true,
             };
-            let out = conform(&default_backend(), &cx, &opts)?;
+            let out = conform(backend, &cx, &opts)?;
             write_all(
                 &out,
                 &cx,
@@ -230,7 +239,7 @@ fn run(cmd: Command) -> Result<()> {
                 progress: (list.len() >= MANY_WELLS && std::io::stderr().is_terminal())
                     .then_some(bar as fn(&str, usize, usize)),
             };
-            let h = hybrid::build(&default_backend(), &g, &list, &opts)?;
+            let h = hybrid::build(backend, &g, &list, &opts)?;
             if opts.progress.is_some() {
                 eprintln!();
             }
@@ -277,7 +286,7 @@ fn run(cmd: Command) -> Result<()> {
         }
         Command::Demo { out_dir } => {
             let (g, wells, opts) = hybrid::demo();
-            let h = hybrid::build(&default_backend(), &g, &wells, &opts)?;
+            let h = hybrid::build(backend, &g, &wells, &opts)?;
             std::fs::create_dir_all(&out_dir).map_err(|e| Error::Io {
                 path: out_dir.clone(),
                 message: e.to_string(),

@@ -19,7 +19,7 @@ pub fn read(name: &str) -> Complex {
 
 /// Runs the pipeline; on success writes the mesh where the reader checks
 /// (scripts/test.sh) will find it.
-pub fn run<B: Backend>(b: &B, cx: &Complex, tag: &str, allow: bool) -> Result<Outcome> {
+pub fn run<B: Backend + ?Sized>(b: &B, cx: &Complex, tag: &str, allow: bool) -> Result<Outcome> {
     let out = conform(
         b,
         cx,
