@@ -21,8 +21,8 @@ pub(crate) trait Weighted {
     /// Greater when d's lifted point lies strictly below the plane through
     /// the lifted a, b, c (ccw): d conflicts with triangle abc.
     fn power(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering;
-    /// For d on the closed segment ab: Greater when d's lifted point lies
-    /// strictly below the lifted segment (at an end: when d is heavier).
+    /// For d on the line ab: Greater when d's lifted point lies strictly
+    /// below the lifted line through a and b (at a or b: when d is heavier).
     fn power_1d(&self, a: u32, b: u32, d: u32) -> Ordering;
     /// Compares positions along x, then y.
     fn lex(&self, a: u32, b: u32) -> Ordering;
@@ -305,9 +305,9 @@ impl<'a, P: Weighted> Engine<'a, P> {
                 match self.p.orient(u, v, d) {
                     Ordering::Greater => true,
                     Ordering::Less => false,
-                    Ordering::Equal => {
-                        self.within(u, v, d) && self.p.power_1d(u, v, d) == Ordering::Greater
-                    }
+                    // on the hull's line: below the lifted line through u, v
+                    // (beyond an end, the end between is then hidden)
+                    Ordering::Equal => self.p.power_1d(u, v, d) == Ordering::Greater,
                 }
             }
         }
@@ -334,6 +334,7 @@ impl<'a, P: Weighted> Engine<'a, P> {
                     Ordering::Equal if self.within(u, v, d) => {
                         t = self.nbr[t as usize][(k + 1) % 3]
                     }
+                    Ordering::Equal if self.conflict(t, d) => return Some(t),
                     Ordering::Equal => {
                         // on the hull's line beyond u or v: the infinite
                         // neighbour on that side
@@ -370,21 +371,48 @@ impl<'a, P: Weighted> Engine<'a, P> {
         self.stamp[start as usize] = round;
         let mut boundary = vec![]; // (triangle, edge) on the cavity's rim
         let mut i = 0;
-        while i < cavity.len() {
-            let t = cavity[i];
-            i += 1;
-            for k in 0..3 {
-                let u = self.nbr[t as usize][k];
-                if self.stamp[u as usize] == round {
-                    continue;
-                }
-                if self.conflict(u, d) {
-                    self.stamp[u as usize] = round;
-                    cavity.push(u);
-                } else {
-                    boundary.push((t, k));
+        loop {
+            while i < cavity.len() {
+                let t = cavity[i];
+                i += 1;
+                for k in 0..3 {
+                    let u = self.nbr[t as usize][k];
+                    if self.stamp[u as usize] == round {
+                        continue;
+                    }
+                    if self.conflict(u, d) {
+                        self.stamp[u as usize] = round;
+                        cavity.push(u);
+                    } else {
+                        boundary.push((t, k));
+                    }
                 }
             }
+            // A rim edge that d does not see strictly (d on its line, a
+            // tie of the power test beyond it) would make a flat triangle:
+            // the triangle across joins the cavity (its lifted plane holds
+            // d's lifted point, so the result stays regular).
+            let flat: Vec<u32> = boundary
+                .iter()
+                .filter(|&&(t, k)| {
+                    let tr = self.tri[t as usize];
+                    let (u, v) = (tr[k], tr[(k + 1) % 3]);
+                    u != INF && v != INF && self.p.orient(u, v, d) != Ordering::Greater
+                })
+                .map(|&(t, k)| self.nbr[t as usize][k])
+                .filter(|&u| self.stamp[u as usize] != round)
+                .collect();
+            if flat.is_empty() {
+                boundary.retain(|&(t, k)| self.stamp[self.nbr[t as usize][k] as usize] != round);
+                break;
+            }
+            for u in flat {
+                if self.stamp[u as usize] != round {
+                    self.stamp[u as usize] = round;
+                    cavity.push(u);
+                }
+            }
+            boundary.retain(|&(t, k)| self.stamp[self.nbr[t as usize][k] as usize] != round);
         }
         // Vertices of the cavity not on its rim are hidden now.
         let mut on_rim = crate::FastSet::default();
@@ -937,6 +965,65 @@ mod tests {
         t.edges()
             .filter(|&(a, b)| t.left_of(a, b).is_none() || t.left_of(b, a).is_none())
             .count()
+    }
+
+    /// Near-degenerate inputs through both engines: both regular (checked
+    /// exactly), the same points hidden, the same number of triangles.
+    #[cfg(feature = "cgal")]
+    #[test]
+    fn same_certificates_as_cgal_on_degenerate_input() {
+        use crate::backend::Backend;
+        type Case = (&'static str, Vec<[f64; 2]>, Vec<f64>);
+        let mut cases: Vec<Case> = vec![];
+        // a cocircular lattice
+        let lattice: Vec<[f64; 2]> = (0..400)
+            .map(|k| [(k % 20) as f64, (k / 20) as f64])
+            .collect();
+        cases.push(("lattice", lattice.clone(), vec![0.0; 400]));
+        // the lattice nudged by one ulp here and there
+        let nudged: Vec<[f64; 2]> = lattice
+            .iter()
+            .enumerate()
+            .map(|(k, p)| match k % 3 {
+                0 => [p[0].next_up(), p[1]],
+                1 => [p[0], p[1].next_down()],
+                _ => *p,
+            })
+            .collect();
+        cases.push(("nudged lattice", nudged, vec![0.0; 400]));
+        // points on the lattice's vertices and edge midpoints with weights
+        // that hide them, leave them on the lifted plane, or keep them
+        let mut p = lattice.clone();
+        let mut w = vec![0.0; 400];
+        for k in 0..60 {
+            let (i, j) = ((k % 19) as f64, (k / 19) as f64 + 1.0);
+            p.push([i + 0.5, j]); // an edge midpoint: lifted plane at w = -0.25
+            w.push([-1.0, -0.25, 0.5][k % 3]);
+            p.push([i, j + 0.1]); // near a vertex, heavier or lighter
+            w.push([-0.5, 0.5][k % 2]);
+        }
+        // a vertex again, heavier
+        p.push([5.0, 5.0]);
+        w.push(1.0);
+        cases.push(("hidden on vertices and edges", p, w));
+        // many points on one circle, and its centre heavier
+        let mut p: Vec<[f64; 2]> = (0..64)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 64.0;
+                [a.cos(), a.sin()]
+            })
+            .collect();
+        p.push([0.0, 0.0]);
+        cases.push(("circle", p, vec![0.0; 65]));
+        for (name, p, w) in cases {
+            let ours = regular(&F64Points { p: &p, w: &w });
+            let theirs = crate::backend::Cgal.regular(&p, &w).unwrap();
+            let pts = F64Points { p: &p, w: &w };
+            check(&pts, &ours);
+            check(&pts, &theirs);
+            assert_eq!(ours.hidden, theirs.hidden, "{name}");
+            assert_eq!(ours.triangles.len(), theirs.triangles.len(), "{name}");
+        }
     }
 
     #[cfg(feature = "cgal")]
