@@ -1,9 +1,9 @@
 //! The pure-Rust engine: regular triangulations of weighted points by
 //! incremental insertion (Bowyer-Watson conflict regions, an infinite
 //! vertex for the hull), points in BRIO order with a Hilbert sort per round,
-//! a walking locate from the last insertion. Predicates are exact: interval
-//! filters with a rational fallback for doubles, rationals throughout for
-//! rational input.
+//! a walking locate from the last insertion. Predicates are exact: for
+//! doubles a semi-static filter, then intervals, then rationals; rationals
+//! throughout for rational input.
 //!
 //! Constrained Delaunay triangulations insert each segment into the
 //! Delaunay triangulation by retriangulating the polygons beside it.
@@ -38,16 +38,21 @@ pub(crate) struct F64Points<'a> {
     pub w: &'a [f64],
 }
 
-/// Exact rows of the lifted determinant relative to d.
-fn rows_q(p: [[Q; 2]; 4], w: [&Q; 4]) -> [[Q; 3]; 3] {
-    let [a, b, c, d] = p;
+/// The power test exactly: the lifted determinant relative to d.
+fn power_q(p: [&[Q; 2]; 4], w: [&Q; 4]) -> Ordering {
+    let d = p[3];
     let row = |x: &[Q; 2], wx: &Q| {
         let dx = &x[0] - &d[0];
         let dy = &x[1] - &d[1];
         let z = &dx * &dx + &dy * &dy - wx + w[3];
         [dx, dy, z]
     };
-    [row(&a, w[0]), row(&b, w[1]), row(&c, w[2])]
+    let r = [row(p[0], w[0]), row(p[1], w[1]), row(p[2], w[2])];
+    sign_q(&det3_q([
+        [&r[0][0], &r[0][1], &r[0][2]],
+        [&r[1][0], &r[1][1], &r[1][2]],
+        [&r[2][0], &r[2][1], &r[2][2]],
+    ]))
 }
 
 fn sign_q(x: &Q) -> Ordering {
@@ -112,20 +117,9 @@ impl Weighted for F64Points<'_> {
         if let Some(s) = det3([row(a), row(b), row(c)]).sign() {
             return s;
         }
-        let pt = |x: u32| self.p[x as usize].map(q);
-        let wt: Vec<Q> = [a, b, c, d]
-            .iter()
-            .map(|&x| q(self.w[x as usize]))
-            .collect();
-        let r = rows_q(
-            [pt(a), pt(b), pt(c), pt(d)],
-            [&wt[0], &wt[1], &wt[2], &wt[3]],
-        );
-        sign_q(&det3_q([
-            [&r[0][0], &r[0][1], &r[0][2]],
-            [&r[1][0], &r[1][1], &r[1][2]],
-            [&r[2][0], &r[2][1], &r[2][2]],
-        ]))
+        let pt = [a, b, c, d].map(|x| self.p[x as usize].map(q));
+        let wt = [a, b, c, d].map(|x| q(self.w[x as usize]));
+        power_q(pt.each_ref(), wt.each_ref())
     }
 
     fn power_1d(&self, a: u32, b: u32, d: u32) -> Ordering {
@@ -166,14 +160,10 @@ impl Weighted for QPoints<'_> {
     }
 
     fn power(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
-        let pt = |x: u32| self.p[x as usize].clone();
-        let w = [a, b, c, d].map(|x| &self.w[x as usize]);
-        let r = rows_q([pt(a), pt(b), pt(c), pt(d)], w);
-        sign_q(&det3_q([
-            [&r[0][0], &r[0][1], &r[0][2]],
-            [&r[1][0], &r[1][1], &r[1][2]],
-            [&r[2][0], &r[2][1], &r[2][2]],
-        ]))
+        power_q(
+            [a, b, c, d].map(|x| &self.p[x as usize]),
+            [a, b, c, d].map(|x| &self.w[x as usize]),
+        )
     }
 
     fn power_1d(&self, a: u32, b: u32, d: u32) -> Ordering {
