@@ -1050,6 +1050,27 @@ mod tests {
         }
     }
 
+    /// Rational points that doubles cannot hold (thirds, sevenths) with
+    /// rational weights: the same exact triangulation as CGAL's Epeck.
+    #[cfg(feature = "cgal")]
+    #[test]
+    fn same_as_cgal_on_rational_input() {
+        use crate::backend::Backend;
+        let (p, w) = rng_points(300, 13, 2.0);
+        let third = Q::from_signeds(1, 3);
+        let seventh = Q::from_signeds(1, 7);
+        let pq: Vec<[Q; 2]> = p
+            .iter()
+            .map(|x| [q(x[0]) + &third, q(x[1]) - &seventh])
+            .collect();
+        let wq: Vec<Q> = w.iter().map(|&x| q(x) * &third).collect();
+        let ours = Pure.regular_exact(&pq, &wq).unwrap();
+        let theirs = crate::backend::Cgal.regular_exact(&pq, &wq).unwrap();
+        assert_eq!(sorted(&ours), sorted(&theirs));
+        assert_eq!(ours.hidden, theirs.hidden);
+        check(&QPoints { p: &pq, w: &wq }, &ours);
+    }
+
     #[cfg(feature = "cgal")]
     #[test]
     fn same_as_cgal_on_generic_input() {
