@@ -46,10 +46,15 @@ pub(crate) fn io_err(path: &Path, e: std::io::Error) -> Error {
 
 /// Writes a file whole or not at all: to a temporary sibling, then renamed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    // A temporary name of its own per writer (process, call): two writers
+    // of one path never rename each other's file away; the last rename wins.
+    static CALLS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let mut tmp: PathBuf = path.into();
     let name = format!(
-        ".{}.partial",
-        path.file_name().and_then(|n| n.to_str()).unwrap_or("out")
+        ".{}.{}-{call}.partial",
+        path.file_name().and_then(|n| n.to_str()).unwrap_or("out"),
+        std::process::id()
     );
     tmp.set_file_name(name);
     std::fs::write(&tmp, bytes).map_err(|e| io_err(path, e))?;
