@@ -233,11 +233,7 @@ fn a_fault_through_a_cavity_is_a_chain_of_mesh_edges() {
     let g = read_grid(&faulted_grid()).unwrap();
     assert_eq!(g.faults.len(), 1);
     assert_eq!(g.faults[0].faces.len(), 2);
-    let well = WellInput {
-        name: "W".into(),
-        at: WellAt::Column(5, 4),
-        radius: 0.1,
-    };
+    let well = WellInput::column("W", 5, 4, 0.1);
     let h = build(&default_backend(), &g, &[well], &HybridOptions::default()).unwrap();
     let r = &h.report;
     // The cavity is columns I = 5..7, J = 4..6 (1-based): the fault's two
@@ -288,11 +284,7 @@ fn a_fault_through_a_cavity_is_a_chain_of_mesh_edges() {
 fn distorted_corner_point_cells_get_orthogonal_interfaces_from_the_lp() {
     // emerald: rotated, left-handed, distorted columns.
     let g = read_grid(&data("emerald.grdecl")).unwrap();
-    let well = WellInput {
-        name: "W".into(),
-        at: WellAt::Column(1, 1),
-        radius: 0.1,
-    };
+    let well = WellInput::column("W", 1, 1, 0.1);
     let h = build(&default_backend(), &g, &[well], &HybridOptions::default()).unwrap();
     let r = &h.report;
     let c = &r.transition.certificate;
