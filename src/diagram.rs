@@ -260,11 +260,16 @@ impl Diagram {
     }
 }
 
+/// Sites hidden by rounding that `repair` puts back (each costs a scan).
+const MAX_REINSERTED: usize = 16;
+
 /// Lawson flips decided exactly, for a triangulation of rounded sites that
 /// failed its check: sites that are co-orthogonal up to rounding (around a
 /// regular polygon, say) may be triangulated otherwise by the exact sites.
-/// False when a non-regular edge cannot be flipped (its quadrilateral is not
-/// strictly convex) or the flips do not settle.
+/// Sites hidden by rounding are inserted first when their exact weights
+/// give them a cell. False when a non-regular edge cannot be flipped (its
+/// quadrilateral is not strictly convex), the flips do not settle, or a
+/// hidden site is not strictly inside a triangle.
 pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
     let bad = |rt: &Triangulation, a: u32, b: u32| {
         let (t1, t2) = (rt.left_of(a, b)?, rt.left_of(b, a)?);
@@ -276,6 +281,27 @@ pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
         .edges()
         .filter(|&(a, b)| bad(rt, a, b).is_some())
         .collect();
+    // A few sites hidden by rounding but not by their exact weights: each
+    // goes into the triangle holding it strictly, then the flips below.
+    if rt.hidden.len() > MAX_REINSERTED {
+        return false;
+    }
+    for h in rt.hidden.clone() {
+        let hu = h as usize;
+        let holder = rt.triangles.iter().position(|t| {
+            let [a, b, c] = t.map(|v| v as usize);
+            sites.orient(a, b, hu) == Ordering::Greater
+                && sites.orient(b, c, hu) == Ordering::Greater
+                && sites.orient(c, a, hu) == Ordering::Greater
+        });
+        let Some(t) = holder else { return false };
+        let [a, b, c] = rt.triangles[t];
+        if sites.power_test(a as usize, b as usize, c as usize, hu) != Ordering::Greater {
+            return false; // hidden indeed (or on the orthocircle)
+        }
+        rt.split(t as u32, h);
+        stack.extend([(a, b), (b, c), (c, a)]);
+    }
     let mut budget = 10 * stack.len() + 1000;
     while let Some((a, b)) = stack.pop() {
         let Some((c, d)) = bad(rt, a, b) else {
@@ -338,6 +364,31 @@ mod tests {
         assert!(repair(&sites, &mut t));
         assert!(t.has_edge(1, 3) && !t.has_edge(0, 2));
         assert!(check_hull(&sites, &t).is_ok());
+    }
+
+    #[test]
+    fn a_site_hidden_by_rounding_is_put_back() {
+        // Site 3 inside triangle 0 1 2 with a weight that gives it a cell,
+        // reported hidden: split in, then flipped to the regular triangulation.
+        let sites = weighted_sites(
+            &[[0.0, 0.0], [8.0, 0.0], [4.0, 6.0], [4.0, 2.0]],
+            &[0.0, 0.0, 0.0, -1.0],
+        );
+        let mut t = Triangulation::from_flat(&[0, 1, 2], vec![3]);
+        assert!(repair(&sites, &mut t));
+        assert!(t.hidden.is_empty());
+        assert_eq!(t.triangles.len(), 3);
+        for v in 0..3 {
+            assert!(t.has_edge(v, 3));
+        }
+        assert!(check_hull(&sites, &t).is_ok());
+        // With a weight that hides it, it stays out and repair says so.
+        let hiding = weighted_sites(
+            &[[0.0, 0.0], [8.0, 0.0], [4.0, 6.0], [4.0, 2.0]],
+            &[0.0, 0.0, 0.0, 100.0],
+        );
+        let mut t = Triangulation::from_flat(&[0, 1, 2], vec![3]);
+        assert!(!repair(&hiding, &mut t));
     }
 
     #[test]

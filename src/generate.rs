@@ -2,12 +2,9 @@
 
 use crate::complex::Complex;
 
-/// `nx` x `ny` square cavities of side 50 (10 m cells), each with a 16-gon
-/// well boundary of the given radius and a hole inside it: the paper's
-/// setting. At radius 14 zero weights suffice; at radius 24.5 the well
-/// polygon nearly touches the cavity sides and the weights need the LP.
-/// Adjacent cavities share their sides.
-pub fn cavities(nx: usize, ny: usize, radius: f64) -> Complex {
+/// The sides of an `nx` x `ny` grid of square cavities of side 50, five
+/// segments per side, shared between neighbours.
+fn cavity_sides(nx: usize, ny: usize) -> Complex {
     let mut cx = Complex::default();
     let side = 50.0;
     let per = 5; // points per cavity side
@@ -35,6 +32,17 @@ pub fn cavities(nx: usize, ny: usize, radius: f64) -> Complex {
             }
         }
     }
+    cx
+}
+
+/// `nx` x `ny` square cavities of side 50 (10 m cells), each with a 16-gon
+/// well boundary of the given radius and a hole inside it: the paper's
+/// setting. At radius 14 zero weights suffice; at radius 24.5 the well
+/// polygon nearly touches the cavity sides and the weights need the LP.
+/// Adjacent cavities share their sides.
+pub fn cavities(nx: usize, ny: usize, radius: f64) -> Complex {
+    let mut cx = cavity_sides(nx, ny);
+    let side = 50.0;
     let n = 16;
     for cy in 0..ny {
         for cxi in 0..nx {
@@ -74,6 +82,96 @@ pub fn staggered_chains(rows: usize, cols: usize, h: f64) -> Complex {
     Complex::new(points, segments)
 }
 
+/// The scale test's mix (issue 5): an `nx` x `ny` grid of separate square
+/// cavities of side 50 (five segments per side), 10 apart, like the
+/// cavities around wells in a reservoir grid. In a checkerboard half, a
+/// 16-gon well of radius 24.5 (nearly touching the sides: the LP) with a
+/// hole, and a fault of three segments from the cavity's lower-left corner
+/// towards the well, ending inside (a free end). In the other half, a
+/// chain of six unit segments and, 0.4 above it and staggered, a one-segment
+/// chain, jittered (reproducibly, from `seed`): not Gabriel, so they need
+/// the LP too.
+pub fn mixed(nx: usize, ny: usize, seed: u64) -> Complex {
+    let mut cx = Complex::default();
+    let mut s = seed.max(1);
+    let mut jitter = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let (side, pitch) = (50.0, 60.0);
+    let chain = |cx: &mut Complex, pts: &[[f64; 2]], closed: bool| {
+        let first = cx.points.len() as u32;
+        cx.points.extend_from_slice(pts);
+        let n = pts.len() as u32;
+        for k in 0..if closed { n } else { n - 1 } {
+            cx.segments.push([first + k, first + (k + 1) % n]);
+        }
+        first
+    };
+    for cy in 0..ny {
+        for cxi in 0..nx {
+            let (x0, y0) = (cxi as f64 * pitch, cy as f64 * pitch);
+            let c = [x0 + side / 2.0, y0 + side / 2.0];
+            // Counter-clockwise from the lower-left corner.
+            let step = side / 5.0;
+            let boundary: Vec<[f64; 2]> = (0..20)
+                .map(|k| {
+                    let t = (k % 5) as f64 * step;
+                    match k / 5 {
+                        0 => [x0 + t, y0],
+                        1 => [x0 + side, y0 + t],
+                        2 => [x0 + side - t, y0 + side],
+                        _ => [x0, y0 + side - t],
+                    }
+                })
+                .collect();
+            let corner = chain(&mut cx, &boundary, true);
+            if (cxi + cy) % 2 == 0 {
+                let r = 24.5;
+                let well: Vec<[f64; 2]> = (0..16)
+                    .map(|k| {
+                        let a = std::f64::consts::TAU * (k as f64 + 0.5) / 16.0;
+                        [c[0] + r * a.cos(), c[1] + r * a.sin()]
+                    })
+                    .collect();
+                chain(&mut cx, &well, true);
+                cx.holes.push(c);
+                // From the corner towards the centre, ending 4.3 from the well.
+                let first = chain(
+                    &mut cx,
+                    &[
+                        [x0 + 2.0, y0 + 1.7],
+                        [x0 + 3.6, y0 + 3.9],
+                        [x0 + 5.0, y0 + 4.6],
+                    ],
+                    false,
+                );
+                cx.segments.push([corner, first]);
+            } else {
+                // A chain of six segments, and above it, 0.4 away and
+                // staggered, a one-segment chain: not Gabriel.
+                for (row, len) in [(0, 7), (1, 2)] {
+                    let off = 0.5 * row as f64 + 1.0 * row as f64;
+                    let pts: Vec<[f64; 2]> = (0..len)
+                        .map(|i| {
+                            [
+                                c[0] - 3.5 + i as f64 + off + 0.1 * jitter(),
+                                c[1] + 0.4 * row as f64 + 0.05 * jitter(),
+                            ]
+                        })
+                        .collect();
+                    chain(&mut cx, &pts, false);
+                }
+            }
+        }
+    }
+    cx.vertex_ids = (0..cx.points.len() as i64).collect();
+    cx.segment_ids = (0..cx.segments.len() as i64).collect();
+    cx
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -87,5 +185,10 @@ mod tests {
         let s = staggered_chains(4, 10, 0.3);
         s.validate().unwrap();
         assert_eq!(s.segments.len(), 36);
+        let m = mixed(3, 2, 5);
+        m.validate().unwrap();
+        assert_eq!(m.holes.len(), 3);
+        // 20 sides each; wells of 16 and faults of 3; chains of 6 + 1.
+        assert_eq!(m.segments.len(), 6 * 20 + 3 * (16 + 3) + 3 * 7);
     }
 }

@@ -69,6 +69,9 @@ pub struct WeightsReport {
     /// "zero", "local", or "global".
     pub method: String,
     pub lp_solves: usize,
+    /// Independent LPs the local form split into (solved in parallel).
+    pub lp_pieces: usize,
+    /// Largest LP solved (rows, columns).
     pub lp_rows: usize,
     pub lp_cols: usize,
     pub lp_status: String,
@@ -86,6 +89,27 @@ pub struct WeightsReport {
     /// Segments with an anchor, and those whose anchor is on the dual line.
     pub anchors: usize,
     pub anchors_met: usize,
+}
+
+impl WeightsReport {
+    /// Adds what one piece's LPs did: counts add up, sizes take the
+    /// largest, the margin the smallest, the bound the loosest.
+    fn absorb(&mut self, piece: &WeightsReport) {
+        self.lp_solves += piece.lp_solves;
+        self.lp_rows = self.lp_rows.max(piece.lp_rows);
+        self.lp_cols = self.lp_cols.max(piece.lp_cols);
+        if self.lp_status.is_empty() || piece.lp_status != "Optimal" {
+            self.lp_status = piece.lp_status.clone();
+        }
+        if let Some(m) = piece.margin {
+            self.bound_k = match (self.margin, self.bound_k, piece.bound_k) {
+                (None, _, k) => k,
+                (Some(_), Some(a), Some(b)) => Some(a.max(b)),
+                _ => None,
+            };
+            self.margin = Some(self.margin.map_or(m, |x| x.min(m)));
+        }
+    }
 }
 
 /// Finds weights for the domain's complex.
@@ -229,19 +253,186 @@ fn lp<B: Backend + ?Sized>(
     };
     for free in tries {
         report.free_weights = free.iter().filter(|&&f| f).count();
-        let mut local = local_system(cx, &dom.cdt, &units, free);
+        let mut local = local_system(cx, &dom.cdt, &dom.inside, &units, free);
         if anchored {
             anchor_rows(&mut local, cx, &units);
         }
-        if let Attempt::Found(found) = attempt(backend, cx, &local, false, &mut report)? {
-            if found.sys3_failed.is_empty() {
-                return finish(found, report);
+        if let Some(w) = solve_pieces(&local, &mut report)? {
+            if let Attempt::Found(found) = verify(backend, cx, w, true)? {
+                if found.sys3_failed.is_empty() {
+                    return finish(found, report);
+                }
+            }
+        }
+        // The split restricts the rows between pieces and leaves out weak
+        // ones: the whole system may still have weights.
+        if report.lp_pieces > 1 {
+            if let Attempt::Found(found) = attempt(backend, cx, &local, false, &mut report)? {
+                if found.sys3_failed.is_empty() {
+                    return finish(found, report);
+                }
             }
         }
     }
     report.free_weights = n;
     report.method = "global".into();
     global(backend, dom, &units, report, anchored)
+}
+
+/// A part of a local system whose rows share no free weight with the
+/// rest: its LP is independent. Columns are the part's free weights only
+/// (the others are zero, so their terms vanish exactly).
+struct Piece {
+    sys: System,
+    /// Column k of `sys` is weight `cols[k]`.
+    cols: Vec<usize>,
+}
+
+/// Splits a local system (no auxiliary columns) into independent pieces:
+/// weights joined by a row inside the domain (union-find) form a piece,
+/// numbered by its smallest weight, so the split does not depend on row
+/// order. A row outside the domain that joins m pieces (the gap between
+/// two cavities) is split: each piece gets its own terms, rhs / m and
+/// delta / m. The parts' sum is the row with the mean of the pieces'
+/// margins, so weights meeting every piece's rows meet it: a restriction,
+/// never a relaxation (RT(w) is checked exactly anyway).
+fn pieces(sys: &System) -> Vec<Piece> {
+    debug_assert_eq!(sys.aux, 0);
+    let mut parent: Vec<usize> = (0..sys.n).collect();
+    fn root(parent: &mut [usize], mut v: usize) -> usize {
+        while parent[v] != v {
+            parent[v] = parent[parent[v]];
+            v = parent[v];
+        }
+        v
+    }
+    let free_terms = |r: &Row| -> Vec<usize> {
+        r.terms
+            .iter()
+            .map(|t| t.0)
+            .filter(|&c| sys.free[c])
+            .collect()
+    };
+    for r in sys.rows.iter().chain(&sys.eqs) {
+        if r.outside {
+            continue;
+        }
+        let f = free_terms(r);
+        for w in f.windows(2) {
+            let (a, b) = (root(&mut parent, w[0]), root(&mut parent, w[1]));
+            // The smaller index is the root: pieces come out in weight order.
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut piece_of = vec![usize::MAX; sys.n];
+    let mut local = vec![usize::MAX; sys.n];
+    let mut out: Vec<Piece> = vec![];
+    for v in (0..sys.n).filter(|&v| sys.free[v]) {
+        let r = root(&mut parent, v);
+        if piece_of[r] == usize::MAX {
+            piece_of[r] = out.len();
+            out.push(Piece {
+                sys: System {
+                    verdict: sys.verdict,
+                    unit2: sys.unit2,
+                    ..Default::default()
+                },
+                cols: vec![],
+            });
+        }
+        piece_of[v] = piece_of[r];
+        local[v] = out[piece_of[r]].cols.len();
+        out[piece_of[r]].cols.push(v);
+        out[piece_of[r]].sys.l2.push(sys.l2[v]);
+    }
+    for (r, eq) in sys
+        .rows
+        .iter()
+        .map(|r| (r, false))
+        .chain(sys.eqs.iter().map(|r| (r, true)))
+    {
+        let f = free_terms(r);
+        let owner = f.first().map(|&c| piece_of[c]);
+        let mut joined: Vec<usize> = f.iter().map(|&c| piece_of[c]).collect();
+        joined.sort_unstable();
+        joined.dedup();
+        let m = joined.len() as f64;
+        for &k in &joined {
+            if m > 1.0 && r.weak {
+                // Left to the exact check of RT(w).
+                continue;
+            }
+            // Slack at zero weights is shared out; a row that zero weights
+            // do not meet is the burden of the piece of its first weight
+            // (the segment's or the edge's end), the others must not
+            // worsen it.
+            let (rhs, share) = if m == 1.0 {
+                (r.rhs, r.share)
+            } else if r.rhs < 0.0 {
+                (r.rhs / m, r.share / m)
+            } else if Some(k) == owner {
+                (r.rhs, r.share)
+            } else {
+                (0.0, 0.0)
+            };
+            let row = Row {
+                terms: r
+                    .terms
+                    .iter()
+                    .filter(|t| sys.free[t.0] && piece_of[t.0] == k)
+                    .map(|&(c, v)| (local[c], v))
+                    .collect(),
+                rhs,
+                family: r.family,
+                share,
+                outside: r.outside,
+                weak: r.weak,
+            };
+            let piece = &mut out[k].sys;
+            if eq {
+                piece.eqs.push(row);
+            } else {
+                piece.rows.push(row);
+            }
+        }
+    }
+    for p in &mut out {
+        p.sys.n = p.cols.len();
+        p.sys.free = vec![true; p.sys.n];
+    }
+    out
+}
+
+/// The local form's LP, piece by piece (in parallel): weights when every
+/// piece has systems 1 and 3 with a trusted margin, else None.
+fn solve_pieces(sys: &System, report: &mut WeightsReport) -> Result<Option<Vec<f64>>> {
+    use rayon::prelude::*;
+    let parts = pieces(sys);
+    let answers: Vec<(Result<Answer>, WeightsReport)> = parts
+        .par_iter()
+        .map(|p| {
+            let mut r = WeightsReport {
+                deadline: report.deadline,
+                ..Default::default()
+            };
+            (solve_rows(&p.sys, false, &mut r), r)
+        })
+        .collect();
+    report.lp_pieces = parts.len();
+    let mut w = vec![0.0; sys.n];
+    let mut all = true;
+    for ((answer, r), part) in answers.into_iter().zip(&parts) {
+        report.absorb(&r);
+        match answer? {
+            Answer::Weights(pw, _) => {
+                for (k, &v) in part.cols.iter().enumerate() {
+                    w[v] = pw[k];
+                }
+            }
+            _ => all = false,
+        }
+    }
+    Ok(all.then_some(w))
 }
 
 /// A candidate from one LP attempt, verified to conform.
@@ -274,12 +465,23 @@ enum Family {
     Anchor,
 }
 
-/// sum(terms) - delta >= rhs  (or == rhs for equalities, without delta).
+/// sum(terms) - share * delta >= rhs  (or == rhs for equalities, without
+/// delta).
 #[derive(Debug, Clone)]
 struct Row {
     terms: Vec<(usize, f64)>,
     rhs: f64,
     family: Family,
+    /// This row's part of a row split between pieces (1 when whole).
+    share: f64,
+    /// A row about a triangle outside the domain (the gap between two
+    /// cavities): `pieces` may split it between the pieces it joins.
+    outside: bool,
+    /// An outside row at an edge that is not a segment: between pieces,
+    /// `pieces` leaves it out. Outside the domain only segments need be
+    /// strict edges, and a gap between cavities on a lattice is
+    /// cocircular: splitting its rows would tie the pieces' weights.
+    weak: bool,
 }
 
 /// An LP over the weights (columns 0..n) and auxiliary free columns.
@@ -304,7 +506,13 @@ struct System {
 /// every segment against the apexes of `t` beside it.
 /// Only rows with a free weight are written: a row over zero weights alone
 /// is a fixed Delaunay property that the exact verification checks anyway.
-fn local_system(cx: &Complex, t: &Triangulation, units: &Units, free: Vec<bool>) -> System {
+fn local_system(
+    cx: &Complex,
+    t: &Triangulation,
+    inside: &[bool],
+    units: &Units,
+    free: Vec<bool>,
+) -> System {
     let p = &units.points;
     let any_free = |vs: &[u32]| vs.iter().any(|&v| free[v as usize]);
     let mut sys = System {
@@ -313,6 +521,11 @@ fn local_system(cx: &Complex, t: &Triangulation, units: &Units, free: Vec<bool>)
         unit2: units.unit2,
         ..Default::default()
     };
+    let segments: std::collections::HashSet<[u32; 2]> = cx
+        .segments
+        .iter()
+        .map(|&[i, j]| [i.min(j), i.max(j)])
+        .collect();
     for (a, b) in t.edges() {
         let (Some(tl), Some(tr)) = (t.left_of(a, b), t.left_of(b, a)) else {
             continue;
@@ -320,18 +533,27 @@ fn local_system(cx: &Complex, t: &Triangulation, units: &Units, free: Vec<bool>)
         let c = t.apex(tl, a, b);
         let d = t.apex(tr, b, a);
         if any_free(&[a, b, c, d]) {
-            sys.rows.push(convexity_row(p, a, b, c, d));
+            let mut row = convexity_row(p, a, b, c, d);
+            row.outside = !inside[tl as usize] || !inside[tr as usize];
+            row.weak = row.outside && !segments.contains(&[a.min(b), a.max(b)]);
+            sys.rows.push(row);
         }
     }
     for (s, &[i, j]) in cx.segments.iter().enumerate() {
-        let mut apexes = vec![];
+        let (mut apexes, mut outside) = (vec![], vec![]);
         for (x, y) in [(i, j), (j, i)] {
             if let Some(tri) = t.left_of(x, y) {
                 apexes.push(t.apex(tri, x, y));
+                outside.push(!inside[tri as usize]);
             }
         }
         if any_free(&[i, j]) || any_free(&apexes) {
             sys3_rows(&mut sys, p, s as u32, i, j, &apexes);
+            // Its last rows are the apexes', in order.
+            let first = sys.rows.len() - apexes.len();
+            for (row, out) in sys.rows[first..].iter_mut().zip(outside) {
+                row.outside = out;
+            }
         }
     }
     sys.free = free;
@@ -355,6 +577,9 @@ fn anchor_rows(sys: &mut System, cx: &Complex, units: &Units) {
             terms: vec![(i as usize, 1.0 / l), (j as usize, -1.0 / l)],
             rhs: (d2(i) - d2(j)) / l,
             family: Family::Anchor,
+            share: 1.0,
+            outside: false,
+            weak: false,
         };
         if anchor_offset(cx, &zero, s).is_some_and(|o| o.abs() <= ANCHOR_MET) {
             sys.eqs.push(row);
@@ -416,6 +641,9 @@ fn convexity_row(p: &[[f64; 2]], a: u32, b: u32, c: u32, d: u32) -> Row {
         ],
         rhs: -c0 / norm,
         family: Family::Sys1,
+        share: 1.0,
+        outside: false,
+        weak: false,
     }
 }
 
@@ -430,11 +658,17 @@ fn sys3_rows(sys: &mut System, p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &
         terms: vec![(i, -1.0 / l), (j, 1.0 / l)],
         rhs: -1.0,
         family: fam,
+        share: 1.0,
+        outside: false,
+        weak: false,
     });
     sys.rows.push(Row {
         terms: vec![(i, 1.0 / l), (j, -1.0 / l)],
         rhs: -1.0,
         family: fam,
+        share: 1.0,
+        outside: false,
+        weak: false,
     });
     for &m in others {
         let r = rel(p, i as u32, m);
@@ -447,6 +681,9 @@ fn sys3_rows(sys: &mut System, p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &
             ],
             rhs: -(rr - ur) / l,
             family: fam,
+            share: 1.0,
+            outside: false,
+            weak: false,
         });
     }
 }
@@ -476,6 +713,9 @@ fn plane_rows(
             ],
             rhs: u.norm_squared() / scale2,
             family: Family::Sys1,
+            share: 1.0,
+            outside: false,
+            weak: false,
         });
     }
     for &m in others {
@@ -490,6 +730,9 @@ fn plane_rows(
             ],
             rhs: -r.norm_squared() / scale2,
             family: Family::Sys1,
+            share: 1.0,
+            outside: false,
+            weak: false,
         });
     }
     a0
@@ -501,8 +744,11 @@ enum Mode {
     /// delta >= min, minimise sum |w_i| / l_i^2.
     Regularise { delta_min: f64 },
     /// System 1 with delta >= min; system 3 rows elastic, minimise the
-    /// violation, segment s weighted by costs[s] (1 where empty).
-    Elastic { delta_min: f64, costs: Vec<f64> },
+    /// violation, segment s weighted by costs[s] (1 where absent).
+    Elastic {
+        delta_min: f64,
+        costs: HashMap<u32, f64>,
+    },
 }
 
 struct Solution {
@@ -511,6 +757,9 @@ struct Solution {
     /// Elastic mode: the violation of system 3 per segment.
     slack: HashMap<u32, f64>,
 }
+
+/// HiGHS runs (shared) and instance drops (exclusive), see `run`.
+static HIGHS: std::sync::RwLock<()> = std::sync::RwLock::new(());
 
 fn run(
     sys: &System,
@@ -571,13 +820,13 @@ fn run(
             (Family::Sys3(_), _) if !with3 => continue,
             (Family::Sys3(s), Mode::Elastic { costs, .. }) => {
                 // sum(terms) + slack_s >= rhs + small positive margin
-                let cost = costs.get(s as usize).copied().unwrap_or(1.0);
+                let cost = costs.get(&s).copied().unwrap_or(1.0);
                 let sl = *slack.entry(s).or_insert_with(|| pb.add_column(cost, 0.0..));
                 terms.push((sl, 1.0));
                 pb.add_row((r.rhs + 1e-3).., terms);
                 continue;
             }
-            _ => terms.push((delta, -1.0)),
+            _ => terms.push((delta, -r.share)),
         }
         pb.add_row(r.rhs.., terms);
     }
@@ -602,14 +851,31 @@ fn run(
         )));
     }
     model.set_option("time_limit", left.as_secs_f64());
-    let solved = model
-        .try_solve()
-        .map_err(|e| Error::Lp(format!("HiGHS: {e:?}")))?;
+    if !big {
+        // Measured: on the local form's small pieces presolve costs as
+        // much as the solve.
+        model.set_option("presolve", "off");
+    }
+    let solved = {
+        let _running = HIGHS.read().unwrap_or_else(|e| e.into_inner());
+        model
+            .try_solve()
+            .map_err(|e| Error::Lp(format!("HiGHS: {e:?}")))?
+    };
     let status = solved.status();
+    let cols =
+        (status == HighsModelStatus::Optimal).then(|| solved.get_solution().columns().to_vec());
+    {
+        // Destroying a HiGHS instance resets its global scheduler, which
+        // must not happen while another thread is inside HiGHS
+        // (ERGO-Code/HiGHS#3141): drops are exclusive, runs shared.
+        let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
+        drop(solved);
+    }
     report.lp_status = format!("{status:?}");
     match status {
         HighsModelStatus::Optimal => {
-            let cols = solved.get_solution().columns().to_vec();
+            let cols = cols.expect("optimal");
             if cols.iter().any(|c| !c.is_finite())
                 || !(cols[..sys.n].iter().all(|w| (w * sys.unit2).is_finite()))
             {
@@ -679,8 +945,18 @@ enum Attempt {
     Sys3Infeasible,
 }
 
-/// One attempt on a row system: system 1 + 3; else system 1 with system 3
-/// elastic (as few segments as possible missing their duals).
+/// What the LP says about one row system (no verification yet).
+enum Answer {
+    /// Weights (for the system's columns), and whether system 3 held on
+    /// the rows (false: elastic).
+    Weights(Vec<f64>, bool),
+    /// System 1 has no trusted margin on these rows.
+    Sys1Infeasible,
+    /// Systems 1 and 3 together have none (asked not to go elastic).
+    Sys3Infeasible,
+}
+
+/// One attempt on a row system: the LP, then the exact check.
 fn attempt<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex,
@@ -688,9 +964,39 @@ fn attempt<B: Backend + ?Sized>(
     elastic: bool,
     report: &mut WeightsReport,
 ) -> Result<Attempt> {
+    match solve_rows(sys, elastic, report)? {
+        Answer::Weights(w, lp_sys3) => verify(backend, cx, w, lp_sys3),
+        Answer::Sys1Infeasible => Ok(Attempt::Sys1Infeasible),
+        Answer::Sys3Infeasible => Ok(Attempt::Sys3Infeasible),
+    }
+}
+
+/// Builds RT(w) with exact predicates and checks it segment by segment.
+fn verify<B: Backend + ?Sized>(
+    backend: &B,
+    cx: &Complex,
+    w: Vec<f64>,
+    lp_sys3: bool,
+) -> Result<Attempt> {
+    let rt = backend.regular(&cx.points, &w)?;
+    if conforms(cx, &rt).is_err() {
+        return Ok(Attempt::NotConforming(w));
+    }
+    let sys3_failed = sys3_failures(cx, &w, &rt);
+    Ok(Attempt::Found(Found {
+        w,
+        rt,
+        sys3_failed,
+        lp_sys3,
+    }))
+}
+
+/// The LP on one row system: system 1 + 3; else system 1 with system 3
+/// elastic (as few segments as possible missing their duals).
+fn solve_rows(sys: &System, elastic: bool, report: &mut WeightsReport) -> Result<Answer> {
     let (m3, k3) = margin(sys, true, report)?;
     if m3 <= TRUST && !elastic {
-        return Ok(Attempt::Sys3Infeasible);
+        return Ok(Answer::Sys3Infeasible);
     }
     let (w, lp_sys3) = if m3 > TRUST {
         report.margin = Some(m3);
@@ -716,15 +1022,16 @@ fn attempt<B: Backend + ?Sized>(
             delta_min: ELASTIC_MARGIN,
             costs,
         };
-        let quick = run(sys, true, None, &elastic(vec![]), report)?;
+        let quick = run(sys, true, None, &elastic(HashMap::new()), report)?;
         if quick.delta >= ELASTIC_MARGIN {
             // Reweighted once (cost 1 / (violation + eps)): the total
             // violation is spread over fewer segments, so fewer miss their
             // duals and fewer sites end outside.
-            let mut costs = vec![1.0; sys.rows.len()];
-            for (&s, &v) in &quick.slack {
-                costs[s as usize] = 1.0 / (v.max(0.0) + 1e-3);
-            }
+            let costs = quick
+                .slack
+                .iter()
+                .map(|(&s, &v)| (s, 1.0 / (v.max(0.0) + 1e-3)))
+                .collect();
             let sparse = run(sys, true, None, &elastic(costs), report)?;
             let w = if sparse.delta >= ELASTIC_MARGIN {
                 sparse.w
@@ -739,7 +1046,7 @@ fn attempt<B: Backend + ?Sized>(
             report.margin = Some(m1);
             report.bound_k = k1;
             if m1 <= TRUST {
-                return Ok(Attempt::Sys1Infeasible);
+                return Ok(Answer::Sys1Infeasible);
             }
             (
                 run(
@@ -748,7 +1055,7 @@ fn attempt<B: Backend + ?Sized>(
                     k1,
                     &Mode::Elastic {
                         delta_min: m1 / 2.0,
-                        costs: vec![],
+                        costs: HashMap::new(),
                     },
                     report,
                 )?
@@ -757,17 +1064,7 @@ fn attempt<B: Backend + ?Sized>(
             )
         }
     };
-    let rt = backend.regular(&cx.points, &w)?;
-    if conforms(cx, &rt).is_err() {
-        return Ok(Attempt::NotConforming(w));
-    }
-    let sys3_failed = sys3_failures(cx, &w, &rt);
-    Ok(Attempt::Found(Found {
-        w,
-        rt,
-        sys3_failed,
-        lp_sys3,
-    }))
+    Ok(Answer::Weights(w, lp_sys3))
 }
 
 /// Ok, or the segments missing from `rt` (and hidden vertices as Err too).
@@ -1168,5 +1465,63 @@ mod tests {
         // and the equality holds for those slopes
         let lhs: f64 = eq.terms.iter().map(|&(c, k)| k * x[c]).sum();
         assert_eq!(lhs, eq.rhs);
+    }
+
+    #[test]
+    fn pieces_split_rows_between_them() {
+        let row = |terms: Vec<(usize, f64)>, rhs: f64, outside: bool, weak: bool| Row {
+            terms,
+            rhs,
+            family: Family::Sys1,
+            share: 1.0,
+            outside,
+            weak,
+        };
+        let sys = System {
+            n: 5,
+            free: vec![true, true, true, true, false],
+            unit2: 1.0,
+            l2: vec![1.0, 2.0, 3.0, 4.0, 5.0],
+            rows: vec![
+                row(vec![(0, 1.0), (1, 1.0), (4, 7.0)], -1.0, false, false),
+                row(vec![(2, 1.0), (3, 1.0)], -1.0, false, false),
+                // outside with slack: halved between the two pieces
+                row(vec![(1, 2.0), (2, 3.0)], -2.0, true, false),
+                // outside, violated at zero: the first weight's piece's
+                row(vec![(3, 1.0), (0, 1.0)], 0.5, true, false),
+                // outside and weak between pieces: left out
+                row(vec![(0, 1.0), (3, -1.0)], 0.0, true, true),
+            ],
+            ..Default::default()
+        };
+        let p = pieces(&sys);
+        assert_eq!(p.len(), 2);
+        assert_eq!(p[0].cols, vec![0, 1]);
+        assert_eq!(p[1].cols, vec![2, 3]);
+        assert_eq!(p[0].sys.l2, vec![1.0, 2.0]);
+        // (terms, rhs, share) of each row of a piece
+        type Summary = Vec<(Vec<(usize, f64)>, f64, f64)>;
+        let summary = |s: &System| -> Summary {
+            s.rows
+                .iter()
+                .map(|r| (r.terms.clone(), r.rhs, r.share))
+                .collect()
+        };
+        let expected: [Summary; 2] = [
+            // The fixed weight 4 drops out of the first row.
+            vec![
+                (vec![(0, 1.0), (1, 1.0)], -1.0, 1.0),
+                (vec![(1, 2.0)], -1.0, 0.5),
+                (vec![(0, 1.0)], 0.0, 0.0),
+            ],
+            vec![
+                (vec![(0, 1.0), (1, 1.0)], -1.0, 1.0),
+                (vec![(0, 3.0)], -1.0, 0.5),
+                (vec![(1, 1.0)], 0.5, 1.0),
+            ],
+        ];
+        for (piece, want) in p.iter().zip(expected) {
+            assert_eq!(summary(&piece.sys), want);
+        }
     }
 }

@@ -212,6 +212,35 @@ impl Triangulation {
         Some([t1, t2])
     }
 
+    /// Splits triangle t = (a, b, c) at a hidden input index h strictly
+    /// inside it into (a, b, h), (b, c, h), (c, a, h); h is a vertex then.
+    pub fn split(&mut self, t: u32, h: u32) {
+        let [a, b, c] = self.triangles[t as usize];
+        let [_, n_bc, n_ca] = self.adj[t as usize];
+        let (t1, t2) = (self.triangles.len() as u32, self.triangles.len() as u32 + 1);
+        self.triangles[t as usize] = [a, b, h];
+        self.triangles.push([b, c, h]);
+        self.triangles.push([c, a, h]);
+        self.adj[t as usize] = [self.adj[t as usize][0], t1, t2];
+        self.adj.push([n_bc, t2, t]);
+        self.adj.push([n_ca, t, t1]);
+        for (n, x, y, new) in [(n_bc, c, b, t1), (n_ca, a, c, t2)] {
+            if n != NONE {
+                let tri = self.triangles[n as usize];
+                let k = (0..3)
+                    .find(|&k| (tri[k], tri[(k + 1) % 3]) == (x, y))
+                    .expect("edge of triangle");
+                self.adj[n as usize][k] = new;
+            }
+        }
+        if self.corner.len() <= h as usize {
+            self.corner.resize(h as usize + 1, NONE);
+        }
+        self.corner[c as usize] = t1;
+        self.corner[h as usize] = t;
+        self.hidden.retain(|&x| x != h);
+    }
+
     /// Whether {a, b} is an edge.
     pub fn has_edge(&self, a: u32, b: u32) -> bool {
         self.left_of(a, b).is_some() || self.left_of(b, a).is_some()
