@@ -21,7 +21,13 @@ pub struct Options {
     /// Also time the backend's raw regular triangulation of the input
     /// vertices, for the report's speed ratio (outside the pipeline's time).
     pub compare_with_raw: bool,
+    /// Called as stages end and as the LP's pieces are solved:
+    /// (what, done, of).
+    pub progress: Option<Progress>,
 }
+
+/// A progress callback: (stage, done, of).
+pub type Progress = fn(&str, usize, usize);
 
 /// A certified mesh and how it was made.
 #[derive(Debug, Clone)]
@@ -62,9 +68,20 @@ pub struct Report {
     pub mesh_vertices: usize,
     pub collapsed_vertices: usize,
     pub certificate: Certificate,
-    /// Milliseconds per stage, in order.
-    pub timings_ms: Vec<(String, f64)>,
+    /// Time and memory: they differ from run to run, everything else in
+    /// the report does not (the CLI's `--reproducible` leaves this out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub timing: Option<Timing>,
+}
+
+/// What each stage cost.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct Timing {
+    /// In order.
+    pub stages: Vec<Stage>,
     pub total_ms: f64,
+    /// Largest resident memory of the process over the run (MiB; Linux).
+    pub peak_mib: Option<f64>,
     /// The backend's raw regular triangulation of the same vertices, when
     /// asked for (`Options::compare_with_raw`).
     pub raw_triangulation_ms: Option<f64>,
@@ -72,16 +89,64 @@ pub struct Report {
     pub ratio_to_raw: Option<f64>,
 }
 
-struct Clock(Instant, Vec<(String, f64)>);
+/// One stage's time and the peak of resident memory while it ran.
+#[derive(Debug, Clone, Serialize)]
+pub struct Stage {
+    pub stage: String,
+    pub ms: f64,
+    pub peak_mib: Option<f64>,
+}
+
+/// Peak resident memory since the last call (MiB), then the peak is reset
+/// (Linux: VmHWM in /proc/self/status, reset through /proc/self/clear_refs).
+/// None where the system does not tell.
+pub fn peak_mib_since_last() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kib: f64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))?
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    // Best effort: without the reset, peaks only grow.
+    let _ = std::fs::write("/proc/self/clear_refs", "5");
+    Some(kib / 1024.0)
+}
+
+struct Clock {
+    last: Instant,
+    stages: Vec<Stage>,
+    progress: Option<Progress>,
+}
 
 impl Clock {
+    fn start(progress: Option<Progress>) -> Clock {
+        peak_mib_since_last();
+        Clock {
+            last: Instant::now(),
+            stages: vec![],
+            progress,
+        }
+    }
+
     fn lap(&mut self, stage: &str) {
         let now = Instant::now();
-        self.1
-            .push((stage.into(), (now - self.0).as_secs_f64() * 1e3));
-        self.0 = now;
+        self.stages.push(Stage {
+            stage: stage.into(),
+            ms: (now - self.last).as_secs_f64() * 1e3,
+            peak_mib: peak_mib_since_last(),
+        });
+        self.last = now;
+        if let Some(f) = self.progress {
+            f(stage, self.stages.len(), STAGES);
+        }
     }
 }
+
+/// Stages `conform` reports (the clock's laps).
+const STAGES: usize = 7;
 
 /// Builds the certified conforming orthogonal mesh of a complex.
 pub fn conform<B: Backend + ?Sized>(
@@ -90,13 +155,13 @@ pub fn conform<B: Backend + ?Sized>(
     opts: &Options,
 ) -> Result<Outcome> {
     let start = Instant::now();
-    let mut clock = Clock(start, vec![]);
+    let mut clock = Clock::start(opts.progress);
     input.validate()?;
     clock.lap("validate");
     let dom = domain::build(backend, input)?;
     clock.lap("domain");
     let cx = &dom.complex;
-    let wts = weights::solve(backend, &dom)?;
+    let wts = weights::solve(backend, &dom, opts.progress)?;
     clock.lap("weights");
     let missing_dual: Vec<i64> = wts
         .sys3_failed
@@ -197,10 +262,17 @@ pub fn conform<B: Backend + ?Sized>(
         mesh_vertices: mesh.points.len(),
         collapsed_vertices: mesh.collapsed,
         certificate: cert,
-        total_ms,
-        timings_ms: clock.1,
-        raw_triangulation_ms,
-        ratio_to_raw: raw_triangulation_ms.map(|raw| total_ms / raw),
+        timing: Some(Timing {
+            peak_mib: clock
+                .stages
+                .iter()
+                .filter_map(|s| s.peak_mib)
+                .reduce(f64::max),
+            stages: clock.stages,
+            total_ms,
+            raw_triangulation_ms,
+            ratio_to_raw: raw_triangulation_ms.map(|raw| total_ms / raw),
+        }),
     };
     Ok(Outcome {
         mesh,

@@ -21,6 +21,7 @@
 
 use crate::backend::{Backend, Triangulation};
 use crate::complex::Complex;
+use crate::conform::Progress;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
 use crate::exact::{abs, dot, in_diametral_disc, is_pos, norm2, q, qp, sub, Q};
@@ -113,8 +114,12 @@ impl WeightsReport {
 }
 
 /// Finds weights for the domain's complex.
-pub fn solve<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> {
-    let mut out = solve_unanchored_first(backend, dom)?;
+pub fn solve<B: Backend + ?Sized>(
+    backend: &B,
+    dom: &Domain,
+    progress: Option<Progress>,
+) -> Result<Weights> {
+    let mut out = solve_unanchored_first(backend, dom, progress)?;
     let cx = &dom.complex;
     out.report.anchors = (0..cx.segments.len())
         .filter(|&s| cx.anchor(s).is_some())
@@ -144,7 +149,11 @@ fn unmet_anchors(cx: &Complex, w: &[f64]) -> Vec<u32> {
 }
 
 /// Zero weights when they serve (anchors included), else the LP.
-fn solve_unanchored_first<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Result<Weights> {
+fn solve_unanchored_first<B: Backend + ?Sized>(
+    backend: &B,
+    dom: &Domain,
+    progress: Option<Progress>,
+) -> Result<Weights> {
     let cx = &dom.complex;
     let n = cx.points.len();
     let zero = vec![0.0; n];
@@ -181,10 +190,10 @@ fn solve_unanchored_first<B: Backend + ?Sized>(backend: &B, dom: &Domain) -> Res
     // Anchors that zero weights meet are kept as equalities; should they
     // leave no weights at all, the LP runs again without anchors.
     let has_anchors = !cx.anchors.is_empty();
-    let lpres = match lp(backend, dom, &rt0, has_anchors) {
+    let lpres = match lp(backend, dom, &rt0, has_anchors, progress) {
         Ok(w) if w.sys3_failed.is_empty() || !has_anchors => Ok(w),
         Err(e) if !has_anchors => Err(e),
-        _ => lp(backend, dom, &rt0, false),
+        _ => lp(backend, dom, &rt0, false, progress),
     };
     match (zero_rt, lpres) {
         (Some(rt), Ok(w)) if unmet_anchors(cx, &w.w).len() >= unmet_at_zero => {
@@ -227,6 +236,7 @@ fn lp<B: Backend + ?Sized>(
     dom: &Domain,
     rt0: &Triangulation,
     anchored: bool,
+    progress: Option<Progress>,
 ) -> Result<Weights> {
     let cx = &dom.complex;
     let n = cx.points.len();
@@ -257,7 +267,7 @@ fn lp<B: Backend + ?Sized>(
         if anchored {
             anchor_rows(&mut local, cx, &units);
         }
-        if let Some(w) = solve_pieces(&local, &mut report)? {
+        if let Some(w) = solve_pieces(&local, &mut report, progress)? {
             if let Attempt::Found(found) = verify(backend, cx, w, true)? {
                 if found.sys3_failed.is_empty() {
                     return finish(found, report);
@@ -405,9 +415,15 @@ fn pieces(sys: &System) -> Vec<Piece> {
 
 /// The local form's LP, piece by piece (in parallel): weights when every
 /// piece has systems 1 and 3 with a trusted margin, else None.
-fn solve_pieces(sys: &System, report: &mut WeightsReport) -> Result<Option<Vec<f64>>> {
+fn solve_pieces(
+    sys: &System,
+    report: &mut WeightsReport,
+    progress: Option<Progress>,
+) -> Result<Option<Vec<f64>>> {
     use rayon::prelude::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
     let parts = pieces(sys);
+    let done = AtomicUsize::new(0);
     let answers: Vec<(Result<Answer>, WeightsReport)> = parts
         .par_iter()
         .map(|p| {
@@ -415,7 +431,12 @@ fn solve_pieces(sys: &System, report: &mut WeightsReport) -> Result<Option<Vec<f
                 deadline: report.deadline,
                 ..Default::default()
             };
-            (solve_rows(&p.sys, false, &mut r), r)
+            let answer = solve_rows(&p.sys, false, &mut r);
+            let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+            if let Some(f) = progress.filter(|_| k % 64 == 0 || k == parts.len()) {
+                f("weights: LP pieces", k, parts.len());
+            }
+            (answer, r)
         })
         .collect();
     report.lp_pieces = parts.len();

@@ -192,3 +192,99 @@ fn hybrid_from_a_deck_and_from_options() {
         assert!(!vtu3.exists());
     }
 }
+
+/// Runs `args` (ending in output paths under `dir`) twice, with one and
+/// with two worker threads, and returns the two runs' files.
+fn twice(dir: &Path, args: &[String], files: &[&str]) -> [Vec<Vec<u8>>; 2] {
+    [1, 2].map(|threads| {
+        for f in files {
+            let _ = std::fs::remove_file(dir.join(f));
+        }
+        let out = Command::new(env!("CARGO_BIN_EXE_orthomesh"))
+            .args(args)
+            .env("RAYON_NUM_THREADS", threads.to_string())
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        files
+            .iter()
+            .map(|f| std::fs::read(dir.join(f)).unwrap())
+            .collect()
+    })
+}
+
+#[test]
+fn the_same_input_gives_byte_identical_mesh_and_report() {
+    let dir = scratch("reproducible");
+    let mixed = dir.join("mixed.poly");
+    std::fs::write(
+        &mixed,
+        orthomesh::io::poly::to_string(&orthomesh::generate::mixed(6, 6, 11)),
+    )
+    .unwrap();
+    let p = |f: &str| dir.join(f).display().to_string();
+    let inputs = [
+        mixed.display().to_string(),
+        data("la.poly"),
+        data("square_circle_hole.poly"),
+    ];
+    for input in &inputs {
+        let args: Vec<String> = [
+            "conform",
+            input,
+            "-o",
+            &p("m.vtu"),
+            "--report",
+            &p("m.json"),
+            "--allow-sites-outside",
+            "--reproducible",
+        ]
+        .map(String::from)
+        .to_vec();
+        let [a, b] = twice(&dir, &args, &["m.vtu", "m.json"]);
+        assert!(a == b, "{input}: the two runs differ");
+        let report = String::from_utf8(a[1].clone()).unwrap();
+        assert!(
+            !report.contains("total_ms"),
+            "{input}: timing in the report"
+        );
+    }
+    // Without --reproducible the report has the stages' time and memory.
+    let (code, err) = orthomesh(&[
+        "conform",
+        &inputs[2],
+        "-o",
+        &p("t.vtu"),
+        "--report",
+        &p("t.json"),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let report = std::fs::read_to_string(dir.join("t.json")).unwrap();
+    for key in ["\"stages\"", "\"peak_mib\"", "\"total_ms\"", "\"relocate\""] {
+        assert!(report.contains(key), "{key} missing");
+    }
+    // The hybrid mesh of SPE9, in 2.5D with a TOUGH MESH.
+    let grids = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
+    let args: Vec<String> = [
+        "hybrid",
+        "--grid",
+        &grids.join("SPE9.GRDECL").display().to_string(),
+        "--deck",
+        &grids.join("SPE9_CP.DATA").display().to_string(),
+        "-o",
+        &p("h.vtu"),
+        "--tough",
+        &p("h.mesh"),
+        "--report",
+        &p("h.json"),
+        "--reproducible",
+    ]
+    .map(String::from)
+    .to_vec();
+    let [a, b] = twice(&dir, &args, &["h.vtu", "h.mesh", "h.json"]);
+    assert!(a == b, "SPE9 hybrid: the two runs differ");
+}

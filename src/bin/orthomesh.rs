@@ -1,7 +1,7 @@
 //! The orthomesh command line.
 
 use clap::{Parser, Subcommand};
-use orthomesh::conform::{conform, Options, Outcome};
+use orthomesh::conform::{conform, Options, Outcome, Progress};
 use orthomesh::error::{Error, Result};
 use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
 use orthomesh::{
@@ -124,6 +124,10 @@ struct Outputs {
     /// Write the report (certificate, weights, timings) as JSON.
     #[arg(long, value_name = "REPORT.json")]
     report: Option<PathBuf>,
+    /// Leave time and memory out of the report, so that the same input
+    /// gives byte-identical files (mesh and report) on every run.
+    #[arg(long)]
+    reproducible: bool,
 }
 
 fn main() -> ExitCode {
@@ -148,6 +152,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     output,
                     svg,
                     report,
+                    reproducible,
                 },
             allow_sites_outside,
         } => {
@@ -155,8 +160,19 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
             let opts = Options {
                 allow_sites_outside,
                 compare_with_raw: true,
+                // a progress bar for long runs when someone watches
+                progress: (cx.segments.len() >= MANY_SEGMENTS && std::io::stderr().is_terminal())
+                    .then_some(bar as Progress),
             };
-            let out = conform(backend, &cx, &opts)?;
+            let mut out = conform(backend, &cx, &opts)?;
+            if opts.progress.is_some() {
+                eprintln!();
+            }
+            let timing = if reproducible {
+                out.report.timing.take()
+            } else {
+                out.report.timing.clone()
+            };
             write_all(
                 &out,
                 &cx,
@@ -164,7 +180,16 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 &output,
                 svg.as_deref(),
                 report.as_deref(),
-            )
+            )?;
+            if let Some(t) = timing {
+                eprintln!(
+                    "{:.1} ms total (raw triangulation {:.2} ms), peak memory {:.0} MiB",
+                    t.total_ms,
+                    t.raw_triangulation_ms.unwrap_or(f64::NAN),
+                    t.peak_mib.unwrap_or(f64::NAN)
+                );
+            }
+            Ok(())
         }
         Command::Hybrid {
             grid,
@@ -185,6 +210,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     output,
                     svg,
                     report,
+                    reproducible,
                 },
         } => {
             let g = io::eclipse::read_grid(&grid)?;
@@ -239,9 +265,12 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 progress: (list.len() >= MANY_WELLS && std::io::stderr().is_terminal())
                     .then_some(bar as fn(&str, usize, usize)),
             };
-            let h = hybrid::build(backend, &g, &list, &opts)?;
+            let mut h = hybrid::build(backend, &g, &list, &opts)?;
             if opts.progress.is_some() {
                 eprintln!();
+            }
+            if reproducible {
+                h.report.transition.timing = None;
             }
             let mut texts = vec![];
             if layers {
@@ -383,13 +412,11 @@ fn write_all(
         c.sites_outside
     );
     eprintln!(
-        "certificate: vertices {} segments {} tiling {} sites-inside {}; {:.1} ms total (raw triangulation {:.2} ms)",
+        "certificate: vertices {} segments {} tiling {} sites-inside {}",
         ok(c.vertices_are_mesh_vertices),
         ok(c.segments_are_single_edges),
         ok(c.cells_tile_domain),
         ok(c.sites_inside_cells),
-        r.total_ms,
-        r.raw_triangulation_ms.unwrap_or(f64::NAN)
     );
     for n in &r.notes {
         eprintln!("note: {n}");
@@ -402,6 +429,8 @@ fn write_all(
 
 /// From this many wells on, `hybrid` shows a progress bar on a terminal.
 const MANY_WELLS: usize = 50;
+/// From this many segments on, `conform` shows one.
+const MANY_SEGMENTS: usize = 20_000;
 
 /// One line redrawn in place: stage, bar, count.
 fn bar(stage: &str, done: usize, of: usize) {

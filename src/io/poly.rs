@@ -7,6 +7,27 @@ use crate::error::Result;
 use std::collections::HashMap;
 use std::path::Path;
 
+/// Writes a complex as a `.poly` text (its own vertex and segment ids,
+/// coordinates in shortest round-trip form): what `parse` reads back as the
+/// same complex, and what Triangle reads.
+pub fn to_string(cx: &Complex) -> String {
+    use std::fmt::Write;
+    let mut t = format!("# written by orthomesh\n{} 2 0 0\n", cx.points.len());
+    for (p, id) in cx.points.iter().zip(&cx.vertex_ids) {
+        let _ = writeln!(t, "{id} {:?} {:?}", p[0], p[1]);
+    }
+    let _ = writeln!(t, "{} 0", cx.segments.len());
+    for (s, id) in cx.segments.iter().zip(&cx.segment_ids) {
+        let v = |k: usize| cx.vertex_ids[s[k] as usize];
+        let _ = writeln!(t, "{id} {} {}", v(0), v(1));
+    }
+    let _ = writeln!(t, "{}", cx.holes.len());
+    for (k, h) in cx.holes.iter().enumerate() {
+        let _ = writeln!(t, "{k} {:?} {:?}", h[0], h[1]);
+    }
+    t
+}
+
 /// Parses a `.poly` file's text.
 pub fn parse(text: &str, path: &Path) -> Result<Complex> {
     let mut r = Records::new(text, path);
@@ -118,5 +139,17 @@ mod tests {
         assert!(matches!(e, Error::Parse { line: 3, .. }), "{e}");
         let e = parse("2 2 0 0\n0 0 0\n1 1 0\n1 0\n0 0 7\n", Path::new("t.poly")).unwrap_err();
         assert!(e.to_string().contains("vertex 7"), "{e}");
+    }
+
+    #[test]
+    fn writes_what_it_reads() {
+        let mut cx = crate::generate::mixed(2, 2, 3);
+        cx.points[0][0] = 0.1 + 0.2; // not a short decimal
+        let back = parse(&to_string(&cx), Path::new("m.poly")).unwrap();
+        assert_eq!(back.points, cx.points);
+        assert_eq!(back.segments, cx.segments);
+        assert_eq!(back.holes, cx.holes);
+        assert_eq!(back.vertex_ids, cx.vertex_ids);
+        assert_eq!(back.segment_ids, cx.segment_ids);
     }
 }
