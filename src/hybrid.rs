@@ -478,6 +478,11 @@ fn polygon_point(c: [f64; 2], r: f64, s: usize, m: usize) -> [f64; 2] {
     [c[0] + r * a.cos(), c[1] + r * a.sin()]
 }
 
+/// Most rings and sectors a radial mesh may have (more is a typo, and
+/// would not fit in memory: rings x sectors cells per well).
+pub const MAX_RINGS: usize = 1000;
+pub const MAX_SECTORS: usize = 4096;
+
 /// Builds the hybrid mesh of one layer with the given wells.
 pub fn build<B: Backend + ?Sized>(
     backend: &B,
@@ -493,10 +498,10 @@ pub fn build<B: Backend + ?Sized>(
             grid.nz
         )));
     }
-    if opts.rings == 0 || opts.sectors < 3 {
-        return Err(Error::Usage(
-            "radial meshes need at least 1 ring and 3 sectors".into(),
-        ));
+    if !(1..=MAX_RINGS).contains(&opts.rings) || !(3..=MAX_SECTORS).contains(&opts.sectors) {
+        return Err(Error::Usage(format!(
+            "radial meshes need 1 to {MAX_RINGS} rings and 3 to {MAX_SECTORS} sectors"
+        )));
     }
     if wells.is_empty() {
         return Err(Error::Usage("a hybrid mesh needs at least one well".into()));
@@ -504,6 +509,28 @@ pub fn build<B: Backend + ?Sized>(
     let view = MapView::new(grid, k);
     let (nx, ny) = (grid.nx, grid.ny);
     let quad_points = |i: usize, j: usize| view.quad(i, j).map(|p| view.pillar[p as usize]);
+    let flat: Vec<String> = (0..ny)
+        .flat_map(|j| (0..nx).map(move |i| (i, j)))
+        .filter(|&(i, j)| {
+            let q = quad_points(i, j);
+            // NaN area (unreadable corners) counts as none
+            grid.active(i, j, k)
+                && crate::mesh::shoelace(4, |c| q[c]).abs().partial_cmp(&0.0)
+                    != Some(std::cmp::Ordering::Greater)
+        })
+        .map(|(i, j)| format!("({}, {}, {})", i + 1, j + 1, k + 1))
+        .collect();
+    if !flat.is_empty() {
+        return Err(Error::Degenerate(format!(
+            "active cells with no area in map view (collapsed pillars): {}{}",
+            flat[..flat.len().min(20)].join(", "),
+            if flat.len() > 20 {
+                format!(" and {} more", flat.len() - 20)
+            } else {
+                String::new()
+            }
+        )));
+    }
 
     // Place the wells.
     let mut placed: Vec<Placed> = vec![];
@@ -592,6 +619,14 @@ pub fn build<B: Backend + ?Sized>(
         obstacles.extend(line.windows(2).map(|w| [w[0], w[1]]));
     }
     for a in 0..placed.len() {
+        if let Some(b) = (0..a).find(|&b| placed[b].centre == placed[a].centre) {
+            return Err(Error::Usage(format!(
+                "wells {} and {} are at the same place",
+                placed[b].name, placed[a].name
+            )));
+        }
+    }
+    for a in 0..placed.len() {
         let wall = obstacles
             .iter()
             .map(|&o| to_segment(placed[a].centre, o))
@@ -607,7 +642,7 @@ pub fn build<B: Backend + ?Sized>(
         let rw = placed[a].radii[0];
         if !(rw > 0.0 && rw < outer / 2.0) {
             return Err(Error::Usage(format!(
-                "well {}: radius {rw} must be positive and below half the outer radius {outer}",
+                "well {}: radius {rw:?} must be positive and below half the outer radius {outer:?}",
                 placed[a].name
             )));
         }

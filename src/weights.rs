@@ -855,9 +855,12 @@ fn run(
     report.lp_cols = report.lp_cols.max(pb.num_cols());
     report.lp_solves += 1;
     let big = pb.num_rows() > 5_000;
-    let mut model = pb
-        .try_optimise(sense)
-        .map_err(|e| Error::Lp(format!("building the LP: {e:?}")))?;
+    let mut model = pb.try_optimise(sense).map_err(|e| {
+        Error::Lp(format!(
+            "HiGHS rejects the LP as built ({e:?}): its coefficients are beyond its range \
+                 (nearly coincident or collinear vertices?)"
+        ))
+    })?;
     model.make_quiet();
     // Measured: dual simplex stalls on large sparse systems of this shape
     // where interior point finishes in seconds (method.md section 2).

@@ -46,6 +46,13 @@ pub fn parse(text: &str, path: &Path) -> Result<Complex> {
             cx.segment_ids.push(k as i64 + 1);
         }
     }
+    if !r.at_end() {
+        let (line, _) = r.next_record("")?;
+        return Err(r.error(
+            line,
+            format!("more segments than the count ({n}) on line 1 says"),
+        ));
+    }
     if !zero.is_empty() {
         cx.notes.push(format!(
             "{} zero-length segment(s) kept as isolated points: {:?}",

@@ -31,6 +31,11 @@ pub fn read_complex(path: &Path) -> Result<Complex> {
 
 pub(crate) fn read_text(path: &Path) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, e))?;
+    // A byte-order mark (editors on Windows write one) is not content.
+    let bytes = bytes
+        .strip_prefix(b"\xEF\xBB\xBF")
+        .unwrap_or(&bytes)
+        .to_vec();
     String::from_utf8(bytes).map_err(|_| Error::Io {
         path: path.into(),
         message: "not UTF-8 text".into(),
