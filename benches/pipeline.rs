@@ -95,6 +95,13 @@ fn ratios() {
             break;
         }
     }
+    // The scale mix (issue 5: 10^5 segments within 20x the raw
+    // triangulation): separate cavities with wells, faults and non-Gabriel
+    // chains, every one needing the LP.
+    for n in [10, 30, 55] {
+        let cx = orthomesh::generate::mixed(n, n, 7);
+        row(format!("{}/mixed {n}x{n} (LP pieces)", b.name()), &cx);
+    }
     let (grid, wells) = spe9_hybrid();
     let t = Instant::now();
     let h = hybrid::build(&b, &grid, &wells, &HybridOptions::default());
@@ -148,7 +155,7 @@ fn regular_triangulation(c: &mut Criterion) {
 /// The whole pipeline on cavities around wells: zero weights, and, with the
 /// wells close to the cavity sides, the LP's local form.
 fn conform_pipeline(c: &mut Criterion) {
-    let cases: [(&str, Vec<Complex>); 2] = [
+    let cases: [(&str, Vec<Complex>); 3] = [
         (
             "conform_zero_weights",
             vec![
@@ -160,6 +167,13 @@ fn conform_pipeline(c: &mut Criterion) {
         (
             "conform_lp",
             vec![cavities(2, 2, 24.5), cavities(6, 6, 24.5)],
+        ),
+        (
+            "conform_mixed",
+            vec![
+                orthomesh::generate::mixed(4, 4, 7),
+                orthomesh::generate::mixed(10, 10, 7),
+            ],
         ),
     ];
     for (group, inputs) in cases {

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs the system packages orthomesh builds against (Debian/Ubuntu):
 # CGAL headers (+ GMP, MPFR, Boost), cmake to build HiGHS, libclang for
-# HiGHS' bindgen bindings. Idempotent: does nothing when all are present.
+# HiGHS' bindgen bindings, valgrind for scripts/valgrind.sh. Idempotent:
+# does nothing when all are present.
 set -euo pipefail
-pkgs="libcgal-dev libgmp-dev libmpfr-dev cmake libclang-dev clang g++"
+pkgs="libcgal-dev libgmp-dev libmpfr-dev cmake libclang-dev clang g++ valgrind"
 missing=""
 for p in $pkgs; do
   dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"

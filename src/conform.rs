@@ -190,16 +190,10 @@ pub fn conform<B: Backend + ?Sized>(
     clock.lap("sites");
     let rel = relocate(backend, &dom, &mut sites)?;
     clock.lap("relocate");
-    let outside_names: Vec<String> = rel
-        .outside
-        .iter()
-        .map(|&s| {
-            format!(
-                "{}: {}",
-                sites.describe(s, cx),
-                crate::relocate::why(&sites, &rel.rt, s, cx)
-            )
-        })
+    let outside_names: Vec<String> = crate::relocate::why(&sites, &rel.rt, &rel.outside, cx)
+        .into_iter()
+        .zip(&rel.outside)
+        .map(|(why, &s)| format!("{}: {why}", sites.describe(s, cx)))
         .collect();
     if !rel.outside.is_empty() && !opts.allow_sites_outside {
         return Err(Error::SitesOutsideCells {

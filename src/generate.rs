@@ -88,9 +88,9 @@ pub fn staggered_chains(rows: usize, cols: usize, h: f64) -> Complex {
 /// 16-gon well of radius 24.5 (nearly touching the sides: the LP) with a
 /// hole, and a fault of three segments from the cavity's lower-left corner
 /// towards the well, ending inside (a free end). In the other half, a
-/// chain of six unit segments and, 0.4 above it and staggered, a one-segment
-/// chain, jittered (reproducibly, from `seed`): not Gabriel, so they need
-/// the LP too.
+/// chain of six unit segments and a short segment 0.4 above one of its
+/// vertices, jittered (reproducibly, from `seed`): not Gabriel, so they
+/// need the LP too.
 pub fn mixed(nx: usize, ny: usize, seed: u64) -> Complex {
     let mut cx = Complex::default();
     let mut s = seed.max(1);
@@ -150,20 +150,28 @@ pub fn mixed(nx: usize, ny: usize, seed: u64) -> Complex {
                 );
                 cx.segments.push([corner, first]);
             } else {
-                // A chain of six segments, and above it, 0.4 away and
-                // staggered, a one-segment chain: not Gabriel.
-                for (row, len) in [(0, 7), (1, 2)] {
-                    let off = 0.5 * row as f64 + 1.0 * row as f64;
-                    let pts: Vec<[f64; 2]> = (0..len)
-                        .map(|i| {
-                            [
-                                c[0] - 3.5 + i as f64 + off + 0.1 * jitter(),
-                                c[1] + 0.4 * row as f64 + 0.05 * jitter(),
-                            ]
-                        })
-                        .collect();
-                    chain(&mut cx, &pts, false);
-                }
+                // A chain of six segments, and 0.4 above its third vertex
+                // a segment 0.6 long: inside the diametral discs of the
+                // chain's segments beside that vertex (not Gabriel), but
+                // with the vertex outside its own disc, so system 3 holds.
+                let row: Vec<[f64; 2]> = (0..7)
+                    .map(|i| {
+                        [
+                            c[0] - 3.5 + i as f64 + 0.1 * jitter(),
+                            c[1] + 0.05 * jitter(),
+                        ]
+                    })
+                    .collect();
+                let top = [row[2][0], row[2][1] + 0.4 + 0.02 * jitter()];
+                chain(&mut cx, &row, false);
+                chain(
+                    &mut cx,
+                    &[
+                        [top[0] - 0.3, top[1]],
+                        [top[0] + 0.3, top[1] + 0.02 * jitter()],
+                    ],
+                    false,
+                );
             }
         }
     }

@@ -58,15 +58,36 @@ pub fn outside(sites: &Sites, rt: &Triangulation, diagram: &Diagram) -> Vec<usiz
     (0..sites.len()).filter(|&s| out[s]).collect()
 }
 
-/// Why a site is outside its cell, for messages.
-pub fn why(sites: &Sites, rt: &Triangulation, s: usize, cx: &crate::complex::Complex) -> String {
+/// Why each of the sites `outside` is outside its cell, for messages.
+pub fn why(
+    sites: &Sites,
+    rt: &Triangulation,
+    outside: &[usize],
+    cx: &crate::complex::Complex,
+) -> Vec<String> {
+    if outside.is_empty() {
+        return vec![];
+    }
+    let nb = rt.neighbours(sites.len());
+    outside
+        .iter()
+        .map(|&s| why_one(sites, rt, &nb, s, cx))
+        .collect()
+}
+
+fn why_one(
+    sites: &Sites,
+    rt: &Triangulation,
+    nb: &[Vec<u32>],
+    s: usize,
+    cx: &crate::complex::Complex,
+) -> String {
     if rt.hidden.contains(&(s as u32)) {
         return "hidden: other sites' power is lower everywhere, it has no cell".into();
     }
     if !sites.movable[s] {
         return "its segment misses its dual edge, so it cannot be on the segment's side".into();
     }
-    let nb = rt.neighbours(sites.len());
     match nb[s].iter().find(|&&b| !sites.inside_wrt(s, b as usize)) {
         Some(&b) => format!(
             "no position tried on its dual edge puts it inside; it lies beyond its face with {}",

@@ -49,6 +49,9 @@ const ANCHOR_MET: f64 = 1e-9;
 /// Phase 2 cost of an anchor's violation (dimensionless, like the weights'
 /// cost sum |w_i| / l_i^2, which it outweighs).
 const ANCHOR_COST: f64 = 1e3;
+/// Largest local system solved as one LP when its pieces give no answer
+/// (measured: 13,600 free weights take 95 s as one LP, 0.7 s as pieces).
+const MAX_JOINT_WEIGHTS: usize = 20_000;
 
 /// Verified weights and their regular triangulation.
 #[derive(Debug, Clone)]
@@ -262,12 +265,16 @@ fn lp<B: Backend + ?Sized>(
         vec![near, all]
     };
     for free in tries {
-        report.free_weights = free.iter().filter(|&&f| f).count();
-        let mut local = local_system(cx, &dom.cdt, &dom.inside, &units, free);
-        if anchored {
-            anchor_rows(&mut local, cx, &units);
-        }
-        if let Some(w) = solve_pieces(&local, &mut report, progress)? {
+        let free_weights = free.iter().filter(|&&f| f).count();
+        report.free_weights = free_weights;
+        let system = || {
+            let mut local = local_system(cx, &dom.cdt, &dom.inside, &units, free.clone());
+            if anchored {
+                anchor_rows(&mut local, cx, &units);
+            }
+            local
+        };
+        if let Some(w) = solve_pieces(system(), &mut report, progress)? {
             if let Attempt::Found(found) = verify(backend, cx, w, true)? {
                 if found.sys3_failed.is_empty() {
                     return finish(found, report);
@@ -275,9 +282,10 @@ fn lp<B: Backend + ?Sized>(
             }
         }
         // The split restricts the rows between pieces and leaves out weak
-        // ones: the whole system may still have weights.
-        if report.lp_pieces > 1 {
-            if let Attempt::Found(found) = attempt(backend, cx, &local, false, &mut report)? {
+        // ones: the whole system may still have weights (when it is small
+        // enough for one LP).
+        if report.lp_pieces > 1 && free_weights <= MAX_JOINT_WEIGHTS {
+            if let Attempt::Found(found) = attempt(backend, cx, &system(), false, &mut report)? {
                 if found.sys3_failed.is_empty() {
                     return finish(found, report);
                 }
@@ -306,7 +314,7 @@ struct Piece {
 /// delta / m. The parts' sum is the row with the mean of the pieces'
 /// margins, so weights meeting every piece's rows meet it: a restriction,
 /// never a relaxation (RT(w) is checked exactly anyway).
-fn pieces(sys: &System) -> Vec<Piece> {
+fn pieces(mut sys: System) -> Vec<Piece> {
     debug_assert_eq!(sys.aux, 0);
     let mut parent: Vec<usize> = (0..sys.n).collect();
     fn root(parent: &mut [usize], mut v: usize) -> usize {
@@ -355,12 +363,21 @@ fn pieces(sys: &System) -> Vec<Piece> {
         out[piece_of[r]].cols.push(v);
         out[piece_of[r]].sys.l2.push(sys.l2[v]);
     }
-    for (r, eq) in sys
-        .rows
-        .iter()
+    // Rows move into their pieces one by one: one copy in memory at a time.
+    let (rows, eqs) = (std::mem::take(&mut sys.rows), std::mem::take(&mut sys.eqs));
+    let free_terms = |r: &Row| -> Vec<usize> {
+        r.terms
+            .iter()
+            .map(|t| t.0)
+            .filter(|&c| sys.free[c])
+            .collect()
+    };
+    for (r, eq) in rows
+        .into_iter()
         .map(|r| (r, false))
-        .chain(sys.eqs.iter().map(|r| (r, true)))
+        .chain(eqs.into_iter().map(|r| (r, true)))
     {
+        let r = &r;
         let f = free_terms(r);
         let owner = f.first().map(|&c| piece_of[c]);
         let mut joined: Vec<usize> = f.iter().map(|&c| piece_of[c]).collect();
@@ -416,12 +433,13 @@ fn pieces(sys: &System) -> Vec<Piece> {
 /// The local form's LP, piece by piece (in parallel): weights when every
 /// piece has systems 1 and 3 with a trusted margin, else None.
 fn solve_pieces(
-    sys: &System,
+    sys: System,
     report: &mut WeightsReport,
     progress: Option<Progress>,
 ) -> Result<Option<Vec<f64>>> {
     use rayon::prelude::*;
     use std::sync::atomic::{AtomicUsize, Ordering};
+    let n = sys.n;
     let parts = pieces(sys);
     let done = AtomicUsize::new(0);
     let answers: Vec<(Result<Answer>, WeightsReport)> = parts
@@ -440,7 +458,7 @@ fn solve_pieces(
         })
         .collect();
     report.lp_pieces = parts.len();
-    let mut w = vec![0.0; sys.n];
+    let mut w = vec![0.0; n];
     let mut all = true;
     for ((answer, r), part) in answers.into_iter().zip(&parts) {
         report.absorb(&r);
@@ -1518,7 +1536,7 @@ mod tests {
             ],
             ..Default::default()
         };
-        let p = pieces(&sys);
+        let p = pieces(sys);
         assert_eq!(p.len(), 2);
         assert_eq!(p[0].cols, vec![0, 1]);
         assert_eq!(p[1].cols, vec![2, 3]);

@@ -64,14 +64,10 @@ fn check(case: &Case, backend: &str, dir: &Path) -> Result<(), String> {
         .collect();
     let mut args = case.args.clone();
     let path = |k: usize| outputs[k].display().to_string();
-    args.extend([
-        "-o".into(),
-        path(0),
-        "--report".into(),
-        path(1),
-        "--svg".into(),
-        path(2),
-    ]);
+    args.extend(["-o".into(), path(0)]);
+    if args[0] != "generate" {
+        args.extend(["--report".into(), path(1), "--svg".into(), path(2)]);
+    }
     if args[0] == "hybrid" {
         args.extend(["--tough".into(), path(3)]);
     }

@@ -103,6 +103,19 @@ enum Command {
         #[command(flatten)]
         out: Outputs,
     },
+    /// Write a synthetic input of any size as a .poly file (benchmarks,
+    /// scale tests): `mixed N` is N x N separate cavities with wells,
+    /// faults and non-Gabriel chains (about 33 N^2 segments, all needing
+    /// the LP); `cavities N` is N x N cavities sharing sides, wells at
+    /// radius 14 (zero weights).
+    Generate {
+        /// mixed or cavities
+        kind: String,
+        /// Cavities per side.
+        n: usize,
+        #[arg(short, long, value_name = "FILE.poly")]
+        output: PathBuf,
+    },
     /// Mesh built-in data (a cavity around a well) and write mesh, picture
     /// and report into a directory.
     Demo {
@@ -311,6 +324,29 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
             for (p, _) in &texts {
                 eprintln!("wrote {}", p.display());
             }
+            Ok(())
+        }
+        Command::Generate { kind, n, output } => {
+            if n == 0 || n > 1000 {
+                return Err(Error::Usage("generate: N is from 1 to 1000".into()));
+            }
+            let cx = match kind.as_str() {
+                "mixed" => orthomesh::generate::mixed(n, n, 7),
+                "cavities" => orthomesh::generate::cavities(n, n, 14.0),
+                k => {
+                    return Err(Error::Usage(format!(
+                        "generate: unknown kind '{k}' (mixed or cavities)"
+                    )))
+                }
+            };
+            io::write_atomic(&output, io::poly::to_string(&cx).as_bytes())?;
+            eprintln!(
+                "wrote {}: {} vertices, {} segments, {} holes",
+                output.display(),
+                cx.points.len(),
+                cx.segments.len(),
+                cx.holes.len()
+            );
             Ok(())
         }
         Command::Demo { out_dir } => {
