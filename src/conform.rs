@@ -24,6 +24,9 @@ pub struct Options {
     /// Called as stages end and as the LP's pieces are solved:
     /// (what, done, of).
     pub progress: Option<Progress>,
+    /// Where system 3 is infeasible, split the segments that miss their
+    /// duals at Steiner points and mesh again (`split`).
+    pub split_segments: bool,
 }
 
 /// A progress callback: (stage, done, of).
@@ -72,6 +75,9 @@ pub struct Report {
     /// the report does not (the CLI's `--reproducible` leaves this out).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub timing: Option<Timing>,
+    /// Segments meshed as chains (`Options::split_segments`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub split: Option<crate::split::SplitReport>,
 }
 
 /// What each stage cost.
@@ -154,6 +160,13 @@ pub fn conform<B: Backend + ?Sized>(
     input: &Complex,
     opts: &Options,
 ) -> Result<Outcome> {
+    if opts.split_segments {
+        let once = Options {
+            split_segments: false,
+            ..opts.clone()
+        };
+        return crate::split::conform_splitting(backend, input, &once);
+    }
     let start = Instant::now();
     let mut clock = Clock::start(opts.progress);
     input.validate()?;
@@ -190,7 +203,8 @@ pub fn conform<B: Backend + ?Sized>(
     clock.lap("sites");
     let rel = relocate(backend, &dom, &mut sites)?;
     clock.lap("relocate");
-    let outside_names: Vec<String> = crate::relocate::why(&sites, &rel.rt, &rel.outside, cx)
+    let (why, crowding) = crate::relocate::why(&sites, &rel.rt, &rel.outside, cx);
+    let outside_names: Vec<String> = why
         .into_iter()
         .zip(&rel.outside)
         .map(|(why, &s)| format!("{}: {why}", sites.describe(s, cx)))
@@ -198,6 +212,7 @@ pub fn conform<B: Backend + ?Sized>(
     if !rel.outside.is_empty() && !opts.allow_sites_outside {
         return Err(Error::SitesOutsideCells {
             sites: outside_names,
+            crowding,
         });
     }
     let mesh = Mesh::from_diagram(&rel.diagram, &sites, &rel.rt)?;
@@ -267,6 +282,7 @@ pub fn conform<B: Backend + ?Sized>(
             raw_triangulation_ms,
             ratio_to_raw: raw_triangulation_ms.map(|raw| total_ms / raw),
         }),
+        split: None,
     };
     Ok(Outcome {
         mesh,

@@ -44,8 +44,12 @@ pub enum Error {
         segments: Vec<i64>,
         lp_error: Option<String>,
     },
-    /// Sites that could not be brought into their own cells.
-    SitesOutsideCells { sites: Vec<String> },
+    /// Sites that could not be brought into their own cells; `crowding`:
+    /// the segments whose sites they lie beyond (or their own).
+    SitesOutsideCells {
+        sites: Vec<String>,
+        crowding: Vec<i64>,
+    },
     /// The LP solver failed (not an infeasibility verdict).
     Lp(String),
     /// A backend (CGAL) reported an error or threw.
@@ -119,7 +123,7 @@ impl fmt::Display for Error {
                 },
                 list(segments)
             ),
-            Error::SitesOutsideCells { sites } => write!(
+            Error::SitesOutsideCells { sites, .. } => write!(
                 f,
                 "sites that could not be brought strictly inside their own cells: {}. Rerun with \
                  --allow-sites-outside to write the conforming mesh anyway",

@@ -940,6 +940,7 @@ pub fn build<B: Backend + ?Sized>(
                             notes.last().expect("just pushed"),
                             segments
                         )],
+                        crowding: vec![],
                     });
                 }
             }

@@ -49,6 +49,7 @@ pub mod layers;
 pub mod mesh;
 pub mod relocate;
 pub mod sites;
+pub mod split;
 pub mod weights;
 
 pub use complex::Complex;

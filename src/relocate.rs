@@ -58,43 +58,44 @@ pub fn outside(sites: &Sites, rt: &Triangulation, diagram: &Diagram) -> Vec<usiz
     (0..sites.len()).filter(|&s| out[s]).collect()
 }
 
-/// Why each of the sites `outside` is outside its cell, for messages.
+/// Why each of the sites `outside` is outside its cell, for messages; and
+/// the segments (input ids) whose sites crowd them out, or whose own sites
+/// they are: splitting those is what `--split-segments` can do.
 pub fn why(
     sites: &Sites,
     rt: &Triangulation,
     outside: &[usize],
     cx: &crate::complex::Complex,
-) -> Vec<String> {
+) -> (Vec<String>, Vec<i64>) {
     if outside.is_empty() {
-        return vec![];
+        return (vec![], vec![]);
     }
     let nb = rt.neighbours(sites.len());
-    outside
-        .iter()
-        .map(|&s| why_one(sites, rt, &nb, s, cx))
-        .collect()
-}
-
-fn why_one(
-    sites: &Sites,
-    rt: &Triangulation,
-    nb: &[Vec<u32>],
-    s: usize,
-    cx: &crate::complex::Complex,
-) -> String {
-    if rt.hidden.contains(&(s as u32)) {
-        return "hidden: other sites' power is lower everywhere, it has no cell".into();
+    let mut crowding = std::collections::BTreeSet::new();
+    let mut segment_of = |s: usize| {
+        if let crate::sites::Role::Segment { seg, .. } = sites.role[s] {
+            crowding.insert(cx.segment_ids[seg as usize]);
+        }
+    };
+    let mut messages = vec![];
+    for &s in outside {
+        let blocking = nb[s].iter().find(|&&b| !sites.inside_wrt(s, b as usize));
+        messages.push(if rt.hidden.contains(&(s as u32)) {
+            "hidden: other sites' power is lower everywhere, it has no cell".into()
+        } else if !sites.movable[s] {
+            segment_of(s);
+            "its segment misses its dual edge, so it cannot be on the segment's side".into()
+        } else if let Some(&b) = blocking {
+            segment_of(b as usize);
+            format!(
+                "no position tried on its dual edge puts it inside; it lies beyond its face with {}",
+                sites.describe(b as usize, cx)
+            )
+        } else {
+            "outside".into()
+        });
     }
-    if !sites.movable[s] {
-        return "its segment misses its dual edge, so it cannot be on the segment's side".into();
-    }
-    match nb[s].iter().find(|&&b| !sites.inside_wrt(s, b as usize)) {
-        Some(&b) => format!(
-            "no position tried on its dual edge puts it inside; it lies beyond its face with {}",
-            sites.describe(b as usize, cx)
-        ),
-        None => "outside".into(),
-    }
+    (messages, crowding.into_iter().collect())
 }
 
 /// The regular triangulation of the sites and its diagram: from the rounded

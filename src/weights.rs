@@ -324,6 +324,8 @@ fn pieces(mut sys: System) -> Vec<Piece> {
         }
         v
     }
+    // Rows move into their pieces one by one: one copy in memory at a time.
+    let (rows, eqs) = (std::mem::take(&mut sys.rows), std::mem::take(&mut sys.eqs));
     let free_terms = |r: &Row| -> Vec<usize> {
         r.terms
             .iter()
@@ -331,7 +333,7 @@ fn pieces(mut sys: System) -> Vec<Piece> {
             .filter(|&c| sys.free[c])
             .collect()
     };
-    for r in sys.rows.iter().chain(&sys.eqs) {
+    for r in rows.iter().chain(&eqs) {
         if r.outside {
             continue;
         }
@@ -363,15 +365,6 @@ fn pieces(mut sys: System) -> Vec<Piece> {
         out[piece_of[r]].cols.push(v);
         out[piece_of[r]].sys.l2.push(sys.l2[v]);
     }
-    // Rows move into their pieces one by one: one copy in memory at a time.
-    let (rows, eqs) = (std::mem::take(&mut sys.rows), std::mem::take(&mut sys.eqs));
-    let free_terms = |r: &Row| -> Vec<usize> {
-        r.terms
-            .iter()
-            .map(|t| t.0)
-            .filter(|&c| sys.free[c])
-            .collect()
-    };
     for (r, eq) in rows
         .into_iter()
         .map(|r| (r, false))

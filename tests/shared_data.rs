@@ -211,3 +211,57 @@ fn test_data_copies_are_unmodified() {
         }
     }
 }
+
+/// `--split-segments` on the letter A (Triangle's A.poly and CGAL's
+/// lettre_A.edg): a few Steiner points on the segments that miss their
+/// duals, then every site inside its cell; each split segment is a chain
+/// of mesh edges whose inner vertices lie on it (or within rounding, as
+/// the report says).
+#[test]
+fn split_segments_puts_every_site_inside_the_letter_a() {
+    let b = default_backend();
+    for name in ["A.poly", "lettre_A.edg"] {
+        let input = read(name);
+        let opts = orthomesh::conform::Options {
+            split_segments: true,
+            ..Default::default()
+        };
+        let out = orthomesh::conform::conform(&b, &input, &opts)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_certified(&out, name);
+        assert_eq!(out.report.certificate.sites_outside, 0, "{name}");
+        let split = out.report.split.as_ref().expect("split report");
+        eprintln!("{name}: {split:?}");
+        assert!(
+            split.steiner_points > 0 && split.steiner_points <= 8,
+            "{split:?}"
+        );
+        let vertices = out.domain.complex.points.len();
+        assert_eq!(
+            vertices,
+            input.points.len() + split.steiner_points,
+            "{name}"
+        );
+        for s in &split.segments {
+            assert!(s.pieces >= 2 && s.off_line < 1e-15, "{s:?}");
+            // Every Steiner point lies within its rounding of the input segment.
+            let k = input.segment_ids.iter().position(|&id| id == s.id).unwrap();
+            let [i, j] = input.segments[k].map(|v| input.points[v as usize]);
+            let on = out.domain.complex.points[input.points.len()..]
+                .iter()
+                .filter(|p| {
+                    let cross = (j[0] - i[0]) * (p[1] - i[1]) - (j[1] - i[1]) * (p[0] - i[0]);
+                    let l2 = (j[0] - i[0]).powi(2) + (j[1] - i[1]).powi(2);
+                    cross.abs() / l2 <= 1e-15
+                        && (p[0] - i[0]) * (j[0] - i[0]) + (p[1] - i[1]) * (j[1] - i[1]) > 0.0
+                        && (p[0] - j[0]) * (i[0] - j[0]) + (p[1] - j[1]) * (i[1] - j[1]) > 0.0
+                })
+                .count();
+            assert!(
+                on >= s.pieces - 1,
+                "{name}: segment {} has {on} Steiner points on it",
+                s.id
+            );
+        }
+    }
+}

@@ -48,6 +48,12 @@ enum Command {
         /// their cells (the report counts them; the picture shows them red).
         #[arg(long)]
         allow_sites_outside: bool,
+        /// Where some segments cannot cross their dual edges (system 3
+        /// infeasible), split them at Steiner points, as few as needed for
+        /// every site to lie in its cell: they become chains of mesh edges
+        /// (listed in the report) instead of single edges.
+        #[arg(long)]
+        split_segments: bool,
     },
     /// Hybrid reservoir mesh of one layer of a corner-point grid: reservoir
     /// cells, radial meshes around vertical wells, and conforming orthogonal
@@ -168,10 +174,12 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     reproducible,
                 },
             allow_sites_outside,
+            split_segments,
         } => {
             let cx = io::read_complex(&input)?;
             let opts = Options {
                 allow_sites_outside,
+                split_segments,
                 compare_with_raw: true,
                 // a progress bar for long runs when someone watches
                 progress: (cx.segments.len() >= MANY_SEGMENTS && std::io::stderr().is_terminal())
