@@ -9,7 +9,9 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 
+#include <cmath>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -25,10 +27,18 @@ typedef CGAL::Triangulation_face_base_with_info_2<uint32_t, K, CGAL::Constrained
 typedef CGAL::Triangulation_data_structure_2<CVb, CFb> CTds;
 typedef CGAL::Constrained_Delaunay_triangulation_2<K, CTds, CGAL::Exact_predicates_tag> CDT;
 
+// CGAL's predicates assume finite input; NaN would break their filters.
+void require_finite(rust::Slice<const double> v, const char* what) {
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      throw std::invalid_argument(std::string(what) + ": value " + std::to_string(i) + " is not finite");
+}
+
 }  // namespace
 
 TriangulationOut regular_triangulation_2(rust::Slice<const double> xyw) {
   if (xyw.size() % 3 != 0) throw std::invalid_argument("xyw length is not a multiple of 3");
+  require_finite(xyw, "regular triangulation input");
   const std::size_t n = xyw.size() / 3;
   std::vector<std::pair<RT::Weighted_point, uint32_t>> pts;
   pts.reserve(n);
@@ -44,6 +54,7 @@ TriangulationOut constrained_delaunay_2(rust::Slice<const double> xy,
                                         rust::Slice<const uint32_t> segments) {
   if (xy.size() % 2 != 0) throw std::invalid_argument("xy length is not even");
   if (segments.size() % 2 != 0) throw std::invalid_argument("segments length is not even");
+  require_finite(xy, "constrained Delaunay input");
   const std::size_t n = xy.size() / 2;
   std::vector<std::pair<K::Point_2, uint32_t>> pts;
   pts.reserve(n);
