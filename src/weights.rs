@@ -310,10 +310,12 @@ struct Piece {
 /// weights joined by a row inside the domain (union-find) form a piece,
 /// numbered by its smallest weight, so the split does not depend on row
 /// order. A row outside the domain that joins m pieces (the gap between
-/// two cavities) is split: each piece gets its own terms, rhs / m and
-/// delta / m. The parts' sum is the row with the mean of the pieces'
-/// margins, so weights meeting every piece's rows meet it: a restriction,
-/// never a relaxation (RT(w) is checked exactly anyway).
+/// two cavities) is split: each piece gets its own terms, and rhs / m and
+/// delta / m when zero weights meet the row with slack (the parts' sum is
+/// the row with the mean of the pieces' margins); otherwise the piece of
+/// its first weight gets all of rhs and delta, the others 0. Weak rows
+/// between pieces are left out. The weights of all pieces are then checked
+/// exactly together (RT(w)), as every LP answer is.
 fn pieces(mut sys: System) -> Vec<Piece> {
     debug_assert_eq!(sys.aux, 0);
     let mut parent: Vec<usize> = (0..sys.n).collect();
