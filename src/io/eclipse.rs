@@ -150,6 +150,10 @@ fn is_keyword(t: &Tok) -> bool {
 /// One record's items after repeat expansion; None is a defaulted item.
 type Record = Vec<Option<Tok>>;
 
+/// Values one record may expand to (ZCORN of 4 million cells): a repeat
+/// count beyond it is an error, not an allocation of many gigabytes.
+const MAX_RECORD: usize = 1 << 25;
+
 /// Reads one record starting at `k`: items up to `/`. Returns the items and
 /// the index after the `/`.
 fn record(ts: &Tokens, mut k: usize, keyword: &Tok) -> Result<(Record, usize)> {
@@ -168,8 +172,15 @@ fn record(ts: &Tokens, mut k: usize, keyword: &Tok) -> Result<(Record, usize)> {
         if !t.quoted {
             if let Some((n, v)) = t.text.split_once('*') {
                 if let Ok(n) = n.parse::<usize>() {
-                    if n > 1 << 32 {
-                        return Err(ts.error(t, format!("repeat count {n} is too large")));
+                    if n > MAX_RECORD - items.len().min(MAX_RECORD) {
+                        return Err(ts.error(
+                            t,
+                            format!(
+                                "repeat count {n}: the {} record would hold more than {MAX_RECORD} values, \
+                                 the most this reader takes",
+                                keyword.text
+                            ),
+                        ));
                     }
                     let item = (!v.is_empty()).then(|| Tok {
                         text: v.to_string(),
