@@ -186,12 +186,7 @@ impl Triangulation {
         let t2 = self.left_of(b, a)?;
         let c = self.apex(t1, a, b);
         let d = self.apex(t2, b, a);
-        let edge = |s: &Self, t: u32, x: u32, y: u32| {
-            let tri = s.triangles[t as usize];
-            (0..3)
-                .find(|&k| (tri[k], tri[(k + 1) % 3]) == (x, y))
-                .expect("edge of triangle")
-        };
+        let edge = |s: &Self, t: u32, x: u32, y: u32| s.edge_index(t, x, y);
         let n_bc = self.adj[t1 as usize][edge(self, t1, b, c)];
         let n_ca = self.adj[t1 as usize][edge(self, t1, c, a)];
         let n_ad = self.adj[t2 as usize][edge(self, t2, a, d)];
@@ -212,6 +207,14 @@ impl Triangulation {
         Some([t1, t2])
     }
 
+    /// The k of triangle t's directed edge x -> y (tri[k], tri[k + 1]).
+    fn edge_index(&self, t: u32, x: u32, y: u32) -> usize {
+        let tri = self.triangles[t as usize];
+        (0..3)
+            .find(|&k| (tri[k], tri[(k + 1) % 3]) == (x, y))
+            .expect("edge of triangle")
+    }
+
     /// Splits triangle t = (a, b, c) at a hidden input index h strictly
     /// inside it into (a, b, h), (b, c, h), (c, a, h); h is a vertex then.
     pub fn split(&mut self, t: u32, h: u32) {
@@ -226,10 +229,7 @@ impl Triangulation {
         self.adj.push([n_ca, t, t1]);
         for (n, x, y, new) in [(n_bc, c, b, t1), (n_ca, a, c, t2)] {
             if n != NONE {
-                let tri = self.triangles[n as usize];
-                let k = (0..3)
-                    .find(|&k| (tri[k], tri[(k + 1) % 3]) == (x, y))
-                    .expect("edge of triangle");
+                let k = self.edge_index(n, x, y);
                 self.adj[n as usize][k] = new;
             }
         }
