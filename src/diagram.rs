@@ -31,6 +31,34 @@ pub struct Diagram {
     pub leaking_components: usize,
     /// Edges of the triangulation whose regularity was checked.
     pub checked_edges: usize,
+    /// Per power vertex: a bound on the error of its rounded position (0
+    /// when exact), and one triangle of its class (`exact_corners`).
+    error: Vec<f64>,
+    first: Vec<u32>,
+}
+
+/// Interior edges once: (left triangle, right triangle, apex of the right
+/// one), and the power test of each (the apex against the left triangle).
+#[allow(clippy::type_complexity)]
+fn power_tests(sites: &Sites, rt: &Triangulation) -> (Vec<(u32, u32, u32)>, Vec<Ordering>) {
+    let tris = &rt.triangles;
+    let inner: Vec<(u32, u32, u32)> = (0..tris.len() as u32)
+        .flat_map(|t| (0..3).map(move |k| (t, k)))
+        .filter_map(|(t1, k)| {
+            let tri = tris[t1 as usize];
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            let t2 = rt.across(t1, k).filter(|_| a < b)?;
+            Some((t1, t2, rt.apex(t2, b, a)))
+        })
+        .collect();
+    let tests = inner
+        .par_iter()
+        .map(|&(t1, _, d)| {
+            let [a, b, c] = tris[t1 as usize].map(|v| v as usize);
+            sites.power_test(a, b, c, d as usize)
+        })
+        .collect();
+    (inner, tests)
 }
 
 fn find(parent: &mut [u32], mut x: u32) -> u32 {
@@ -42,6 +70,38 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
 }
 
 impl Diagram {
+    /// Whether a triangulation built from rounded sites is the regular
+    /// triangulation of the exact sites: no site hidden, every triangle
+    /// counter-clockwise, the hull convex and winding once, every interior
+    /// edge locally regular (exact). Ok gives its interior edges and their
+    /// power tests; Err says what fails.
+    #[allow(clippy::type_complexity)]
+    pub fn check(
+        sites: &Sites,
+        rt: &Triangulation,
+    ) -> std::result::Result<(Vec<(u32, u32, u32)>, Vec<Ordering>), String> {
+        if !rt.hidden.is_empty() {
+            return Err(format!("{} sites hidden", rt.hidden.len()));
+        }
+        let tris = &rt.triangles;
+        let flat = tris.par_iter().position_any(|t| {
+            sites.orient(t[0] as usize, t[1] as usize, t[2] as usize) != Ordering::Greater
+        });
+        if let Some(t) = flat {
+            return Err(format!("triangle {:?} is not counter-clockwise", tris[t]));
+        }
+        check_hull(sites, rt)?;
+        let (inner, tests) = power_tests(sites, rt);
+        if let Some(k) = tests.iter().position(|&o| o == Ordering::Greater) {
+            let (t1, _, d) = inner[k];
+            return Err(format!(
+                "edge of {:?} is not regular (site {d})",
+                tris[t1 as usize]
+            ));
+        }
+        Ok((inner, tests))
+    }
+
     /// Builds the diagram from a triangulation of the sites. With `verify`
     /// (a triangulation built from rounded sites), it is first checked to be
     /// the regular triangulation of the exact sites; Err says why not. An
@@ -53,45 +113,12 @@ impl Diagram {
         verify: bool,
     ) -> std::result::Result<Diagram, String> {
         let n = sites.len();
-        if verify && !rt.hidden.is_empty() {
-            return Err(format!("{} sites hidden", rt.hidden.len()));
-        }
         let tris = &rt.triangles;
-        if verify {
-            let flat = tris.par_iter().position_any(|t| {
-                sites.orient(t[0] as usize, t[1] as usize, t[2] as usize) != Ordering::Greater
-            });
-            if let Some(t) = flat {
-                return Err(format!("triangle {:?} is not counter-clockwise", tris[t]));
-            }
-            check_hull(sites, rt)?;
-        }
-        // Interior edges once: (left triangle, right triangle, apex of the right one).
-        let inner: Vec<(u32, u32, u32)> = (0..tris.len() as u32)
-            .flat_map(|t| (0..3).map(move |k| (t, k)))
-            .filter_map(|(t1, k)| {
-                let tri = tris[t1 as usize];
-                let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                let t2 = rt.across(t1, k).filter(|_| a < b)?;
-                Some((t1, t2, rt.apex(t2, b, a)))
-            })
-            .collect();
-        let tests: Vec<Ordering> = inner
-            .par_iter()
-            .map(|&(t1, _, d)| {
-                let [a, b, c] = tris[t1 as usize].map(|v| v as usize);
-                sites.power_test(a, b, c, d as usize)
-            })
-            .collect();
-        if verify {
-            if let Some(k) = tests.iter().position(|&o| o == Ordering::Greater) {
-                let (t1, _, d) = inner[k];
-                return Err(format!(
-                    "edge of {:?} is not regular (site {d})",
-                    tris[t1 as usize]
-                ));
-            }
-        }
+        let (inner, tests) = if verify {
+            Self::check(sites, rt)?
+        } else {
+            power_tests(sites, rt)
+        };
         // Power vertices: classes of triangles joined by zero-length duals.
         let mut parent: Vec<u32> = (0..tris.len() as u32).collect();
         for (&(t1, t2, _), &o) in inner.iter().zip(&tests) {
@@ -164,10 +191,30 @@ impl Diagram {
                 Some(ring)
             })
             .collect();
-        // Corners whose error may be a noticeable part of an edge of theirs
-        // (thin cells, far sites with large weights) are made exactly.
+        let mut d = Diagram {
+            points,
+            input_vertex,
+            cells,
+            in_domain: vec![],
+            vertex_of: class,
+            leaking_components: 0,
+            checked_edges: inner.len(),
+            error,
+            first,
+        };
+        d.classify(dom, sites, rt);
+        Ok(d)
+    }
+
+    /// Corners whose error may be a noticeable part of an edge of theirs
+    /// (thin cells, far sites with large weights) are made exactly (then
+    /// rounded). Only the mesh needs them: relocation reads the diagram's
+    /// topology, so this waits for the final diagram.
+    pub fn exact_corners(&mut self, sites: &Sites, rt: &Triangulation) {
+        let points = &self.points;
+        let error = &self.error;
         let mut redo = vec![false; points.len()];
-        for ring in cells.iter().flatten() {
+        for ring in self.cells.iter().flatten() {
             for k in 0..ring.len() {
                 let (p, q) = (ring[k] as usize, ring[(k + 1) % ring.len()] as usize);
                 let d = (points[p][0] - points[q][0]).hypot(points[p][1] - points[q][1]);
@@ -180,22 +227,12 @@ impl Diagram {
         let exact: Vec<(usize, [f64; 2])> = (0..points.len())
             .into_par_iter()
             .filter(|&i| redo[i])
-            .map(|i| (i, sites.centre_exact(tris[first[i] as usize])))
+            .map(|i| (i, sites.centre_exact(rt.triangles[self.first[i] as usize])))
             .collect();
         for (i, p) in exact {
-            points[i] = p;
+            self.points[i] = p;
+            self.error[i] = 0.0;
         }
-        let mut d = Diagram {
-            points,
-            input_vertex,
-            cells,
-            in_domain: vec![],
-            vertex_of: class,
-            leaking_components: 0,
-            checked_edges: inner.len(),
-        };
-        d.classify(dom, sites, rt);
-        Ok(d)
     }
 
     /// Cells reachable from each other without crossing a segment form
@@ -271,15 +308,9 @@ const MAX_REINSERTED: usize = 16;
 /// quadrilateral is not strictly convex), the flips do not settle, or a
 /// hidden site is not strictly inside a triangle.
 pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
-    let bad = |rt: &Triangulation, a: u32, b: u32| {
-        let (t1, t2) = (rt.left_of(a, b)?, rt.left_of(b, a)?);
-        let (c, d) = (rt.apex(t1, a, b), rt.apex(t2, b, a));
-        let [a, b, c, d] = [a, b, c, d].map(|v| v as usize);
-        (sites.power_test(a, b, c, d) == Ordering::Greater).then_some((c, d))
-    };
     let mut stack: Vec<(u32, u32)> = rt
         .edges()
-        .filter(|&(a, b)| bad(rt, a, b).is_some())
+        .filter(|&(a, b)| non_regular(sites, rt, a, b).is_some())
         .collect();
     // A few sites hidden by rounding but not by their exact weights: each
     // goes into the triangle holding it strictly, then the flips below.
@@ -302,9 +333,29 @@ pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
         rt.split(t as u32, h);
         stack.extend([(a, b), (b, c), (c, a)]);
     }
+    flip_to_regular(sites, rt, stack).is_some()
+}
+
+/// The two triangles beside a-b fail the power test: their apexes.
+fn non_regular(sites: &Sites, rt: &Triangulation, a: u32, b: u32) -> Option<(usize, usize)> {
+    let (t1, t2) = (rt.left_of(a, b)?, rt.left_of(b, a)?);
+    let (c, d) = (rt.apex(t1, a, b), rt.apex(t2, b, a));
+    let [a, b, c, d] = [a, b, c, d].map(|v| v as usize);
+    (sites.power_test(a, b, c, d) == Ordering::Greater).then_some((c, d))
+}
+
+/// Lawson flips from the edges on `stack` until every edge they reach is
+/// locally regular: the vertices of the flipped quadrilaterals, or None
+/// when an edge cannot be flipped or the flips do not settle.
+fn flip_to_regular(
+    sites: &Sites,
+    rt: &mut Triangulation,
+    mut stack: Vec<(u32, u32)>,
+) -> Option<Vec<u32>> {
+    let mut touched = vec![];
     let mut budget = 10 * stack.len() + 1000;
     while let Some((a, b)) = stack.pop() {
-        let Some((c, d)) = bad(rt, a, b) else {
+        let Some((c, d)) = non_regular(sites, rt, a, b) else {
             continue;
         };
         let (au, bu) = (a as usize, b as usize);
@@ -312,14 +363,47 @@ pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
             || sites.orient(c, au, d) != Ordering::Greater
             || sites.orient(c, d, bu) != Ordering::Greater
         {
-            return false;
+            return None;
         }
         budget -= 1;
         rt.flip(a, b);
         let (c, d) = (c as u32, d as u32);
         stack.extend([(a, d), (d, b), (b, c), (c, a)]);
+        touched.extend([a, b, c, d]);
     }
-    true
+    Some(touched)
+}
+
+/// After the sites `moved` changed (position and weight), makes the
+/// triangulation regular again by flips around them, when it can: every
+/// triangle around a moved site must still be counter-clockwise and no
+/// moved site on the hull. Only the edges whose power test involves a moved
+/// site can have changed. Returns the sites whose neighbourhood changed
+/// (moved, their neighbours, the flipped quadrilaterals), or None: then
+/// the triangulation must be built anew. Not a certificate: the final
+/// diagram is checked whole (`Diagram::build` with verify).
+pub fn repair_around(sites: &Sites, rt: &mut Triangulation, moved: &[usize]) -> Option<Vec<u32>> {
+    let mut stack = vec![];
+    for &v in moved {
+        for t in rt.star(v as u32)? {
+            let tri = rt.triangles[t as usize];
+            let [a, b, c] = tri.map(|x| x as usize);
+            if sites.orient(a, b, c) != Ordering::Greater {
+                return None;
+            }
+            stack.extend([(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])]);
+        }
+    }
+    let mut touched = flip_to_regular(sites, rt, stack)?;
+    for &v in moved {
+        touched.push(v as u32);
+        for t in rt.star(v as u32)? {
+            touched.extend(rt.triangles[t as usize]);
+        }
+    }
+    touched.sort_unstable();
+    touched.dedup();
+    Some(touched)
 }
 
 /// The boundary of the triangulation, walked with the triangles on its left,
@@ -402,6 +486,49 @@ mod tests {
         );
         let mut t = Triangulation::from_flat(&[0, 1, 3, 1, 2, 3, 2, 0, 3], vec![]);
         assert!(!repair(&sites, &mut t));
+    }
+
+    #[test]
+    fn flips_around_moved_sites_give_the_regular_triangulation() {
+        use crate::backend::Backend;
+        let backend = crate::backend::default_backend();
+        let r = crate::sites::scatter;
+        let mut pts: Vec<[f64; 2]> = (0..300)
+            .map(|i| [r(2 * i) * 100.0, r(2 * i + 1) * 100.0])
+            .collect();
+        let edges = |t: &Triangulation| {
+            let mut e: Vec<(u32, u32)> = t.edges().map(|(a, b)| (a.min(b), a.max(b))).collect();
+            e.sort_unstable();
+            e
+        };
+        let mut rt = backend.regular(&pts, &vec![0.0; pts.len()]).unwrap();
+        let (mut repaired, mut flipped) = (0, 0);
+        for round in 0..40u64 {
+            let mut moved: Vec<usize> = (0..6)
+                .map(|k| (r(10_000 + 10 * round + k) * 300.0) as usize)
+                .filter(|&v| rt.star(v as u32).is_some())
+                .collect();
+            moved.sort_unstable();
+            moved.dedup();
+            for (k, &v) in moved.iter().enumerate() {
+                let key = 20_000 + 100 * round + 2 * k as u64;
+                pts[v][0] += (r(key) - 0.5) * 2.0;
+                pts[v][1] += (r(key + 1) - 0.5) * 2.0;
+            }
+            let sites = points_as_sites(&pts);
+            let before = edges(&rt);
+            let fresh = backend.regular(&pts, &vec![0.0; pts.len()]).unwrap();
+            match repair_around(&sites, &mut rt, &moved) {
+                Some(touched) => {
+                    repaired += 1;
+                    assert_eq!(edges(&rt), edges(&fresh), "round {round}");
+                    assert!(moved.iter().all(|&v| touched.contains(&(v as u32))));
+                    flipped += usize::from(edges(&rt) != before);
+                }
+                None => rt = fresh,
+            }
+        }
+        assert!(repaired > 10 && flipped > 5, "{repaired} repaired, {flipped} flipped");
     }
 
     #[test]

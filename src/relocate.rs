@@ -98,68 +98,192 @@ pub fn why(
     (messages, crowding.into_iter().collect())
 }
 
-/// The regular triangulation of the sites and its diagram: from the rounded
-/// sites when that passes the exact check, else from exact rationals.
-fn site_diagram<B: Backend + ?Sized>(
+/// The regular triangulation of the sites: from the rounded sites when it
+/// passes the exact check (`Diagram::check`, after flips where it does
+/// not), else from exact rationals. True when exact rationals were needed.
+fn site_triangulation<B: Backend + ?Sized>(
     backend: &B,
-    dom: &Domain,
     sites: &Sites,
-) -> Result<(Triangulation, Diagram, bool)> {
+) -> Result<(Triangulation, bool)> {
     let pos: Vec<[f64; 2]> = sites.approx.iter().map(|a| [a[0], a[1]]).collect();
     let w = sites.nudged_weights();
     let mut rt = backend.regular(&pos, &w)?;
-    if let Ok(d) = Diagram::build(dom, sites, &rt, true) {
-        return Ok((rt, d, false));
-    }
-    if crate::diagram::repair(sites, &mut rt) {
-        if let Ok(d) = Diagram::build(dom, sites, &rt, true) {
-            return Ok((rt, d, false));
-        }
+    if Diagram::check(sites, &rt).is_ok()
+        || (crate::diagram::repair(sites, &mut rt) && Diagram::check(sites, &rt).is_ok())
+    {
+        return Ok((rt, false));
     }
     let (pos, w): (Vec<_>, Vec<_>) = (0..sites.len()).map(|s| sites.exact(s).clone()).unzip();
-    let rt = backend.regular_exact(&pos, &w)?;
-    let d = Diagram::build(dom, sites, &rt, false).map_err(|why| {
-        Error::Backend(format!(
-            "the exact regular triangulation of the sites: {why}"
-        ))
-    })?;
-    Ok((rt, d, true))
+    Ok((backend.regular_exact(&pos, &w)?, true))
+}
+
+/// The diagram of a triangulation of the sites that is known regular
+/// (checked, or exact: that one may hide sites).
+fn diagram_of(dom: &Domain, sites: &Sites, rt: &Triangulation) -> Result<Diagram> {
+    Diagram::build(dom, sites, rt, false).map_err(|why| {
+        Error::Backend(format!("the regular triangulation of the sites: {why}"))
+    })
+}
+
+/// The neighbours of site s in rt (from its star; a hull site by a scan).
+fn neighbours_of(rt: &Triangulation, s: usize) -> Vec<usize> {
+    match rt.star(s as u32) {
+        Some(star) => star
+            .iter()
+            .map(|&t| {
+                let tri = rt.triangles[t as usize];
+                let k = tri.iter().position(|&x| x as usize == s).expect("star");
+                tri[(k + 1) % 3] as usize
+            })
+            .collect(),
+        None => rt
+            .edges()
+            .filter_map(|(a, b)| match (a as usize, b as usize) {
+                (a, b) if a == s => Some(b),
+                (a, b) if b == s => Some(a),
+                _ => None,
+            })
+            .collect(),
+    }
+}
+
+/// The neighbours whose power at site s is not above its own (exact): s is
+/// outside its cell when there is one.
+fn beaten_by(sites: &Sites, rt: &Triangulation, s: usize) -> Vec<usize> {
+    neighbours_of(rt, s)
+        .into_iter()
+        .filter(|&b| !sites.inside_wrt(s, b))
+        .collect()
+}
+
+/// Halvings tried to keep a moved site's triangles counter-clockwise.
+const PULL_BACKS: usize = 24;
+
+/// Moves each site of `out` (`Sites::step`) against the neighbours that
+/// beat it, one after the other, keeping `rt` a triangulation of the sites
+/// (every triangle around a moved site counter-clockwise, with the sites
+/// moved before it): the sites that moved, and the moves that would fold a
+/// triangle, undone (site, fraction). A segment site whose full step would
+/// fold one steps back towards where it was, in halves, first. (A vertex
+/// site that skipped to its next position instead was measured to stay
+/// outside: its folding jump is the one that brings it in.)
+fn step_all(sites: &mut Sites, rt: &Triangulation, out: &[usize]) -> (Vec<usize>, Vec<(usize, f64)>) {
+    let ccw = |sites: &Sites, s: usize| {
+        rt.star(s as u32).is_some_and(|star| {
+            star.iter().all(|&t| {
+                let [a, b, c] = rt.triangles[t as usize].map(|v| v as usize);
+                sites.orient(a, b, c) == std::cmp::Ordering::Greater
+            })
+        })
+    };
+    let (mut moved, mut folding) = (vec![], vec![]);
+    for &s in out {
+        let from = sites.frac(s);
+        let against = beaten_by(sites, rt, s);
+        if !sites.step(s, &against) {
+            continue;
+        }
+        let to = sites.frac(s);
+        let mut h = 1.0;
+        let fits = (0..PULL_BACKS).any(|_| {
+            sites.move_to(s, from + h * (to - from));
+            h /= 2.0;
+            ccw(sites, s) || !sites.on_segment(s)
+        }) && ccw(sites, s);
+        if fits {
+            moved.push(s);
+        } else {
+            sites.move_to(s, from);
+            folding.push((s, to));
+        }
+    }
+    (moved, folding)
 }
 
 /// Builds the site diagram, moving sites until all domain sites are inside
-/// their cells or no site can move.
+/// their cells or no site can move. The first triangulation is built whole;
+/// after a round of moves it is repaired by exact flips around the moved
+/// sites (a round then costs what the moves touch, not a rebuild of all
+/// sites), and built anew only where that fails or a move would fold a
+/// triangle. When no site moves any more, a repaired triangulation gets
+/// the full exact check of `Diagram::build`, and relocation goes on from
+/// there if sites are still outside. Between full diagrams, which sites are
+/// in the domain is taken from the last one (sites move only along their
+/// dual edges); the final diagram decides it afresh.
 pub fn relocate<B: Backend + ?Sized>(
     backend: &B,
     dom: &Domain,
     sites: &mut Sites,
 ) -> Result<Relocated> {
     let mut round = 0;
-    let mut exact_rounds = 0;
+    let (mut rt, exact) = site_triangulation(backend, sites)?;
+    let mut exact_rounds = usize::from(exact);
+    let mut diagram = diagram_of(dom, sites, &rt)?;
+    let mut out = outside(sites, &rt, &diagram);
+    // Whether `diagram` and `out` are of the current sites and `rt`, and
+    // whether `rt` is known regular (checked whole, or exact).
+    let (mut fresh, mut trusted) = (true, true);
     loop {
-        let (rt, diagram, exact) = site_diagram(backend, dom, sites)?;
-        exact_rounds += usize::from(exact);
-        let out = outside(sites, &rt, &diagram);
-        let mut moved = false;
-        if round < MAX_ROUNDS {
-            let nb = rt.neighbours(sites.len());
-            for &s in &out {
-                let against: Vec<usize> = nb[s]
-                    .iter()
-                    .map(|&b| b as usize)
-                    .filter(|&b| !sites.inside_wrt(s, b))
-                    .collect();
-                moved |= sites.step(s, &against);
+        let (moved, folding) = if round < MAX_ROUNDS {
+            step_all(sites, &rt, &out)
+        } else {
+            (vec![], vec![])
+        };
+        if moved.is_empty() && folding.is_empty() {
+            if fresh {
+                diagram.exact_corners(sites, &rt);
+                return Ok(Relocated {
+                    rt,
+                    diagram,
+                    rounds: round,
+                    outside: out,
+                    exact_rounds,
+                });
             }
-        }
-        if out.is_empty() || !moved {
-            return Ok(Relocated {
-                rt,
-                diagram,
-                rounds: round,
-                outside: out,
-                exact_rounds,
-            });
+            diagram = match trusted {
+                true => diagram_of(dom, sites, &rt)?,
+                false => match Diagram::build(dom, sites, &rt, true) {
+                    Ok(d) => d,
+                    Err(_) => {
+                        let (r, exact) = site_triangulation(backend, sites)?;
+                        rt = r;
+                        exact_rounds += usize::from(exact);
+                        diagram_of(dom, sites, &rt)?
+                    }
+                },
+            };
+            out = outside(sites, &rt, &diagram);
+            (fresh, trusted) = (true, true);
+            continue;
         }
         round += 1;
+        // Moves that fold a triangle wait until the others are done.
+        let repaired = if moved.is_empty() {
+            for &(s, to) in &folding {
+                sites.move_to(s, to);
+            }
+            None
+        } else {
+            crate::diagram::repair_around(sites, &mut rt, &moved)
+        };
+        if let Some(touched) = repaired {
+            let mut flag = vec![false; sites.len()];
+            for &s in &out {
+                flag[s] = true;
+            }
+            for &s in &touched {
+                let s = s as usize;
+                flag[s] = diagram.in_domain[s] && !beaten_by(sites, &rt, s).is_empty();
+            }
+            out = (0..sites.len()).filter(|&s| flag[s]).collect();
+            trusted = false;
+        } else {
+            let (r, exact) = site_triangulation(backend, sites)?;
+            rt = r;
+            exact_rounds += usize::from(exact);
+            out = outside(sites, &rt, &diagram);
+            trusted = true;
+        }
+        fresh = false;
     }
 }

@@ -75,7 +75,7 @@ const VERTEX_FRACS: [f64; 5] = [0.5, 0.25, 0.75, 0.125, 0.875];
 
 /// A fixed pseudo-random number in [0, 1) for each key (splitmix64):
 /// reproducible, so output is deterministic.
-fn scatter(key: u64) -> f64 {
+pub(crate) fn scatter(key: u64) -> f64 {
     let mut z = key.wrapping_add(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -550,10 +550,26 @@ impl Sites {
                 }
             }
         };
-        let def = Self::at(&self.track[s], next);
-        self.set(s, def);
-        self.frac[s] = next;
+        self.move_to(s, next);
         true
+    }
+
+    /// Where site s is on its track.
+    pub fn frac(&self, s: usize) -> f64 {
+        self.frac[s]
+    }
+
+    /// Puts site s at a fraction of its track.
+    pub fn move_to(&mut self, s: usize, frac: f64) {
+        let def = Self::at(&self.track[s], frac);
+        self.set(s, def);
+        self.frac[s] = frac;
+    }
+
+    /// Whether s is a segment site (it moves continuously along its track;
+    /// a vertex site jumps between fixed fractions).
+    pub fn on_segment(&self, s: usize) -> bool {
+        matches!(self.role[s], Role::Segment { .. })
     }
 
     /// For segment site a on its track a(f) = base + f (tb - ta) n (ta = 0),

@@ -15,7 +15,8 @@
 //! try may declare infeasibility), then with |w_i| <= k l_i^2 for k raised
 //! stepwise (1, 16) until the margin is trusted; phase 2 keeps delta >= delta*/2
 //! and minimises sum |w_i| / l_i^2, so weights stay small and sites stay near the segments'
-//! midpoints. When system 3 cannot hold, an elastic phase keeps system 1 and
+//! midpoints. Phase 1's ladder and phase 2 share one HiGHS model, each
+//! solve warm-started from the last basis (`Lp`). When system 3 cannot hold, an elastic phase keeps system 1 and
 //! minimises the total violation of system 3, so that as few segments as
 //! possible miss their duals.
 
@@ -775,8 +776,6 @@ fn plane_rows(
 enum Mode {
     /// Maximise delta.
     Margin,
-    /// delta >= min, minimise sum |w_i| / l_i^2.
-    Regularise { delta_min: f64 },
     /// System 1 with delta >= min; system 3 rows elastic, minimise the
     /// violation, segment s weighted by costs[s] (1 where absent).
     Elastic {
@@ -792,9 +791,236 @@ struct Solution {
     slack: HashMap<u32, f64>,
 }
 
-/// HiGHS runs (shared) and instance drops (exclusive), see `run`.
+/// HiGHS runs (shared) and instance drops (exclusive), see `Lp::solve`.
 static HIGHS: std::sync::RwLock<()> = std::sync::RwLock::new(());
 
+/// One HiGHS model of a row system, kept across phase 1's k ladder and
+/// phase 2. Each free weight is the difference of two non-negative columns,
+/// w_i = p_i - q_i, so that phase 2's objective sum (p_i + q_i) / l_i^2
+/// (which is sum |w_i| / l_i^2 at the optimum) needs no rows: going from
+/// phase 1 to phase 2 changes only costs and delta's bounds, phase 1's
+/// optimal basis stays feasible, and the primal simplex goes on from it
+/// (measured on the local form's pieces: phase 2 had cost more than phase
+/// 1, from scratch or with |w_i| as rows).
+struct Lp {
+    model: Option<highs::Model>,
+    /// Per weight, its columns (p, q); None for fixed weights, which are
+    /// zero and left out of the rows.
+    w: Vec<Option<(highs::Col, highs::Col)>>,
+    delta: highs::Col,
+    /// Elastic mode: the violation column of each segment.
+    slack: HashMap<u32, highs::Col>,
+}
+
+impl Drop for Lp {
+    fn drop(&mut self) {
+        // Destroying a HiGHS instance resets its global scheduler, which
+        // must not happen while another thread is inside HiGHS
+        // (ERGO-Code/HiGHS#3141): drops are exclusive, runs shared.
+        let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
+        self.model.take();
+    }
+}
+
+/// Bounds of p_i and q_i for |w_i| <= k l_i^2 (k None: unbounded).
+fn part_bounds(sys: &System, i: usize, k: Option<f64>) -> (Bound<f64>, Bound<f64>) {
+    (
+        Bound::Included(0.0),
+        k.map_or(Bound::Unbounded, |k| Bound::Included(k * sys.l2[i])),
+    )
+}
+
+impl Lp {
+    /// The model of `sys` in `mode` (Margin or Elastic; phase 2 comes from
+    /// a Margin model through `regularise`).
+    fn build(sys: &System, with3: bool, k: Option<f64>, mode: &Mode) -> Result<Lp> {
+        let mut pb = RowProblem::default();
+        let free = (Bound::<f64>::Unbounded, Bound::<f64>::Unbounded);
+        let w: Vec<_> = (0..sys.n)
+            .map(|i| {
+                sys.free[i].then(|| {
+                    let b = part_bounds(sys, i, k);
+                    (pb.add_column(0.0, b), pb.add_column(0.0, b))
+                })
+            })
+            .collect();
+        let aux: Vec<_> = (0..sys.aux).map(|_| pb.add_column(0.0, free)).collect();
+        let (delta, sense) = match mode {
+            Mode::Margin => (
+                pb.add_column(1.0, (Bound::Unbounded, Bound::Included(1.0))),
+                Sense::Maximise,
+            ),
+            Mode::Elastic { delta_min, .. } => (
+                pb.add_column(0.0, *delta_min..=1.0f64.max(*delta_min)),
+                Sense::Minimise,
+            ),
+        };
+        let terms = |r: &Row| -> Vec<(highs::Col, f64)> {
+            r.terms
+                .iter()
+                .flat_map(|&(c, v)| match c.checked_sub(sys.n) {
+                    Some(a) => vec![(aux[a], v)],
+                    None => w[c].map_or(vec![], |(p, q)| vec![(p, v), (q, -v)]),
+                })
+                .collect()
+        };
+        let mut slack = HashMap::new();
+        for r in sys.eqs.iter().filter(finite) {
+            pb.add_row(r.rhs..=r.rhs, terms(r));
+        }
+        for r in sys.rows.iter().filter(finite) {
+            let mut terms = terms(r);
+            match (r.family, mode) {
+                // Elastic in phase 2 only (`regularise`).
+                (Family::Anchor, _) => continue,
+                (Family::Sys3(_), _) if !with3 => continue,
+                (Family::Sys3(s), Mode::Elastic { costs, .. }) => {
+                    // sum(terms) + slack_s >= rhs + small positive margin
+                    let cost = costs.get(&s).copied().unwrap_or(1.0);
+                    let sl = *slack.entry(s).or_insert_with(|| pb.add_column(cost, 0.0..));
+                    terms.push((sl, 1.0));
+                    pb.add_row((r.rhs + 1e-3).., terms);
+                    continue;
+                }
+                _ => terms.push((delta, -r.share)),
+            }
+            pb.add_row(r.rhs.., terms);
+        }
+        let big = pb.num_rows() > 5_000;
+        let mut model = pb.try_optimise(sense).map_err(|e| {
+            Error::Lp(format!(
+                "HiGHS rejects the LP as built ({e:?}): its coefficients are beyond its range \
+                 (nearly coincident or collinear vertices?)"
+            ))
+        })?;
+        model.make_quiet();
+        // Measured: dual simplex stalls on large sparse systems of this shape
+        // where interior point finishes in seconds (method.md section 2).
+        model.set_option("solver", if big { "ipm" } else { "simplex" });
+        if !big {
+            // Measured: the primal simplex is 20% faster than the dual on
+            // the pieces' phase 1, and goes on from phase 1's basis in phase 2.
+            model.set_option("simplex_strategy", 4);
+            // Measured: on the local form's small pieces presolve costs as
+            // much as the solve (and it would discard the warm start).
+            model.set_option("presolve", "off");
+        }
+        Ok(Lp {
+            model: Some(model),
+            w,
+            delta,
+            slack,
+        })
+    }
+
+    /// Phase 1 again with |w_i| <= k l_i^2 (free: None).
+    fn bound(&mut self, sys: &System, k: Option<f64>) {
+        let model = self.model.as_mut().expect("model");
+        for (i, pq) in self.w.iter().enumerate() {
+            if let Some((p, q)) = *pq {
+                model.change_column_bounds(p, part_bounds(sys, i, k));
+                model.change_column_bounds(q, part_bounds(sys, i, k));
+            }
+        }
+    }
+
+    /// Turns a solved Margin model into phase 2: delta >= delta_min,
+    /// minimise sum |w_i| / l_i^2 plus the anchors' violations.
+    fn regularise(&mut self, sys: &System, delta_min: f64) {
+        let model = self.model.as_mut().expect("model");
+        model.set_sense(Sense::Minimise);
+        model.change_column_cost(self.delta, 0.0);
+        model.change_column_bounds(self.delta, delta_min..=1.0f64.max(delta_min));
+        for (i, pq) in self.w.iter().enumerate() {
+            if let Some((p, q)) = *pq {
+                model.change_column_cost(p, 1.0 / sys.l2[i]);
+                model.change_column_cost(q, 1.0 / sys.l2[i]);
+            }
+        }
+        for r in sys.rows.iter().filter(finite) {
+            if r.family == Family::Anchor {
+                // sum(terms) + s+ - s- == rhs, |violation| costed
+                let up = model.add_col(ANCHOR_COST, 0.0.., []);
+                let down = model.add_col(ANCHOR_COST, 0.0.., []);
+                let mut terms: Vec<_> = r
+                    .terms
+                    .iter()
+                    .flat_map(|&(c, v)| self.w[c].map_or(vec![], |(p, q)| vec![(p, v), (q, -v)]))
+                    .collect();
+                terms.extend([(up, 1.0), (down, -1.0)]);
+                model.add_row(r.rhs..=r.rhs, terms);
+            }
+        }
+    }
+
+    fn solve(&mut self, sys: &System, report: &mut WeightsReport) -> Result<Solution> {
+        let mut model = self.model.take().expect("model");
+        report.lp_rows = report.lp_rows.max(model.num_rows());
+        report.lp_cols = report.lp_cols.max(model.num_cols());
+        report.lp_solves += 1;
+        let left = report.deadline.map_or(LP_BUDGET, |d| {
+            d.saturating_duration_since(std::time::Instant::now())
+        });
+        if left.is_zero() {
+            return Err(Error::Lp(format!(
+                "the LP time budget of {} s ran out",
+                LP_BUDGET.as_secs()
+            )));
+        }
+        model.set_option("time_limit", left.as_secs_f64());
+        let solved = {
+            let _running = HIGHS.read().unwrap_or_else(|e| e.into_inner());
+            model
+                .try_solve()
+                .map_err(|e| Error::Lp(format!("HiGHS: {e:?}")))?
+        };
+        let status = solved.status();
+        let cols =
+            (status == HighsModelStatus::Optimal).then(|| solved.get_solution().columns().to_vec());
+        self.model = Some(solved.into());
+        report.lp_status = format!("{status:?}");
+        match status {
+            HighsModelStatus::Optimal => {
+                let cols = cols.expect("optimal");
+                let w: Vec<f64> = self
+                    .w
+                    .iter()
+                    .map(|pq| pq.map_or(0.0, |(p, q)| cols[p.index()] - cols[q.index()]) * sys.unit2)
+                    .collect();
+                if cols.iter().chain(&w).any(|c| !c.is_finite()) {
+                    return Err(Error::Lp(
+                        "the LP returned weights that are not finite doubles".into(),
+                    ));
+                }
+                Ok(Solution {
+                    slack: self.slack.iter().map(|(&s, c)| (s, cols[c.index()])).collect(),
+                    delta: cols[self.delta.index()],
+                    w,
+                })
+            }
+            HighsModelStatus::Infeasible => Ok(Solution {
+                delta: f64::NEG_INFINITY,
+                w: vec![],
+                slack: HashMap::new(),
+            }),
+            HighsModelStatus::ReachedTimeLimit => Err(Error::Lp(format!(
+                "the LP time budget of {} s ran out ({} solves of up to {} rows)",
+                LP_BUDGET.as_secs(),
+                report.lp_solves,
+                report.lp_rows
+            ))),
+            s => Err(Error::Lp(format!("HiGHS ended with status {s:?}"))),
+        }
+    }
+}
+
+/// A row from a triangle too thin for doubles may hold infinities: it is
+/// left out (the exact verification of the result still covers it).
+fn finite(r: &&Row) -> bool {
+    r.rhs.is_finite() && r.terms.iter().all(|t| t.1.is_finite())
+}
+
+/// One model, one solve.
 fn run(
     sys: &System,
     with3: bool,
@@ -802,172 +1028,47 @@ fn run(
     mode: &Mode,
     report: &mut WeightsReport,
 ) -> Result<Solution> {
-    let mut pb = RowProblem::default();
-    let bound = |b: f64| (Bound::Included(-b), Bound::Included(b));
-    let free = (Bound::<f64>::Unbounded, Bound::<f64>::Unbounded);
-    let w: Vec<_> = (0..sys.n)
-        .map(|i| match (sys.free[i], k) {
-            (false, _) => pb.add_column(0.0, 0.0..=0.0),
-            (true, None) => pb.add_column(0.0, free),
-            (true, Some(k)) => pb.add_column(0.0, bound(k * sys.l2[i])),
-        })
-        .collect();
-    let aux: Vec<_> = (0..sys.aux).map(|_| pb.add_column(0.0, free)).collect();
-    let col = |c: usize| if c < sys.n { w[c] } else { aux[c - sys.n] };
-    let (delta, sense) = match mode {
-        Mode::Margin => (
-            pb.add_column(1.0, (Bound::Unbounded, Bound::Included(1.0))),
-            Sense::Maximise,
-        ),
-        Mode::Regularise { delta_min } | Mode::Elastic { delta_min, .. } => (
-            pb.add_column(0.0, *delta_min..=1.0f64.max(*delta_min)),
-            Sense::Minimise,
-        ),
-    };
-    if let Mode::Regularise { .. } = mode {
-        for i in (0..sys.n).filter(|&i| sys.free[i]) {
-            let t = pb.add_column(1.0 / sys.l2[i], 0.0..);
-            pb.add_row(0.0.., [(t, 1.0), (w[i], -1.0)]);
-            pb.add_row(0.0.., [(t, 1.0), (w[i], 1.0)]);
-        }
-    }
-    let mut slack = std::collections::HashMap::new();
-    // A row from a triangle too thin for doubles may hold infinities: it is
-    // left out (the exact verification of the result still covers it).
-    let finite = |r: &&Row| r.rhs.is_finite() && r.terms.iter().all(|t| t.1.is_finite());
-    for r in sys.eqs.iter().filter(finite) {
-        let terms: Vec<_> = r.terms.iter().map(|&(c, v)| (col(c), v)).collect();
-        pb.add_row(r.rhs..=r.rhs, terms);
-    }
-    for r in sys.rows.iter().filter(finite) {
-        let mut terms: Vec<_> = r.terms.iter().map(|&(c, v)| (col(c), v)).collect();
-        match (r.family, mode) {
-            (Family::Anchor, Mode::Regularise { .. }) => {
-                // sum(terms) + s+ - s- == rhs, |violation| costed
-                let up = pb.add_column(ANCHOR_COST, 0.0..);
-                let down = pb.add_column(ANCHOR_COST, 0.0..);
-                terms.extend([(up, 1.0), (down, -1.0)]);
-                pb.add_row(r.rhs..=r.rhs, terms);
-                continue;
-            }
-            (Family::Anchor, _) => continue,
-            (Family::Sys3(_), _) if !with3 => continue,
-            (Family::Sys3(s), Mode::Elastic { costs, .. }) => {
-                // sum(terms) + slack_s >= rhs + small positive margin
-                let cost = costs.get(&s).copied().unwrap_or(1.0);
-                let sl = *slack.entry(s).or_insert_with(|| pb.add_column(cost, 0.0..));
-                terms.push((sl, 1.0));
-                pb.add_row((r.rhs + 1e-3).., terms);
-                continue;
-            }
-            _ => terms.push((delta, -r.share)),
-        }
-        pb.add_row(r.rhs.., terms);
-    }
-    report.lp_rows = report.lp_rows.max(pb.num_rows());
-    report.lp_cols = report.lp_cols.max(pb.num_cols());
-    report.lp_solves += 1;
-    let big = pb.num_rows() > 5_000;
-    let mut model = pb.try_optimise(sense).map_err(|e| {
-        Error::Lp(format!(
-            "HiGHS rejects the LP as built ({e:?}): its coefficients are beyond its range \
-                 (nearly coincident or collinear vertices?)"
-        ))
-    })?;
-    model.make_quiet();
-    // Measured: dual simplex stalls on large sparse systems of this shape
-    // where interior point finishes in seconds (method.md section 2).
-    model.set_option("solver", if big { "ipm" } else { "simplex" });
-    let left = report.deadline.map_or(LP_BUDGET, |d| {
-        d.saturating_duration_since(std::time::Instant::now())
-    });
-    if left.is_zero() {
-        return Err(Error::Lp(format!(
-            "the LP time budget of {} s ran out",
-            LP_BUDGET.as_secs()
-        )));
-    }
-    model.set_option("time_limit", left.as_secs_f64());
-    if !big {
-        // Measured: on the local form's small pieces presolve costs as
-        // much as the solve.
-        model.set_option("presolve", "off");
-    }
-    let solved = {
-        let _running = HIGHS.read().unwrap_or_else(|e| e.into_inner());
-        model
-            .try_solve()
-            .map_err(|e| Error::Lp(format!("HiGHS: {e:?}")))?
-    };
-    let status = solved.status();
-    let cols =
-        (status == HighsModelStatus::Optimal).then(|| solved.get_solution().columns().to_vec());
-    {
-        // Destroying a HiGHS instance resets its global scheduler, which
-        // must not happen while another thread is inside HiGHS
-        // (ERGO-Code/HiGHS#3141): drops are exclusive, runs shared.
-        let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
-        drop(solved);
-    }
-    report.lp_status = format!("{status:?}");
-    match status {
-        HighsModelStatus::Optimal => {
-            let cols = cols.expect("optimal");
-            if cols.iter().any(|c| !c.is_finite())
-                || !(cols[..sys.n].iter().all(|w| (w * sys.unit2).is_finite()))
-            {
-                return Err(Error::Lp(
-                    "the LP returned weights that are not finite doubles".into(),
-                ));
-            }
-            Ok(Solution {
-                slack: slack.iter().map(|(&s, c)| (s, cols[c.index()])).collect(),
-                delta: cols[delta.index()],
-                w: cols[..sys.n].iter().map(|w| w * sys.unit2).collect(),
-            })
-        }
-        HighsModelStatus::Infeasible => Ok(Solution {
-            delta: f64::NEG_INFINITY,
-            w: vec![],
-            slack: HashMap::new(),
-        }),
-        HighsModelStatus::ReachedTimeLimit => Err(Error::Lp(format!(
-            "the LP time budget of {} s ran out ({} solves of up to {} rows)",
-            LP_BUDGET.as_secs(),
-            report.lp_solves,
-            report.lp_rows
-        ))),
-        s => Err(Error::Lp(format!("HiGHS ended with status {s:?}"))),
-    }
+    Lp::build(sys, with3, k, mode)?.solve(sys, report)
 }
 
-/// Phase 1 up the k ladder: the best margin and the k that reached it.
+/// Phase 1 up the k ladder, in one warm model: the best margin, the k that
+/// reached it, and the model at that k (for phase 2).
 /// Where a failure is a verdict (the global form), the unbounded try comes
 /// first: only it may declare infeasibility, and an infeasible system then
 /// costs one solve. The local form's failures are no verdict: its ladder
 /// starts small and the unbounded try comes last. The smallest k with a
 /// trusted margin keeps the weights small.
-fn margin(sys: &System, with3: bool, report: &mut WeightsReport) -> Result<(f64, Option<f64>)> {
-    if !sys.verdict {
-        for k in K_LADDER {
-            let sol = run(sys, with3, Some(k), &Mode::Margin, report)?;
-            if sol.delta > TRUST {
-                return Ok((sol.delta, Some(k)));
+fn margin(
+    sys: &System,
+    with3: bool,
+    report: &mut WeightsReport,
+) -> Result<(f64, Option<f64>, Lp)> {
+    let ladder: Vec<Option<f64>> = K_LADDER.iter().map(|&k| Some(k)).collect();
+    let order: Vec<Option<f64>> = if sys.verdict {
+        [None].into_iter().chain(ladder).collect()
+    } else {
+        ladder.into_iter().chain([None]).collect()
+    };
+    let mut lp = Lp::build(sys, with3, order[0], &Mode::Margin)?;
+    let mut best = (f64::NEG_INFINITY, None);
+    for (step, &k) in order.iter().enumerate() {
+        if step > 0 {
+            lp.bound(sys, k);
+        }
+        let delta = lp.solve(sys, report)?.delta;
+        if sys.verdict && step == 0 {
+            if delta <= TRUST {
+                return Ok((delta, None, lp));
             }
-        }
-        return Ok((run(sys, with3, None, &Mode::Margin, report)?.delta, None));
-    }
-    let free = run(sys, with3, None, &Mode::Margin, report)?.delta;
-    if free <= TRUST {
-        return Ok((free, None));
-    }
-    for k in K_LADDER {
-        let sol = run(sys, with3, Some(k), &Mode::Margin, report)?;
-        if sol.delta > TRUST {
-            return Ok((sol.delta, Some(k)));
+            best = (delta, None);
+        } else if delta > TRUST || k.is_none() {
+            return Ok((delta, k, lp));
         }
     }
-    Ok((free, None))
+    // The verdict order: no bound gave a trusted margin, the free one did.
+    lp.bound(sys, None);
+    lp.solve(sys, report)?;
+    Ok((best.0, best.1, lp))
 }
 
 /// The outcome of one LP attempt on a row system.
@@ -1031,27 +1132,17 @@ fn verify<B: Backend + ?Sized>(
 /// The LP on one row system: system 1 + 3; else system 1 with system 3
 /// elastic (as few segments as possible missing their duals).
 fn solve_rows(sys: &System, elastic: bool, report: &mut WeightsReport) -> Result<Answer> {
-    let (m3, k3) = margin(sys, true, report)?;
+    let (m3, k3, mut lp) = margin(sys, true, report)?;
     if m3 <= TRUST && !elastic {
         return Ok(Answer::Sys3Infeasible);
     }
     let (w, lp_sys3) = if m3 > TRUST {
         report.margin = Some(m3);
         report.bound_k = k3;
-        (
-            run(
-                sys,
-                true,
-                k3,
-                &Mode::Regularise {
-                    delta_min: m3 / 2.0,
-                },
-                report,
-            )?
-            .w,
-            true,
-        )
+        lp.regularise(sys, m3 / 2.0);
+        (lp.solve(sys, report)?.w, true)
     } else {
+        drop(lp);
         // Usually system 1 alone has a comfortable margin: one elastic solve
         // at a fixed margin settles it; only when that fails is the margin of
         // system 1 searched (and its absence a verdict).
@@ -1079,7 +1170,7 @@ fn solve_rows(sys: &System, elastic: bool, report: &mut WeightsReport) -> Result
             report.bound_k = None;
             (w, false)
         } else {
-            let (m1, k1) = margin(sys, false, report)?;
+            let (m1, k1, _) = margin(sys, false, report)?;
             report.margin = Some(m1);
             report.bound_k = k1;
             if m1 <= TRUST {
@@ -1151,29 +1242,53 @@ fn strictly_gabriel(cx: &Complex, dt: &Triangulation, i: u32, j: u32) -> bool {
 /// |w_i - w_j| < L and the radical point of i, j on the segment has smaller
 /// power for i than for each apex beside the segment.
 pub fn sys3_failures(cx: &Complex, w: &[f64], rt: &Triangulation) -> Vec<u32> {
+    use crate::exact::Iv;
+    use rayon::prelude::*;
     let p = &cx.points;
-    let mut out = vec![];
-    for (s, &[i, j]) in cx.segments.iter().enumerate() {
+    // Filtered: the same expressions in intervals, exact rationals only
+    // where an interval holds zero.
+    let holds = |s: usize| -> bool {
+        let [i, j] = cx.segments[s];
+        let apexes: Vec<u32> = [(i, j), (j, i)]
+            .into_iter()
+            .filter_map(|(a, b)| rt.left_of(a, b).map(|t| rt.apex(t, a, b)))
+            .collect();
+        let iv = |v: u32| p[v as usize].map(Iv::of);
+        let ivsub = |a: [Iv; 2], b: [Iv; 2]| [a[0] - b[0], a[1] - b[1]];
+        let ivdot = |a: [Iv; 2], b: [Iv; 2]| a[0] * b[0] + a[1] * b[1];
+        let (pi, pj) = (iv(i), iv(j));
+        let u = ivsub(pj, pi);
+        let l = ivdot(u, u);
+        let d = Iv::of(w[i as usize]) - Iv::of(w[j as usize]);
+        let mut signs = vec![(l - d).sign(), (l + d).sign()];
+        for &m in &apexes {
+            let r = ivsub(iv(m), pi);
+            let v = l * ivdot(r, r) - (l + d) * ivdot(u, r)
+                + l * (Iv::of(w[i as usize]) - Iv::of(w[m as usize]));
+            signs.push(v.sign());
+        }
+        if signs.iter().all(Option::is_some) {
+            return signs.iter().all(|&o| o == Some(std::cmp::Ordering::Greater));
+        }
         let (pi, pj) = (qp(p[i as usize]), qp(p[j as usize]));
         let u = sub(&pj, &pi);
         let l = norm2(&u);
         let d = q(w[i as usize]) - q(w[j as usize]);
         let mut ok = abs(&d) < l;
-        for (a, b) in [(i, j), (j, i)] {
-            if let Some(t) = rt.left_of(a, b) {
-                let m = rt.apex(t, a, b);
-                let r = sub(&qp(p[m as usize]), &pi);
-                // L * (pi(q; m) - pi(q; i)) > 0
-                let v: Q = &l * norm2(&r) - (&l + &d) * dot(&u, &r)
-                    + &l * (q(w[i as usize]) - q(w[m as usize]));
-                ok &= is_pos(&v);
-            }
+        for m in apexes {
+            let r = sub(&qp(p[m as usize]), &pi);
+            // L * (pi(q; m) - pi(q; i)) > 0
+            let v: Q = &l * norm2(&r) - (&l + &d) * dot(&u, &r)
+                + &l * (q(w[i as usize]) - q(w[m as usize]));
+            ok &= is_pos(&v);
         }
-        if !ok {
-            out.push(s as u32);
-        }
-    }
-    out
+        ok
+    };
+    (0..cx.segments.len())
+        .into_par_iter()
+        .filter(|&s| !holds(s))
+        .map(|s| s as u32)
+        .collect()
 }
 
 /// Vertices of triangles of `t` whose height is below 1e-9 of their longest

@@ -274,6 +274,23 @@ impl Triangulation {
         Some(self.adj[t as usize][k]).filter(|&n| n != NONE)
     }
 
+    /// The triangles around an interior vertex, counter-clockwise; None
+    /// when v is on the hull or not a vertex.
+    pub fn star(&self, v: u32) -> Option<Vec<u32>> {
+        let start = self.corner.get(v as usize).copied().filter(|&t| t != NONE)?;
+        let mut out = vec![];
+        let mut t = start;
+        loop {
+            out.push(t);
+            let tri = self.triangles[t as usize];
+            let k = tri.iter().position(|&x| x == v)?;
+            t = self.across(t, (k + 2) % 3)?;
+            if t == start {
+                return Some(out);
+            }
+        }
+    }
+
     /// Neighbours of each vertex (n = number of input points).
     pub fn neighbours(&self, n: usize) -> Vec<Vec<u32>> {
         let mut nb = vec![Vec::new(); n];
