@@ -528,7 +528,10 @@ mod tests {
                 None => rt = fresh,
             }
         }
-        assert!(repaired > 10 && flipped > 5, "{repaired} repaired, {flipped} flipped");
+        assert!(
+            repaired > 10 && flipped > 5,
+            "{repaired} repaired, {flipped} flipped"
+        );
     }
 
     #[test]

@@ -1,12 +1,14 @@
 //! Sites into their own cells (paper section 5.2, method.md section 5).
 //! A site lies strictly inside its cell iff for every neighbour b in the
 //! regular triangulation of the sites |a - b|^2 + omega_a - omega_b > 0,
-//! decided exactly. The site triangulation is built from the sites rounded
-//! to doubles and checked exactly (diagram.rs); when the check fails, the
-//! backend's exact-rational triangulation is used instead. A segment site outside its cell moves halfway towards its
-//! segment (its cell then tends to a fixed half-region around the segment,
-//! so close enough is inside); a vertex site tries other points of its dual
-//! edge. Bounded in rounds.
+//! decided exactly. The site triangulation is built once from the sites
+//! rounded to doubles and checked exactly (diagram.rs; when the check
+//! fails, the backend's exact-rational triangulation is used instead), then
+//! kept regular by exact flips as sites move, and checked whole again at
+//! the end. A segment site outside its cell moves towards its segment (its
+//! cell then tends to a fixed half-region around the segment, so close
+//! enough is inside); a vertex site tries other points of its dual edge.
+//! Bounded in rounds.
 
 use crate::backend::{Backend, Triangulation};
 use crate::diagram::Diagram;
@@ -120,9 +122,8 @@ fn site_triangulation<B: Backend + ?Sized>(
 /// The diagram of a triangulation of the sites that is known regular
 /// (checked, or exact: that one may hide sites).
 fn diagram_of(dom: &Domain, sites: &Sites, rt: &Triangulation) -> Result<Diagram> {
-    Diagram::build(dom, sites, rt, false).map_err(|why| {
-        Error::Backend(format!("the regular triangulation of the sites: {why}"))
-    })
+    Diagram::build(dom, sites, rt, false)
+        .map_err(|why| Error::Backend(format!("the regular triangulation of the sites: {why}")))
 }
 
 /// The neighbours of site s in rt (from its star; a hull site by a scan).
@@ -167,7 +168,11 @@ const PULL_BACKS: usize = 24;
 /// fold one steps back towards where it was, in halves, first. (A vertex
 /// site that skipped to its next position instead was measured to stay
 /// outside: its folding jump is the one that brings it in.)
-fn step_all(sites: &mut Sites, rt: &Triangulation, out: &[usize]) -> (Vec<usize>, Vec<(usize, f64)>) {
+fn step_all(
+    sites: &mut Sites,
+    rt: &Triangulation,
+    out: &[usize],
+) -> (Vec<usize>, Vec<(usize, f64)>) {
     let ccw = |sites: &Sites, s: usize| {
         rt.star(s as u32).is_some_and(|star| {
             star.iter().all(|&t| {
@@ -198,6 +203,40 @@ fn step_all(sites: &mut Sites, rt: &Triangulation, out: &[usize]) -> (Vec<usize>
         }
     }
     (moved, folding)
+}
+
+/// Increments of a walk (`walk`).
+const WALK: usize = 16;
+
+/// Moves site s to fraction `to` of its track in small increments, making
+/// the triangulation regular by flips after each, as a kinetic
+/// triangulation would: moving a site across others changes a regular
+/// triangulation by flips before any triangle folds (unless the site is
+/// hidden on the way). The sites whose neighbourhood changed, or None when
+/// an increment folds a triangle or a flip is stuck (then the site has
+/// moved part of the way and the triangulation must be built anew).
+fn walk(sites: &mut Sites, rt: &mut Triangulation, s: usize, to: f64) -> Option<Vec<u32>> {
+    let ccw = |sites: &Sites, rt: &Triangulation| {
+        rt.star(s as u32).is_some_and(|star| {
+            star.iter().all(|&t| {
+                let [a, b, c] = rt.triangles[t as usize].map(|v| v as usize);
+                sites.orient(a, b, c) == std::cmp::Ordering::Greater
+            })
+        })
+    };
+    let from = sites.frac(s);
+    let mut touched = vec![];
+    for k in 1..=WALK {
+        sites.move_to(s, from + (to - from) * k as f64 / WALK as f64);
+        if k == WALK {
+            sites.move_to(s, to);
+        }
+        if !ccw(sites, rt) {
+            return None;
+        }
+        touched.extend(crate::diagram::repair_around(sites, rt, &[s])?);
+    }
+    Some(touched)
 }
 
 /// Builds the site diagram, moving sites until all domain sites are inside
@@ -257,12 +296,27 @@ pub fn relocate<B: Backend + ?Sized>(
             continue;
         }
         round += 1;
-        // Moves that fold a triangle wait until the others are done.
+        // Moves that fold a triangle wait until the others are done, then
+        // walk; where a walk fails, the triangulation is built anew.
         let repaired = if moved.is_empty() {
+            let mut touched = Some(vec![]);
             for &(s, to) in &folding {
-                sites.move_to(s, to);
+                match touched.as_mut() {
+                    Some(all) => match walk(sites, &mut rt, s, to) {
+                        Some(t) => all.extend(t),
+                        None => {
+                            sites.move_to(s, to);
+                            touched = None;
+                        }
+                    },
+                    None => sites.move_to(s, to),
+                }
             }
-            None
+            touched.map(|mut t| {
+                t.sort_unstable();
+                t.dedup();
+                t
+            })
         } else {
             crate::diagram::repair_around(sites, &mut rt, &moved)
         };
@@ -285,5 +339,61 @@ pub fn relocate<B: Backend + ?Sized>(
             trusted = true;
         }
         fresh = false;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sites::scatter;
+    use crate::sites::tests::sites_on_tracks;
+
+    #[test]
+    fn a_walk_across_other_sites_ends_in_the_regular_triangulation() {
+        let backend = crate::backend::default_backend();
+        let n = 300;
+        let pts: Vec<[f64; 2]> = (0..n as u64)
+            .map(|i| [scatter(2 * i) * 100.0, scatter(2 * i + 1) * 100.0])
+            .collect();
+        let edges = |t: &Triangulation| {
+            let mut e: Vec<(u32, u32)> = t.edges().map(|(a, b)| (a.min(b), a.max(b))).collect();
+            e.sort_unstable();
+            e
+        };
+        let (mut walked, mut changed) = (0, 0);
+        for trial in 0..30u64 {
+            // One site walks most of a neighbour spacing away; as a vertex
+            // site its weight grows with the distance from its vertex (its
+            // power there stays zero), so it may hide others: then the
+            // walk says so.
+            let s = (scatter(50_000 + trial) * n as f64) as usize;
+            let angle = scatter(60_000 + trial) * std::f64::consts::TAU;
+            let mut dirs = vec![[0.0; 2]; n];
+            dirs[s] = [4.0 * angle.cos(), 4.0 * angle.sin()];
+            let end = [pts[s][0] + dirs[s][0], pts[s][1] + dirs[s][1]];
+            if !(5.0..95.0).contains(&end[0]) || !(5.0..95.0).contains(&end[1]) {
+                continue;
+            }
+            let mut sites = sites_on_tracks(&pts, &dirs);
+            let mut rt = backend.regular(&pts, &vec![0.0; n]).unwrap();
+            if rt.star(s as u32).is_none() {
+                continue;
+            }
+            let before = edges(&rt);
+            if let Some(touched) = walk(&mut sites, &mut rt, s, 1.0) {
+                walked += 1;
+                let pos: Vec<[f64; 2]> = sites.approx.iter().map(|a| [a[0], a[1]]).collect();
+                let w: Vec<f64> = sites.approx.iter().map(|a| a[2]).collect();
+                assert_eq!(pos[s], end);
+                let fresh = backend.regular(&pos, &w).unwrap();
+                assert_eq!(edges(&rt), edges(&fresh), "trial {trial}");
+                assert!(touched.contains(&(s as u32)));
+                changed += usize::from(edges(&rt) != before);
+            }
+        }
+        assert!(
+            walked >= 10 && changed >= 5,
+            "{walked} walked, {changed} changed"
+        );
     }
 }

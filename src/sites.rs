@@ -774,6 +774,17 @@ pub(crate) mod tests {
         weighted_sites(points, &vec![0.0; points.len()])
     }
 
+    /// Unweighted sites at the given points, site s free to move to
+    /// points[s] + f dirs[s] (f = 0 now).
+    pub(crate) fn sites_on_tracks(points: &[[f64; 2]], dirs: &[[f64; 2]]) -> Sites {
+        let mut s = points_as_sites(points);
+        for (k, &d) in dirs.iter().enumerate() {
+            s.track[k].tb = 1.0;
+            s.track[k].dir = d;
+        }
+        s
+    }
+
     /// Sites at the given points with weights -w (each serves itself, a
     /// vertex of weight w).
     pub(crate) fn weighted_sites(points: &[[f64; 2]], w: &[f64]) -> Sites {

@@ -123,7 +123,9 @@ pub fn solve<B: Backend + ?Sized>(
     dom: &Domain,
     progress: Option<Progress>,
 ) -> Result<Weights> {
-    let mut out = solve_unanchored_first(backend, dom, progress)?;
+    let out = solve_unanchored_first(backend, dom, progress);
+    destroy_finished();
+    let mut out = out?;
     let cx = &dom.complex;
     out.report.anchors = (0..cx.segments.len())
         .filter(|&s| cx.anchor(s).is_some())
@@ -812,14 +814,44 @@ struct Lp {
     slack: HashMap<u32, highs::Col>,
 }
 
+thread_local! {
+    /// This thread's finished models, destroyed together (`Drop for Lp`).
+    static FINISHED: std::cell::RefCell<Vec<highs::Model>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Models destroyed at once. Destroying a HiGHS instance resets its global
+/// scheduler, which must not happen while another thread is inside HiGHS
+/// (ERGO-Code/HiGHS#3141): drops take the lock exclusively and so wait for
+/// the other threads' running solves. One at a time, that serialised the
+/// local form's parallel pieces.
+const DROP_BATCH: usize = 64;
+
 impl Drop for Lp {
     fn drop(&mut self) {
-        // Destroying a HiGHS instance resets its global scheduler, which
-        // must not happen while another thread is inside HiGHS
-        // (ERGO-Code/HiGHS#3141): drops are exclusive, runs shared.
-        let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
-        self.model.take();
+        let Some(model) = self.model.take() else {
+            return;
+        };
+        let batch = FINISHED.with_borrow_mut(|f| {
+            f.push(model);
+            (f.len() >= DROP_BATCH).then(|| std::mem::take(f))
+        });
+        if let Some(batch) = batch {
+            let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
+            drop(batch);
+        }
     }
+}
+
+/// Destroys the finished models that wait, on this thread and on every
+/// thread of rayon's pool (at the end of a weights step).
+fn destroy_finished() {
+    let flush = || {
+        let batch = FINISHED.with_borrow_mut(std::mem::take);
+        let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
+        drop(batch);
+    };
+    flush();
+    rayon::broadcast(|_| flush());
 }
 
 /// Bounds of p_i and q_i for |w_i| <= k l_i^2 (k None: unbounded).
@@ -985,7 +1017,9 @@ impl Lp {
                 let w: Vec<f64> = self
                     .w
                     .iter()
-                    .map(|pq| pq.map_or(0.0, |(p, q)| cols[p.index()] - cols[q.index()]) * sys.unit2)
+                    .map(|pq| {
+                        pq.map_or(0.0, |(p, q)| cols[p.index()] - cols[q.index()]) * sys.unit2
+                    })
                     .collect();
                 if cols.iter().chain(&w).any(|c| !c.is_finite()) {
                     return Err(Error::Lp(
@@ -993,7 +1027,11 @@ impl Lp {
                     ));
                 }
                 Ok(Solution {
-                    slack: self.slack.iter().map(|(&s, c)| (s, cols[c.index()])).collect(),
+                    slack: self
+                        .slack
+                        .iter()
+                        .map(|(&s, c)| (s, cols[c.index()]))
+                        .collect(),
                     delta: cols[self.delta.index()],
                     w,
                 })
@@ -1038,11 +1076,7 @@ fn run(
 /// costs one solve. The local form's failures are no verdict: its ladder
 /// starts small and the unbounded try comes last. The smallest k with a
 /// trusted margin keeps the weights small.
-fn margin(
-    sys: &System,
-    with3: bool,
-    report: &mut WeightsReport,
-) -> Result<(f64, Option<f64>, Lp)> {
+fn margin(sys: &System, with3: bool, report: &mut WeightsReport) -> Result<(f64, Option<f64>, Lp)> {
     let ladder: Vec<Option<f64>> = K_LADDER.iter().map(|&k| Some(k)).collect();
     let order: Vec<Option<f64>> = if sys.verdict {
         [None].into_iter().chain(ladder).collect()
@@ -1268,7 +1302,9 @@ pub fn sys3_failures(cx: &Complex, w: &[f64], rt: &Triangulation) -> Vec<u32> {
             signs.push(v.sign());
         }
         if signs.iter().all(Option::is_some) {
-            return signs.iter().all(|&o| o == Some(std::cmp::Ordering::Greater));
+            return signs
+                .iter()
+                .all(|&o| o == Some(std::cmp::Ordering::Greater));
         }
         let (pi, pj) = (qp(p[i as usize]), qp(p[j as usize]));
         let u = sub(&pj, &pi);

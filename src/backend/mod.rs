@@ -277,7 +277,11 @@ impl Triangulation {
     /// The triangles around an interior vertex, counter-clockwise; None
     /// when v is on the hull or not a vertex.
     pub fn star(&self, v: u32) -> Option<Vec<u32>> {
-        let start = self.corner.get(v as usize).copied().filter(|&t| t != NONE)?;
+        let start = self
+            .corner
+            .get(v as usize)
+            .copied()
+            .filter(|&t| t != NONE)?;
         let mut out = vec![];
         let mut t = start;
         loop {
