@@ -39,8 +39,12 @@ pub struct Diagram {
 
 /// Interior edges once: (left triangle, right triangle, apex of the right
 /// one), and the power test of each (the apex against the left triangle).
-#[allow(clippy::type_complexity)]
-fn power_tests(sites: &Sites, rt: &Triangulation) -> (Vec<(u32, u32, u32)>, Vec<Ordering>) {
+pub struct EdgeTests {
+    inner: Vec<(u32, u32, u32)>,
+    tests: Vec<Ordering>,
+}
+
+fn power_tests(sites: &Sites, rt: &Triangulation) -> EdgeTests {
     let tris = &rt.triangles;
     let inner: Vec<(u32, u32, u32)> = (0..tris.len() as u32)
         .flat_map(|t| (0..3).map(move |k| (t, k)))
@@ -58,7 +62,7 @@ fn power_tests(sites: &Sites, rt: &Triangulation) -> (Vec<(u32, u32, u32)>, Vec<
             sites.power_test(a, b, c, d as usize)
         })
         .collect();
-    (inner, tests)
+    EdgeTests { inner, tests }
 }
 
 fn find(parent: &mut [u32], mut x: u32) -> u32 {
@@ -74,12 +78,8 @@ impl Diagram {
     /// triangulation of the exact sites: no site hidden, every triangle
     /// counter-clockwise, the hull convex and winding once, every interior
     /// edge locally regular (exact). Ok gives its interior edges and their
-    /// power tests; Err says what fails.
-    #[allow(clippy::type_complexity)]
-    pub fn check(
-        sites: &Sites,
-        rt: &Triangulation,
-    ) -> std::result::Result<(Vec<(u32, u32, u32)>, Vec<Ordering>), String> {
+    /// power tests (for `build`); Err says what fails.
+    pub fn check(sites: &Sites, rt: &Triangulation) -> std::result::Result<EdgeTests, String> {
         if !rt.hidden.is_empty() {
             return Err(format!("{} sites hidden", rt.hidden.len()));
         }
@@ -91,34 +91,30 @@ impl Diagram {
             return Err(format!("triangle {:?} is not counter-clockwise", tris[t]));
         }
         check_hull(sites, rt)?;
-        let (inner, tests) = power_tests(sites, rt);
-        if let Some(k) = tests.iter().position(|&o| o == Ordering::Greater) {
-            let (t1, _, d) = inner[k];
+        let checked = power_tests(sites, rt);
+        if let Some(k) = checked.tests.iter().position(|&o| o == Ordering::Greater) {
+            let (t1, _, d) = checked.inner[k];
             return Err(format!(
                 "edge of {:?} is not regular (site {d})",
                 tris[t1 as usize]
             ));
         }
-        Ok((inner, tests))
+        Ok(checked)
     }
 
-    /// Builds the diagram from a triangulation of the sites. With `verify`
-    /// (a triangulation built from rounded sites), it is first checked to be
-    /// the regular triangulation of the exact sites; Err says why not. An
-    /// exact backend's triangulation is trusted and may hide sites.
+    /// Builds the diagram of a triangulation known regular: one that passed
+    /// `check` (its power tests given), or an exact backend's (None: the
+    /// tests are made here; it may hide sites). Err when the triangulation
+    /// makes one power vertex two input vertices.
     pub fn build(
         dom: &Domain,
         sites: &Sites,
         rt: &Triangulation,
-        verify: bool,
+        checked: Option<EdgeTests>,
     ) -> std::result::Result<Diagram, String> {
         let n = sites.len();
         let tris = &rt.triangles;
-        let (inner, tests) = if verify {
-            Self::check(sites, rt)?
-        } else {
-            power_tests(sites, rt)
-        };
+        let EdgeTests { inner, tests } = checked.unwrap_or_else(|| power_tests(sites, rt));
         // Power vertices: classes of triangles joined by zero-length duals.
         let mut parent: Vec<u32> = (0..tris.len() as u32).collect();
         for (&(t1, t2, _), &o) in inner.iter().zip(&tests) {
@@ -374,6 +370,17 @@ fn flip_to_regular(
     Some(touched)
 }
 
+/// Whether site v is an interior vertex of rt whose triangles are all
+/// counter-clockwise (exact).
+pub fn star_ccw(sites: &Sites, rt: &Triangulation, v: usize) -> bool {
+    rt.star(v as u32).is_some_and(|star| {
+        star.iter().all(|&t| {
+            let [a, b, c] = rt.triangles[t as usize].map(|x| x as usize);
+            sites.orient(a, b, c) == Ordering::Greater
+        })
+    })
+}
+
 /// After the sites `moved` changed (position and weight), makes the
 /// triangulation regular again by flips around them, when it can: every
 /// triangle around a moved site must still be counter-clockwise and no
@@ -381,16 +388,15 @@ fn flip_to_regular(
 /// site can have changed. Returns the sites whose neighbourhood changed
 /// (moved, their neighbours, the flipped quadrilaterals), or None: then
 /// the triangulation must be built anew. Not a certificate: the final
-/// diagram is checked whole (`Diagram::build` with verify).
+/// triangulation is checked whole (`Diagram::check`).
 pub fn repair_around(sites: &Sites, rt: &mut Triangulation, moved: &[usize]) -> Option<Vec<u32>> {
     let mut stack = vec![];
     for &v in moved {
+        if !star_ccw(sites, rt, v) {
+            return None;
+        }
         for t in rt.star(v as u32)? {
             let tri = rt.triangles[t as usize];
-            let [a, b, c] = tri.map(|x| x as usize);
-            if sites.orient(a, b, c) != Ordering::Greater {
-                return None;
-            }
             stack.extend([(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])]);
         }
     }

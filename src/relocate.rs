@@ -11,7 +11,7 @@
 //! Bounded in rounds.
 
 use crate::backend::{Backend, Triangulation};
-use crate::diagram::Diagram;
+use crate::diagram::{Diagram, EdgeTests};
 use crate::domain::Domain;
 use crate::error::{Error, Result};
 use crate::sites::Sites;
@@ -72,7 +72,6 @@ pub fn why(
     if outside.is_empty() {
         return (vec![], vec![]);
     }
-    let nb = rt.neighbours(sites.len());
     let mut crowding = std::collections::BTreeSet::new();
     let mut segment_of = |s: usize| {
         if let crate::sites::Role::Segment { seg, .. } = sites.role[s] {
@@ -81,17 +80,16 @@ pub fn why(
     };
     let mut messages = vec![];
     for &s in outside {
-        let blocking = nb[s].iter().find(|&&b| !sites.inside_wrt(s, b as usize));
         messages.push(if rt.hidden.contains(&(s as u32)) {
             "hidden: other sites' power is lower everywhere, it has no cell".into()
         } else if !sites.movable[s] {
             segment_of(s);
             "its segment misses its dual edge, so it cannot be on the segment's side".into()
-        } else if let Some(&b) = blocking {
-            segment_of(b as usize);
+        } else if let Some(&b) = beaten_by(sites, rt, s).first() {
+            segment_of(b);
             format!(
                 "no position tried on its dual edge puts it inside; it lies beyond its face with {}",
-                sites.describe(b as usize, cx)
+                sites.describe(b, cx)
             )
         } else {
             "outside".into()
@@ -102,27 +100,35 @@ pub fn why(
 
 /// The regular triangulation of the sites: from the rounded sites when it
 /// passes the exact check (`Diagram::check`, after flips where it does
-/// not), else from exact rationals. True when exact rationals were needed.
+/// not), with its edges' power tests; else from exact rationals (None).
 fn site_triangulation<B: Backend + ?Sized>(
     backend: &B,
     sites: &Sites,
-) -> Result<(Triangulation, bool)> {
+) -> Result<(Triangulation, Option<EdgeTests>)> {
     let pos: Vec<[f64; 2]> = sites.approx.iter().map(|a| [a[0], a[1]]).collect();
     let w = sites.nudged_weights();
     let mut rt = backend.regular(&pos, &w)?;
-    if Diagram::check(sites, &rt).is_ok()
-        || (crate::diagram::repair(sites, &mut rt) && Diagram::check(sites, &rt).is_ok())
-    {
-        return Ok((rt, false));
+    let checked = Diagram::check(sites, &rt).ok().or_else(|| {
+        crate::diagram::repair(sites, &mut rt)
+            .then(|| Diagram::check(sites, &rt).ok())
+            .flatten()
+    });
+    if checked.is_some() {
+        return Ok((rt, checked));
     }
     let (pos, w): (Vec<_>, Vec<_>) = (0..sites.len()).map(|s| sites.exact(s).clone()).unzip();
-    Ok((backend.regular_exact(&pos, &w)?, true))
+    Ok((backend.regular_exact(&pos, &w)?, None))
 }
 
-/// The diagram of a triangulation of the sites that is known regular
-/// (checked, or exact: that one may hide sites).
-fn diagram_of(dom: &Domain, sites: &Sites, rt: &Triangulation) -> Result<Diagram> {
-    Diagram::build(dom, sites, rt, false)
+/// The diagram of a triangulation of the sites that is known regular:
+/// checked (its power tests given), or exact (it may hide sites).
+fn diagram_of(
+    dom: &Domain,
+    sites: &Sites,
+    rt: &Triangulation,
+    checked: Option<EdgeTests>,
+) -> Result<Diagram> {
+    Diagram::build(dom, sites, rt, checked)
         .map_err(|why| Error::Backend(format!("the regular triangulation of the sites: {why}")))
 }
 
@@ -173,14 +179,7 @@ fn step_all(
     rt: &Triangulation,
     out: &[usize],
 ) -> (Vec<usize>, Vec<(usize, f64)>) {
-    let ccw = |sites: &Sites, s: usize| {
-        rt.star(s as u32).is_some_and(|star| {
-            star.iter().all(|&t| {
-                let [a, b, c] = rt.triangles[t as usize].map(|v| v as usize);
-                sites.orient(a, b, c) == std::cmp::Ordering::Greater
-            })
-        })
-    };
+    let ccw = |sites: &Sites, s: usize| crate::diagram::star_ccw(sites, rt, s);
     let (mut moved, mut folding) = (vec![], vec![]);
     for &s in out {
         let from = sites.frac(s);
@@ -216,14 +215,6 @@ const WALK: usize = 16;
 /// an increment folds a triangle or a flip is stuck (then the site has
 /// moved part of the way and the triangulation must be built anew).
 fn walk(sites: &mut Sites, rt: &mut Triangulation, s: usize, to: f64) -> Option<Vec<u32>> {
-    let ccw = |sites: &Sites, rt: &Triangulation| {
-        rt.star(s as u32).is_some_and(|star| {
-            star.iter().all(|&t| {
-                let [a, b, c] = rt.triangles[t as usize].map(|v| v as usize);
-                sites.orient(a, b, c) == std::cmp::Ordering::Greater
-            })
-        })
-    };
     let from = sites.frac(s);
     let mut touched = vec![];
     for k in 1..=WALK {
@@ -231,9 +222,7 @@ fn walk(sites: &mut Sites, rt: &mut Triangulation, s: usize, to: f64) -> Option<
         if k == WALK {
             sites.move_to(s, to);
         }
-        if !ccw(sites, rt) {
-            return None;
-        }
+        // repair_around refuses a folded triangle around s.
         touched.extend(crate::diagram::repair_around(sites, rt, &[s])?);
     }
     Some(touched)
@@ -245,7 +234,7 @@ fn walk(sites: &mut Sites, rt: &mut Triangulation, s: usize, to: f64) -> Option<
 /// sites (a round then costs what the moves touch, not a rebuild of all
 /// sites), and built anew only where that fails or a move would fold a
 /// triangle. When no site moves any more, a repaired triangulation gets
-/// the full exact check of `Diagram::build`, and relocation goes on from
+/// the full exact check of `Diagram::check`, and relocation goes on from
 /// there if sites are still outside. Between full diagrams, which sites are
 /// in the domain is taken from the last one (sites move only along their
 /// dual edges); the final diagram decides it afresh.
@@ -255,12 +244,13 @@ pub fn relocate<B: Backend + ?Sized>(
     sites: &mut Sites,
 ) -> Result<Relocated> {
     let mut round = 0;
-    let (mut rt, exact) = site_triangulation(backend, sites)?;
-    let mut exact_rounds = usize::from(exact);
-    let mut diagram = diagram_of(dom, sites, &rt)?;
+    let (mut rt, mut checked) = site_triangulation(backend, sites)?;
+    let mut exact_rounds = usize::from(checked.is_none());
+    let mut diagram = diagram_of(dom, sites, &rt, checked.take())?;
     let mut out = outside(sites, &rt, &diagram);
     // Whether `diagram` and `out` are of the current sites and `rt`, and
-    // whether `rt` is known regular (checked whole, or exact).
+    // whether `rt` is known regular (built by `site_triangulation`: checked
+    // whole, its power tests in `checked`, or exact).
     let (mut fresh, mut trusted) = (true, true);
     loop {
         let (moved, folding) = if round < MAX_ROUNDS {
@@ -279,18 +269,16 @@ pub fn relocate<B: Backend + ?Sized>(
                     exact_rounds,
                 });
             }
-            diagram = match trusted {
-                true => diagram_of(dom, sites, &rt)?,
-                false => match Diagram::build(dom, sites, &rt, true) {
-                    Ok(d) => d,
+            if !trusted {
+                match Diagram::check(sites, &rt) {
+                    Ok(c) => checked = Some(c),
                     Err(_) => {
-                        let (r, exact) = site_triangulation(backend, sites)?;
-                        rt = r;
-                        exact_rounds += usize::from(exact);
-                        diagram_of(dom, sites, &rt)?
+                        (rt, checked) = site_triangulation(backend, sites)?;
+                        exact_rounds += usize::from(checked.is_none());
                     }
-                },
-            };
+                }
+            }
+            diagram = diagram_of(dom, sites, &rt, checked.take())?;
             out = outside(sites, &rt, &diagram);
             (fresh, trusted) = (true, true);
             continue;
@@ -330,11 +318,10 @@ pub fn relocate<B: Backend + ?Sized>(
                 flag[s] = diagram.in_domain[s] && !beaten_by(sites, &rt, s).is_empty();
             }
             out = (0..sites.len()).filter(|&s| flag[s]).collect();
-            trusted = false;
+            (trusted, checked) = (false, None);
         } else {
-            let (r, exact) = site_triangulation(backend, sites)?;
-            rt = r;
-            exact_rounds += usize::from(exact);
+            (rt, checked) = site_triangulation(backend, sites)?;
+            exact_rounds += usize::from(checked.is_none());
             out = outside(sites, &rt, &diagram);
             trusted = true;
         }

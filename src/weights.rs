@@ -854,6 +854,15 @@ fn destroy_finished() {
     rayon::broadcast(|_| flush());
 }
 
+/// v w_c as terms of the model: v p_c - v q_c, nothing for a fixed weight.
+fn weight_terms(
+    w: &[Option<(highs::Col, highs::Col)>],
+    c: usize,
+    v: f64,
+) -> Vec<(highs::Col, f64)> {
+    w[c].map_or(vec![], |(p, q)| vec![(p, v), (q, -v)])
+}
+
 /// Bounds of p_i and q_i for |w_i| <= k l_i^2 (k None: unbounded).
 fn part_bounds(sys: &System, i: usize, k: Option<f64>) -> (Bound<f64>, Bound<f64>) {
     (
@@ -892,7 +901,7 @@ impl Lp {
                 .iter()
                 .flat_map(|&(c, v)| match c.checked_sub(sys.n) {
                     Some(a) => vec![(aux[a], v)],
-                    None => w[c].map_or(vec![], |(p, q)| vec![(p, v), (q, -v)]),
+                    None => weight_terms(&w, c, v),
                 })
                 .collect()
         };
@@ -977,7 +986,7 @@ impl Lp {
                 let mut terms: Vec<_> = r
                     .terms
                     .iter()
-                    .flat_map(|&(c, v)| self.w[c].map_or(vec![], |(p, q)| vec![(p, v), (q, -v)]))
+                    .flat_map(|&(c, v)| weight_terms(&self.w, c, v))
                     .collect();
                 terms.extend([(up, 1.0), (down, -1.0)]);
                 model.add_row(r.rhs..=r.rhs, terms);
@@ -986,10 +995,6 @@ impl Lp {
     }
 
     fn solve(&mut self, sys: &System, report: &mut WeightsReport) -> Result<Solution> {
-        let mut model = self.model.take().expect("model");
-        report.lp_rows = report.lp_rows.max(model.num_rows());
-        report.lp_cols = report.lp_cols.max(model.num_cols());
-        report.lp_solves += 1;
         let left = report.deadline.map_or(LP_BUDGET, |d| {
             d.saturating_duration_since(std::time::Instant::now())
         });
@@ -999,6 +1004,12 @@ impl Lp {
                 LP_BUDGET.as_secs()
             )));
         }
+        // Taken out (a solve consumes it) only now: on the early return the
+        // model stays for `Drop`, which destroys it under the lock.
+        let mut model = self.model.take().expect("model");
+        report.lp_rows = report.lp_rows.max(model.num_rows());
+        report.lp_cols = report.lp_cols.max(model.num_cols());
+        report.lp_solves += 1;
         model.set_option("time_limit", left.as_secs_f64());
         let solved = {
             let _running = HIGHS.read().unwrap_or_else(|e| e.into_inner());
