@@ -14,6 +14,10 @@ use orthomesh::io::eclipse::{read_grid, read_wells};
 use orthomesh::Complex;
 use std::time::{Duration, Instant};
 
+/// As in the CLI: mimalloc for every allocation, HiGHS' too.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn random_points(n: usize, seed: u64) -> Vec<[f64; 2]> {
     // xorshift: reproducible without a dependency
     let mut s = seed;

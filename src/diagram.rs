@@ -203,12 +203,42 @@ impl Diagram {
     }
 
     /// Corners whose error may be a noticeable part of an edge of theirs
-    /// (thin cells, far sites with large weights) are made exactly (then
-    /// rounded). Only the mesh needs them: relocation reads the diagram's
-    /// topology, so this waits for the final diagram.
+    /// (thin cells, far sites with large weights) are made again in interval
+    /// arithmetic, which bounds their error rigorously (and mostly far below
+    /// the estimate); those still in doubt are made exactly (then rounded).
+    /// Only the mesh needs them: relocation reads the diagram's topology, so
+    /// this waits for the final diagram.
     pub fn exact_corners(&mut self, sites: &Sites, rt: &Triangulation) {
-        let points = &self.points;
-        let error = &self.error;
+        let redo = self.doubtful_corners();
+        let tighter: Vec<(usize, [f64; 2], f64)> = redo
+            .par_iter()
+            .filter_map(|&i| {
+                let c = sites.centre_interval(rt.triangles[self.first[i] as usize]);
+                let radius = c.iter().map(|x| (x.hi - x.lo) / 2.0).fold(0.0, f64::max);
+                // The midpoint is within the width of either end.
+                let err = 2.0 * radius;
+                (err < self.error[i]).then(|| (i, [c[0].mid(), c[1].mid()], err))
+            })
+            .collect();
+        for (i, p, e) in tighter {
+            self.points[i] = p;
+            self.error[i] = e;
+        }
+        let exact: Vec<(usize, [f64; 2])> = self
+            .doubtful_corners()
+            .into_par_iter()
+            .map(|i| (i, sites.centre_exact(rt.triangles[self.first[i] as usize])))
+            .collect();
+        for (i, p) in exact {
+            self.points[i] = p;
+            self.error[i] = 0.0;
+        }
+    }
+
+    /// Corners of an edge whose ends' errors add up to more than 1e-6 of
+    /// its length (corners without error excepted).
+    fn doubtful_corners(&self) -> Vec<usize> {
+        let (points, error) = (&self.points, &self.error);
         let mut redo = vec![false; points.len()];
         for ring in self.cells.iter().flatten() {
             for k in 0..ring.len() {
@@ -220,15 +250,7 @@ impl Diagram {
                 }
             }
         }
-        let exact: Vec<(usize, [f64; 2])> = (0..points.len())
-            .into_par_iter()
-            .filter(|&i| redo[i])
-            .map(|i| (i, sites.centre_exact(rt.triangles[self.first[i] as usize])))
-            .collect();
-        for (i, p) in exact {
-            self.points[i] = p;
-            self.error[i] = 0.0;
-        }
+        (0..points.len()).filter(|&i| redo[i]).collect()
     }
 
     /// Cells reachable from each other without crossing a segment form
@@ -306,7 +328,7 @@ const MAX_REINSERTED: usize = 16;
 pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
     let mut stack: Vec<(u32, u32)> = rt
         .edges()
-        .filter(|&(a, b)| non_regular(sites, rt, a, b).is_some())
+        .filter(|&(a, b)| rt.non_regular(sites, a, b).is_some())
         .collect();
     // A few sites hidden by rounding but not by their exact weights: each
     // goes into the triangle holding it strictly, then the flips below.
@@ -329,45 +351,7 @@ pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
         rt.split(t as u32, h);
         stack.extend([(a, b), (b, c), (c, a)]);
     }
-    flip_to_regular(sites, rt, stack).is_some()
-}
-
-/// The two triangles beside a-b fail the power test: their apexes.
-fn non_regular(sites: &Sites, rt: &Triangulation, a: u32, b: u32) -> Option<(usize, usize)> {
-    let (t1, t2) = (rt.left_of(a, b)?, rt.left_of(b, a)?);
-    let (c, d) = (rt.apex(t1, a, b), rt.apex(t2, b, a));
-    let [a, b, c, d] = [a, b, c, d].map(|v| v as usize);
-    (sites.power_test(a, b, c, d) == Ordering::Greater).then_some((c, d))
-}
-
-/// Lawson flips from the edges on `stack` until every edge they reach is
-/// locally regular: the vertices of the flipped quadrilaterals, or None
-/// when an edge cannot be flipped or the flips do not settle.
-fn flip_to_regular(
-    sites: &Sites,
-    rt: &mut Triangulation,
-    mut stack: Vec<(u32, u32)>,
-) -> Option<Vec<u32>> {
-    let mut touched = vec![];
-    let mut budget = 10 * stack.len() + 1000;
-    while let Some((a, b)) = stack.pop() {
-        let Some((c, d)) = non_regular(sites, rt, a, b) else {
-            continue;
-        };
-        let (au, bu) = (a as usize, b as usize);
-        if budget == 0
-            || sites.orient(c, au, d) != Ordering::Greater
-            || sites.orient(c, d, bu) != Ordering::Greater
-        {
-            return None;
-        }
-        budget -= 1;
-        rt.flip(a, b);
-        let (c, d) = (c as u32, d as u32);
-        stack.extend([(a, d), (d, b), (b, c), (c, a)]);
-        touched.extend([a, b, c, d]);
-    }
-    Some(touched)
+    rt.flip_to_regular(sites, stack).is_some()
 }
 
 /// Whether site v is an interior vertex of rt whose triangles are all
@@ -400,7 +384,7 @@ pub fn repair_around(sites: &Sites, rt: &mut Triangulation, moved: &[usize]) -> 
             stack.extend([(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])]);
         }
     }
-    let mut touched = flip_to_regular(sites, rt, stack)?;
+    let mut touched = rt.flip_to_regular(sites, stack)?;
     for &v in moved {
         touched.push(v as u32);
         for t in rt.star(v as u32)? {

@@ -658,6 +658,21 @@ impl Sites {
         (centre, if err.is_finite() { err } else { f64::INFINITY })
     }
 
+    /// The power centre of three sites in interval arithmetic from their
+    /// enclosures: a rigorous enclosure of each coordinate.
+    pub fn centre_interval(&self, t: [u32; 3]) -> [Iv; 2] {
+        let [a, b, c] = t.map(|s| self.iv[s as usize]);
+        let u = [b[0] - a[0], b[1] - a[1]];
+        let v = [c[0] - a[0], c[1] - a[1]];
+        let two_det = (u[0] * v[1] - u[1] * v[0]) * Iv::of(2.0);
+        let ru = u[0].sqr() + u[1].sqr() - (b[2] - a[2]);
+        let rv = v[0].sqr() + v[1].sqr() - (c[2] - a[2]);
+        [
+            a[0] + (ru * v[1] - rv * u[1]) / two_det,
+            a[1] + (rv * u[0] - ru * v[0]) / two_det,
+        ]
+    }
+
     /// The power centre of three sites exactly, rounded to doubles.
     pub fn centre_exact(&self, t: [u32; 3]) -> [f64; 2] {
         self.exact_evaluations.fetch_add(1, Relaxed);
@@ -763,6 +778,16 @@ fn spanning_triple(p: [f64; 2], around: &[[f64; 2]]) -> Option<[usize; 3]> {
         }
     }
     best.map(|(t, _)| t)
+}
+
+impl crate::backend::FlipTests for Sites {
+    fn orient(&self, a: u32, b: u32, c: u32) -> Ordering {
+        Sites::orient(self, a as usize, b as usize, c as usize)
+    }
+
+    fn power(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
+        self.power_test(a as usize, b as usize, c as usize, d as usize)
+    }
 }
 
 #[cfg(test)]

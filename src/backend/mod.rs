@@ -7,11 +7,13 @@ mod cgal;
 pub mod pure;
 #[cfg(feature = "cgal")]
 pub use cgal::Cgal;
+pub(crate) mod points;
 
 use crate::error::Result;
 use crate::exact::Q;
 #[cfg(test)]
 use crate::FastMap;
+use std::cmp::Ordering;
 
 /// What every backend computes, in batch.
 pub trait Backend: Sync {
@@ -80,6 +82,15 @@ pub struct Triangulation {
 
 /// No triangle.
 const NONE: u32 = u32::MAX;
+
+/// The exact tests Lawson flips decide with, by vertex index.
+pub trait FlipTests {
+    /// Greater when (a, b, c) is counter-clockwise.
+    fn orient(&self, a: u32, b: u32, c: u32) -> Ordering;
+    /// Greater when d conflicts with the counter-clockwise triangle abc
+    /// (its lifted point lies below their plane).
+    fn power(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering;
+}
 
 impl Triangulation {
     /// From triangles and their adjacency (as the backends give them).
@@ -239,6 +250,52 @@ impl Triangulation {
         self.corner[c as usize] = t1;
         self.corner[h as usize] = t;
         self.hidden.retain(|&x| x != h);
+    }
+
+    /// The two triangles beside a-b fail the power test: their apexes.
+    pub fn non_regular<T: FlipTests + ?Sized>(
+        &self,
+        tests: &T,
+        a: u32,
+        b: u32,
+    ) -> Option<(u32, u32)> {
+        let (t1, t2) = (self.left_of(a, b)?, self.left_of(b, a)?);
+        let (c, d) = (self.apex(t1, a, b), self.apex(t2, b, a));
+        (tests.power(a, b, c, d) == Ordering::Greater).then_some((c, d))
+    }
+
+    /// Lawson flips from the edges on `stack` until every edge they reach
+    /// is locally regular: the vertices of the flipped quadrilaterals, or
+    /// None when an edge cannot be flipped (its quadrilateral is not
+    /// strictly convex) or the flips do not settle.
+    pub fn flip_to_regular<T: FlipTests + ?Sized>(
+        &mut self,
+        tests: &T,
+        mut stack: Vec<(u32, u32)>,
+    ) -> Option<Vec<u32>> {
+        let mut touched = vec![];
+        let mut budget = 10 * stack.len() + 1000;
+        while let Some((a, b)) = stack.pop() {
+            let Some((c, d)) = self.non_regular(tests, a, b) else {
+                continue;
+            };
+            if budget == 0
+                || tests.orient(c, a, d) != Ordering::Greater
+                || tests.orient(c, d, b) != Ordering::Greater
+            {
+                return None;
+            }
+            budget -= 1;
+            self.flip(a, b);
+            stack.extend([(a, d), (d, b), (b, c), (c, a)]);
+            touched.extend([a, b, c, d]);
+        }
+        Some(touched)
+    }
+
+    /// Whether input index v is a vertex.
+    pub fn is_vertex(&self, v: u32) -> bool {
+        self.corner.get(v as usize).is_some_and(|&t| t != NONE)
     }
 
     /// Whether {a, b} is an edge.

@@ -8,19 +8,16 @@
 //! Constrained Delaunay triangulations insert each segment into the
 //! Delaunay triangulation by retriangulating the polygons beside it.
 
-use super::{Backend, Triangulation};
+use super::points::{power_q, sign_q, F64Points};
+use super::{Backend, FlipTests, Triangulation};
 use crate::error::{Error, Result};
-use crate::exact::{det3, det3_q, q, Iv, Q};
+use crate::exact::{q, Q};
 use std::cmp::Ordering;
 
 /// Weighted points as the engine sees them: exact predicates by index.
-pub(crate) trait Weighted {
+/// Orientation and power tests come from `FlipTests`.
+pub(crate) trait Weighted: FlipTests {
     fn len(&self) -> usize;
-    /// Orientation of (a, b, c): Greater when counter-clockwise.
-    fn orient(&self, a: u32, b: u32, c: u32) -> Ordering;
-    /// Greater when d's lifted point lies strictly below the plane through
-    /// the lifted a, b, c (ccw): d conflicts with triangle abc.
-    fn power(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering;
     /// For d on the line ab: Greater when d's lifted point lies strictly
     /// below the lifted line through a and b (at a or b: when d is heavier).
     fn power_1d(&self, a: u32, b: u32, d: u32) -> Ordering;
@@ -30,33 +27,6 @@ pub(crate) trait Weighted {
     fn weight_cmp(&self, a: u32, b: u32) -> Ordering;
     /// An approximate position, for the spatial sort only.
     fn approx(&self, a: u32) -> [f64; 2];
-}
-
-/// Double points and weights.
-pub(crate) struct F64Points<'a> {
-    pub p: &'a [[f64; 2]],
-    pub w: &'a [f64],
-}
-
-/// The power test exactly: the lifted determinant relative to d.
-fn power_q(p: [&[Q; 2]; 4], w: [&Q; 4]) -> Ordering {
-    let d = p[3];
-    let row = |x: &[Q; 2], wx: &Q| {
-        let dx = &x[0] - &d[0];
-        let dy = &x[1] - &d[1];
-        let z = &dx * &dx + &dy * &dy - wx + w[3];
-        [dx, dy, z]
-    };
-    let r = [row(p[0], w[0]), row(p[1], w[1]), row(p[2], w[2])];
-    sign_q(&det3_q([
-        [&r[0][0], &r[0][1], &r[0][2]],
-        [&r[1][0], &r[1][1], &r[1][2]],
-        [&r[2][0], &r[2][1], &r[2][2]],
-    ]))
-}
-
-fn sign_q(x: &Q) -> Ordering {
-    x.partial_cmp(&Q::from(0)).expect("rationals are ordered")
 }
 
 /// L^2 z'(d) against s z'(b), relative to a (see `power_1d`).
@@ -74,52 +44,6 @@ fn power_1d_q(a: &[Q; 2], b: &[Q; 2], d: &[Q; 2], wa: &Q, wb: &Q, wd: &Q) -> Ord
 impl Weighted for F64Points<'_> {
     fn len(&self) -> usize {
         self.p.len()
-    }
-
-    fn orient(&self, a: u32, b: u32, c: u32) -> Ordering {
-        crate::exact::orient(self.p[a as usize], self.p[b as usize], self.p[c as usize])
-    }
-
-    fn power(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
-        let pd = self.p[d as usize];
-        let wd = self.w[d as usize];
-        // Semi-static filter: the determinant in doubles against a bound on
-        // its rounding error (each entry within 5 eps of its magnitude, the
-        // products and sums adding a few more: 64 eps of the permanent is
-        // generous); then intervals; then rationals.
-        let fast = |x: u32| {
-            let (px, wx) = (self.p[x as usize], self.w[x as usize]);
-            let (dx, dy) = (px[0] - pd[0], px[1] - pd[1]);
-            let sq = dx * dx + dy * dy;
-            let wz = wx - wd;
-            (dx, dy, sq - wz, sq + wz.abs())
-        };
-        let (ax, ay, az, am) = fast(a);
-        let (bx, by, bz, bm) = fast(b);
-        let (cx, cy, cz, cm) = fast(c);
-        let det = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
-        let perm = ax.abs() * (by.abs() * cm + bm * cy.abs())
-            + ay.abs() * (bx.abs() * cm + bm * cx.abs())
-            + am * (bx.abs() * cy.abs() + by.abs() * cx.abs());
-        let bound = 64.0 * f64::EPSILON * perm;
-        if det > bound {
-            return Ordering::Greater;
-        }
-        if det < -bound {
-            return Ordering::Less;
-        }
-        let row = |x: u32| {
-            let (px, wx) = (self.p[x as usize], self.w[x as usize]);
-            let dx = Iv::of(px[0]) - Iv::of(pd[0]);
-            let dy = Iv::of(px[1]) - Iv::of(pd[1]);
-            [dx, dy, dx.sqr() + dy.sqr() - (Iv::of(wx) - Iv::of(wd))]
-        };
-        if let Some(s) = det3([row(a), row(b), row(c)]).sign() {
-            return s;
-        }
-        let pt = [a, b, c, d].map(|x| self.p[x as usize].map(q));
-        let wt = [a, b, c, d].map(|x| q(self.w[x as usize]));
-        power_q(pt.each_ref(), wt.each_ref())
     }
 
     fn power_1d(&self, a: u32, b: u32, d: u32) -> Ordering {
@@ -148,11 +72,7 @@ pub(crate) struct QPoints<'a> {
     pub w: &'a [Q],
 }
 
-impl Weighted for QPoints<'_> {
-    fn len(&self) -> usize {
-        self.p.len()
-    }
-
+impl FlipTests for QPoints<'_> {
     fn orient(&self, a: u32, b: u32, c: u32) -> Ordering {
         let [a, b, c] = [a, b, c].map(|x| &self.p[x as usize]);
         let d = (&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0]);
@@ -164,6 +84,12 @@ impl Weighted for QPoints<'_> {
             [a, b, c, d].map(|x| &self.p[x as usize]),
             [a, b, c, d].map(|x| &self.w[x as usize]),
         )
+    }
+}
+
+impl Weighted for QPoints<'_> {
+    fn len(&self) -> usize {
+        self.p.len()
     }
 
     fn power_1d(&self, a: u32, b: u32, d: u32) -> Ordering {

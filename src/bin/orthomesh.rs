@@ -12,6 +12,12 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// mimalloc for every allocation, HiGHS' C++ ones too (its `override`
+/// feature): the local form's thousands of small LP solves allocate and
+/// free per solve (measured: 7% of a 10^5-segment run).
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// Conforming orthogonal meshes: power diagrams whose edges contain your
 /// constraint segments exactly, with sites inside their cells, and an exact
 /// certificate.
