@@ -342,18 +342,17 @@ fn pieces(mut sys: System) -> Vec<Piece> {
     }
     // Rows move into their pieces one by one: one copy in memory at a time.
     let (rows, eqs) = (std::mem::take(&mut sys.rows), std::mem::take(&mut sys.eqs));
-    let free_terms = |r: &Row| -> Vec<usize> {
-        r.terms
-            .iter()
-            .map(|t| t.0)
-            .filter(|&c| sys.free[c])
-            .collect()
+    // A row's free weights, into a buffer reused row after row.
+    let free_terms = |r: &Row, f: &mut Vec<usize>| {
+        f.clear();
+        f.extend(r.terms.iter().map(|t| t.0).filter(|&c| sys.free[c]));
     };
+    let (mut f, mut joined) = (vec![], vec![]);
     for r in rows.iter().chain(&eqs) {
         if r.outside {
             continue;
         }
-        let f = free_terms(r);
+        free_terms(r, &mut f);
         for w in f.windows(2) {
             let (a, b) = (root(&mut parent, w[0]), root(&mut parent, w[1]));
             // The smaller index is the root: pieces come out in weight order.
@@ -381,18 +380,32 @@ fn pieces(mut sys: System) -> Vec<Piece> {
         out[piece_of[r]].cols.push(v);
         out[piece_of[r]].sys.l2.push(sys.l2[v]);
     }
-    for (r, eq) in rows
+    for (row, eq) in rows
         .into_iter()
         .map(|r| (r, false))
         .chain(eqs.into_iter().map(|r| (r, true)))
     {
-        let r = &r;
-        let f = free_terms(r);
+        let r = &row;
+        free_terms(r, &mut f);
         let owner = f.first().map(|&c| piece_of[c]);
-        let mut joined: Vec<usize> = f.iter().map(|&c| piece_of[c]).collect();
+        joined.clear();
+        joined.extend(f.iter().map(|&c| piece_of[c]));
         joined.sort_unstable();
         joined.dedup();
         let m = joined.len() as f64;
+        if let [k] = joined[..] {
+            // Whole in one piece (most rows): moved, its terms renumbered.
+            let mut r = row;
+            r.terms.retain(|t| sys.free[t.0]);
+            r.terms.iter_mut().for_each(|t| t.0 = local[t.0]);
+            let piece = &mut out[k].sys;
+            if eq {
+                piece.eqs.push(r);
+            } else {
+                piece.rows.push(r);
+            }
+            continue;
+        }
         for &k in &joined {
             if m > 1.0 && r.weak {
                 // Left to the exact check of RT(w).
@@ -574,36 +587,49 @@ fn local_system(
         .iter()
         .map(|&[i, j]| [i.min(j), i.max(j)])
         .collect();
-    for (a, b) in t.edges() {
-        let (Some(tl), Some(tr)) = (t.left_of(a, b), t.left_of(b, a)) else {
-            continue;
-        };
-        let c = t.apex(tl, a, b);
-        let d = t.apex(tr, b, a);
-        if any_free(&[a, b, c, d]) {
-            let mut row = convexity_row(p, a, b, c, d);
-            row.outside = !inside[tl as usize] || !inside[tr as usize];
-            row.weak = row.outside && !segments.contains(&[a.min(b), a.max(b)]);
-            sys.rows.push(row);
-        }
-    }
-    for (s, &[i, j]) in cx.segments.iter().enumerate() {
-        let (mut apexes, mut outside) = (vec![], vec![]);
-        for (x, y) in [(i, j), (j, i)] {
-            if let Some(tri) = t.left_of(x, y) {
-                apexes.push(t.apex(tri, x, y));
-                outside.push(!inside[tri as usize]);
+    use rayon::prelude::*;
+    // In parallel, in edge order then segment order (rows stay deterministic).
+    let inner: Vec<(u32, u32, u32, u32)> = t
+        .edge_triangles()
+        .filter_map(|(a, b, tl, tr)| Some((a, b, tl, tr?)))
+        .collect();
+    sys.rows = inner
+        .par_iter()
+        .filter_map(|&(a, b, tl, tr)| {
+            let (c, d) = (t.apex(tl, a, b), t.apex(tr, b, a));
+            any_free(&[a, b, c, d]).then(|| {
+                let mut row = convexity_row(p, a, b, c, d);
+                row.outside = !inside[tl as usize] || !inside[tr as usize];
+                row.weak = row.outside && !segments.contains(&[a.min(b), a.max(b)]);
+                row
+            })
+        })
+        .collect();
+    let per_segment: Vec<Vec<Row>> = cx
+        .segments
+        .par_iter()
+        .enumerate()
+        .map(|(s, &[i, j])| {
+            let (mut apexes, mut outside) = (vec![], vec![]);
+            for (x, y) in [(i, j), (j, i)] {
+                if let Some(tri) = t.left_of(x, y) {
+                    apexes.push(t.apex(tri, x, y));
+                    outside.push(!inside[tri as usize]);
+                }
             }
-        }
-        if any_free(&[i, j]) || any_free(&apexes) {
-            sys3_rows(&mut sys, p, s as u32, i, j, &apexes);
+            if !(any_free(&[i, j]) || any_free(&apexes)) {
+                return vec![];
+            }
+            let mut rows = sys3_rows(p, s as u32, i, j, &apexes);
             // Its last rows are the apexes', in order.
-            let first = sys.rows.len() - apexes.len();
-            for (row, out) in sys.rows[first..].iter_mut().zip(outside) {
+            let first = rows.len() - apexes.len();
+            for (row, out) in rows[first..].iter_mut().zip(outside) {
                 row.outside = out;
             }
-        }
-    }
+            rows
+        })
+        .collect();
+    sys.rows.extend(per_segment.into_iter().flatten());
     sys.free = free;
     sys
 }
@@ -697,31 +723,33 @@ fn convexity_row(p: &[[f64; 2]], a: u32, b: u32, c: u32, d: u32) -> Row {
 
 /// System 3 for segment s = (i, j): |w_i - w_j| < L and, for each m, the
 /// radical point q of i, j on the segment has smaller power for i than for m.
-fn sys3_rows(sys: &mut System, p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &[u32]) {
+fn sys3_rows(p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &[u32]) -> Vec<Row> {
     let u = rel(p, i, j);
     let l = u.norm_squared();
     let fam = Family::Sys3(s);
     let (i, j) = (i as usize, j as usize);
-    sys.rows.push(Row {
-        terms: vec![(i, -1.0 / l), (j, 1.0 / l)],
-        rhs: -1.0,
-        family: fam,
-        share: 1.0,
-        outside: false,
-        weak: false,
-    });
-    sys.rows.push(Row {
-        terms: vec![(i, 1.0 / l), (j, -1.0 / l)],
-        rhs: -1.0,
-        family: fam,
-        share: 1.0,
-        outside: false,
-        weak: false,
-    });
+    let mut rows = vec![
+        Row {
+            terms: vec![(i, -1.0 / l), (j, 1.0 / l)],
+            rhs: -1.0,
+            family: fam,
+            share: 1.0,
+            outside: false,
+            weak: false,
+        },
+        Row {
+            terms: vec![(i, 1.0 / l), (j, -1.0 / l)],
+            rhs: -1.0,
+            family: fam,
+            share: 1.0,
+            outside: false,
+            weak: false,
+        },
+    ];
     for &m in others {
         let r = rel(p, i as u32, m);
         let (ur, rr) = (u.dot(&r), r.norm_squared());
-        sys.rows.push(Row {
+        rows.push(Row {
             terms: vec![
                 (i, (1.0 - ur / l) / l),
                 (j, ur / l / l),
@@ -734,6 +762,7 @@ fn sys3_rows(sys: &mut System, p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &
             weak: false,
         });
     }
+    rows
 }
 
 /// The supporting-plane rows of segment s = (i, j) (or, with j == i, of an
@@ -973,6 +1002,11 @@ impl Lp {
             // Measured: on the local form's small pieces presolve costs as
             // much as the solve (and it would discard the warm start).
             model.set_option("presolve", "off");
+            // Measured: HiGHS' accuracy test before a rebuild (a solve with
+            // fresh work vectors each time) was 7% of the pieces' time; their
+            // few updates keep the factors accurate, and the weights are
+            // checked exactly anyway.
+            model.set_option("rebuild_refactor_solution_error_tolerance", 0.0);
         }
         Ok(Lp {
             model: Some(model),
@@ -1569,7 +1603,7 @@ fn global<B: Backend + ?Sized>(
             let scale2 = j.map_or(l2[i as usize], |j| rel(p, i, j).norm_squared());
             plane_rows(&mut sys, p, i, j, &others, scale2);
             if let Some(j) = j {
-                sys3_rows(&mut sys, p, o as u32, i, j, &others);
+                sys.rows.extend(sys3_rows(p, o as u32, i, j, &others));
             }
         }
         if anchored {
@@ -1734,7 +1768,7 @@ mod tests {
             l2: vec![1.0; 3],
             ..Default::default()
         };
-        sys3_rows(&mut sys, &p, 0, 0, 1, &[2]);
+        sys.rows.extend(sys3_rows(&p, 0, 0, 1, &[2]));
         assert_eq!(sys.rows.len(), 3);
         let apex = &sys.rows[2];
         assert_eq!(apex.rhs, -(2.0 - 2.0) / 4.0);
