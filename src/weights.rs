@@ -905,6 +905,14 @@ fn weight_terms(
     w[c].map_or(vec![], |(p, q)| vec![(p, v), (q, -v)])
 }
 
+/// A row over weights alone (no auxiliary columns) as model terms.
+fn weight_row(w: &[Option<(highs::Col, highs::Col)>], r: &Row) -> Vec<(highs::Col, f64)> {
+    r.terms
+        .iter()
+        .flat_map(|&(c, v)| weight_terms(w, c, v))
+        .collect()
+}
+
 /// HiGHS refused a row or the model.
 fn rejected(e: highs::HighsStatus) -> Error {
     Error::Lp(format!(
@@ -963,32 +971,26 @@ impl Lp {
         let lazy_ok = matches!(mode, Mode::Margin) && sys.aux == 0 && !big;
         let mut lazy = vec![];
         for (at, r) in sys.rows.iter().enumerate().filter(|(_, r)| finite(r)) {
-            // The slack at zero weights and zero margin is -rhs.
-            let margin_row = match r.family {
-                Family::Sys1 => true,
-                Family::Sys3(_) => with3,
-                Family::Anchor => false,
-            };
-            if lazy_ok && margin_row && -r.rhs > LAZY_SLACK {
-                lazy.push(at);
-                continue;
-            }
-            let mut terms = terms(r);
             match (r.family, mode) {
                 // Elastic in phase 2 only (`regularise`).
                 (Family::Anchor, _) => continue,
                 (Family::Sys3(_), _) if !with3 => continue,
+                // A margin row; its slack at zero weights and margin is -rhs.
+                _ if lazy_ok && -r.rhs > LAZY_SLACK => lazy.push(at),
                 (Family::Sys3(s), Mode::Elastic { costs, .. }) => {
                     // sum(terms) + slack_s >= rhs + small positive margin
                     let cost = costs.get(&s).copied().unwrap_or(1.0);
                     let sl = *slack.entry(s).or_insert_with(|| pb.add_column(cost, 0.0..));
+                    let mut terms = terms(r);
                     terms.push((sl, 1.0));
                     pb.add_row((r.rhs + 1e-3).., terms);
-                    continue;
                 }
-                _ => terms.push((delta, -r.share)),
+                _ => {
+                    let mut terms = terms(r);
+                    terms.push((delta, -r.share));
+                    pb.add_row(r.rhs.., terms);
+                }
             }
-            pb.add_row(r.rhs.., terms);
         }
         let mut model = pb.try_optimise(sense).map_err(rejected)?;
         model.make_quiet();
@@ -1033,15 +1035,11 @@ impl Lp {
             .lazy
             .iter()
             .partition(|&&at| value(&sys.rows[at]) < 0.0);
-        let model = self.model.as_mut().expect("model");
         for &at in &enter {
             let r = &sys.rows[at];
-            let mut terms: Vec<_> = r
-                .terms
-                .iter()
-                .flat_map(|&(c, v)| weight_terms(&self.w, c, v))
-                .collect();
+            let mut terms = weight_row(&self.w, r);
             terms.push((self.delta, -r.share));
+            let model = self.model.as_mut().expect("model");
             model.try_add_row(r.rhs.., terms).map_err(rejected)?;
         }
         self.lazy = keep;
@@ -1081,11 +1079,7 @@ impl Lp {
                 let down = model
                     .try_add_column(ANCHOR_COST, 0.0.., [])
                     .map_err(rejected)?;
-                let mut terms: Vec<_> = r
-                    .terms
-                    .iter()
-                    .flat_map(|&(c, v)| weight_terms(&self.w, c, v))
-                    .collect();
+                let mut terms = weight_row(&self.w, r);
                 terms.extend([(up, 1.0), (down, -1.0)]);
                 model.try_add_row(r.rhs..=r.rhs, terms).map_err(rejected)?;
             }
@@ -1240,8 +1234,9 @@ fn margin(sys: &System, with3: bool, report: &mut WeightsReport) -> Result<(f64,
 enum Attempt {
     /// Weights whose RT contains every segment (system 3 checked exactly).
     Found(Found),
-    /// Weights whose RT misses segments or hides vertices: rows are missing.
-    NotConforming(Vec<f64>),
+    /// Weights whose RT (given) misses segments or hides vertices: rows
+    /// are missing.
+    NotConforming(Vec<f64>, Triangulation),
     /// System 1 has no trusted margin on these rows.
     Sys1Infeasible,
     /// Systems 1 and 3 together have none (asked not to go elastic).
@@ -1284,7 +1279,7 @@ fn verify<B: Backend + ?Sized>(
     let cx = &dom.complex;
     let rt = regular_from(backend, &cx.points, &w, &dom.cdt, dom.cdt.edges().collect())?;
     if conforms(cx, &rt).is_err() {
-        return Ok(Attempt::NotConforming(w));
+        return Ok(Attempt::NotConforming(w, rt));
     }
     let sys3_failed = sys3_failures(cx, &w, &rt);
     Ok(Attempt::Found(Found {
@@ -1609,7 +1604,7 @@ fn global<B: Backend + ?Sized>(
         if anchored {
             anchor_rows(&mut sys, cx, units);
         }
-        let (found, w) = match attempt(backend, dom, &sys, true, &mut report)? {
+        let (found, w, rt) = match attempt(backend, dom, &sys, true, &mut report)? {
             Attempt::Sys1Infeasible => {
                 // The verdict is the LP's, in floating point: triangles far
                 // thinner than its tolerances make it no verdict at all.
@@ -1637,15 +1632,11 @@ fn global<B: Backend + ?Sized>(
                 return finish(f, report)
             }
             Attempt::Found(f) => {
-                let w = f.w.clone();
-                (Some(f), w)
+                let (w, rt) = (f.w.clone(), f.rt.clone());
+                (Some(f), w, rt)
             }
-            Attempt::NotConforming(w) => (None, w),
+            Attempt::NotConforming(w, rt) => (None, w, rt),
             Attempt::Sys3Infeasible => unreachable!("the global form goes elastic"),
-        };
-        let rt = match &found {
-            Some(f) => f.rt.clone(),
-            None => regular_from(backend, &cx.points, &w, &dom.cdt, dom.cdt.edges().collect())?,
         };
         let (missing, hidden) = conforms(cx, &rt).err().unwrap_or_default();
         let sys3_bad = if missing.is_empty() && hidden.is_empty() {
