@@ -854,6 +854,8 @@ struct Lp {
     slack: HashMap<u32, highs::Col>,
     /// Rows of `sys.rows` not in the model yet (see `LAZY_SLACK`).
     lazy: Vec<usize>,
+    /// Whether the next solve is the dual simplex (see `Lp::simplex`).
+    dual: bool,
 }
 
 thread_local! {
@@ -921,6 +923,31 @@ fn rejected(e: highs::HighsStatus) -> Error {
     ))
 }
 
+/// A lower bound of a simplex model's margin: the margin that zero
+/// weights reach, where that is nearer zero than delta's upper bound 1.
+/// HiGHS starts a boxed column at its bound nearer zero, so delta starts
+/// here and the slack basis meets every margin row (measured: 2% fewer
+/// instructions). The optimum is the same: zero weights reach this margin.
+fn margin_floor(sys: &System, with3: bool, big: bool) -> Bound<f64> {
+    let floor = sys
+        .rows
+        .iter()
+        .filter(finite)
+        .filter(|r| r.share > 0.0)
+        .filter(|r| match r.family {
+            Family::Anchor => false,
+            Family::Sys3(_) => with3,
+            _ => true,
+        })
+        .map(|r| -r.rhs / r.share)
+        .fold(f64::INFINITY, f64::min);
+    if big || !(floor.abs() < 1.0) {
+        Bound::Unbounded
+    } else {
+        Bound::Included(floor)
+    }
+}
+
 /// Bounds of p_i and q_i for |w_i| <= k l_i^2 (k None: unbounded).
 fn part_bounds(sys: &System, i: usize, k: Option<f64>) -> (Bound<f64>, Bound<f64>) {
     (
@@ -944,9 +971,10 @@ impl Lp {
             })
             .collect();
         let aux: Vec<_> = (0..sys.aux).map(|_| pb.add_column(0.0, free)).collect();
+        let big = sys.eqs.len() + sys.rows.len() > BIG_MODEL;
         let (delta, sense) = match mode {
             Mode::Margin => (
-                pb.add_column(1.0, (Bound::Unbounded, Bound::Included(1.0))),
+                pb.add_column(1.0, (margin_floor(sys, with3, big), Bound::Included(1.0))),
                 Sense::Maximise,
             ),
             Mode::Elastic { delta_min, .. } => (
@@ -967,7 +995,6 @@ impl Lp {
         for r in sys.eqs.iter().filter(finite) {
             pb.add_row(r.rhs..=r.rhs, terms(r));
         }
-        let big = sys.eqs.len() + sys.rows.len() > BIG_MODEL;
         let lazy_ok = matches!(mode, Mode::Margin) && sys.aux == 0 && !big;
         let mut lazy = vec![];
         for (at, r) in sys.rows.iter().enumerate().filter(|(_, r)| finite(r)) {
@@ -998,9 +1025,13 @@ impl Lp {
         // where interior point finishes in seconds (method.md section 2).
         model.set_option("solver", if big { "ipm" } else { "simplex" });
         if !big {
-            // Measured: the primal simplex is 20% faster than the dual on
-            // the pieces' phase 1, and goes on from phase 1's basis in phase 2.
+            // Measured: the primal simplex is 20% faster than the dual
+            // (steepest edge) on the pieces' phase 1, and goes on from phase
+            // 1's basis in phase 2. The dual goes on after rows enter or
+            // bounds loosen (`Lp::simplex`); devex pricing, as the primal's:
+            // steepest edge weights cost more than the few iterations need.
             model.set_option("simplex_strategy", 4);
+            model.set_option("simplex_dual_edge_weight_strategy", 1);
             // Measured: on the local form's small pieces presolve costs as
             // much as the solve (and it would discard the warm start).
             model.set_option("presolve", "off");
@@ -1016,6 +1047,7 @@ impl Lp {
             delta,
             slack,
             lazy,
+            dual: false,
         })
     }
 
@@ -1043,11 +1075,28 @@ impl Lp {
             model.try_add_row(r.rhs.., terms).map_err(rejected)?;
         }
         self.lazy = keep;
+        if !enter.is_empty() {
+            self.simplex(true);
+        }
         Ok(!enter.is_empty())
+    }
+
+    /// Which simplex goes on from the current basis: the dual after rows
+    /// enter or bounds loosen (the basis stays dual feasible), the primal
+    /// after costs change (it stays primal feasible). Simplex models only.
+    /// Measured (callgrind, the pieces' solves at 13,200 segments): 15%
+    /// fewer instructions than the primal throughout.
+    fn simplex(&mut self, dual: bool) {
+        if self.dual != dual {
+            let model = self.model.as_mut().expect("model");
+            model.set_option("simplex_strategy", if dual { 1 } else { 4 });
+            self.dual = dual;
+        }
     }
 
     /// Phase 1 again with |w_i| <= k l_i^2 (free: None).
     fn bound(&mut self, sys: &System, k: Option<f64>) {
+        self.simplex(true);
         let model = self.model.as_mut().expect("model");
         for (i, pq) in self.w.iter().enumerate() {
             if let Some((p, q)) = *pq {
@@ -1060,6 +1109,7 @@ impl Lp {
     /// Turns a solved Margin model into phase 2: delta >= delta_min,
     /// minimise sum |w_i| / l_i^2 plus the anchors' violations.
     fn regularise(&mut self, sys: &System, delta_min: f64) -> Result<()> {
+        self.simplex(false);
         let model = self.model.as_mut().expect("model");
         model.set_sense(Sense::Minimise);
         model.change_column_cost(self.delta, 0.0);
