@@ -1182,10 +1182,15 @@ impl Lp {
     }
 
     /// Solves, and again while the solution violates lazy rows (which
-    /// then enter the model; the basis goes on).
-    fn solve(&mut self, sys: &System, report: &mut WeightsReport) -> Result<Solution> {
+    /// then enter the model; the basis goes on). Rows only lower the
+    /// margin: a margin at or below `enough` is returned as it is, an upper
+    /// bound of the whole system's.
+    fn solve(&mut self, sys: &System, report: &mut WeightsReport, enough: f64) -> Result<Solution> {
         loop {
             let (solution, cols) = self.solve_once(sys, report)?;
+            if solution.delta <= enough {
+                return Ok(solution);
+            }
             match cols {
                 Some(cols) if self.enter_violated(sys, &cols)? => continue,
                 _ => return Ok(solution),
@@ -1285,7 +1290,7 @@ fn run(
     mode: &Mode,
     report: &mut WeightsReport,
 ) -> Result<Solution> {
-    Lp::build(sys, with3, k, mode)?.solve(sys, report)
+    Lp::build(sys, with3, k, mode)?.solve(sys, report, f64::NEG_INFINITY)
 }
 
 /// Phase 1 up the k ladder, in one warm model: the best margin, the k that
@@ -1308,7 +1313,11 @@ fn margin(sys: &System, with3: bool, report: &mut WeightsReport) -> Result<(f64,
         if step > 0 {
             lp.bound(sys, k)?;
         }
-        let delta = lp.solve(sys, report)?.delta;
+        // A rung whose margin is not returned fails as soon as its rows so
+        // far leave none (lazy rows cannot raise it).
+        let returned = step + 1 == order.len() || (sys.verdict && step == 0);
+        let enough = if returned { f64::NEG_INFINITY } else { TRUST };
+        let delta = lp.solve(sys, report, enough)?.delta;
         if sys.verdict && step == 0 {
             if delta <= TRUST {
                 return Ok((delta, None, lp));
@@ -1320,7 +1329,7 @@ fn margin(sys: &System, with3: bool, report: &mut WeightsReport) -> Result<(f64,
     }
     // The verdict order: no bound gave a trusted margin, the free one did.
     lp.bound(sys, None)?;
-    lp.solve(sys, report)?;
+    lp.solve(sys, report, f64::NEG_INFINITY)?;
     Ok((best.0, best.1, lp))
 }
 
@@ -1395,7 +1404,7 @@ fn solve_rows(sys: &System, elastic: bool, report: &mut WeightsReport) -> Result
         report.margin = Some(m3);
         report.bound_k = k3;
         lp.regularise(sys, m3 / 2.0)?;
-        (lp.solve(sys, report)?.w, true)
+        (lp.solve(sys, report, f64::NEG_INFINITY)?.w, true)
     } else {
         drop(lp);
         // Usually system 1 alone has a comfortable margin: one elastic solve
