@@ -31,7 +31,11 @@ mod cgal {
             println!("cargo:warning=gmp.h not found: {HELP}");
         }
         cxx_build::bridge("src/backend/cgal/ffi.rs")
-            .files(["cpp/regular2.cpp", "cpp/regular2_exact.cpp"])
+            .files([
+                "cpp/regular2.cpp",
+                "cpp/regular2_exact.cpp",
+                "cpp/regular3.cpp",
+            ])
             .include(&cgal_dir)
             .std("c++17")
             // Unoptimised CGAL is ~24x slower; rounding-math keeps the interval
@@ -49,6 +53,7 @@ mod cgal {
             "cpp/collect.h",
             "cpp/regular2.cpp",
             "cpp/regular2_exact.cpp",
+            "cpp/regular3.cpp",
             "src/backend/cgal/ffi.rs",
         ] {
             println!("cargo:rerun-if-changed={f}");

@@ -7,6 +7,7 @@
 namespace orthomesh {
 
 struct TriangulationOut;
+struct TetrahedralisationOut;
 
 // Regular triangulation of weighted points (x, y, w interleaved), exact
 // predicates on double input. Triangles are counter-clockwise, finite only,
@@ -22,5 +23,11 @@ TriangulationOut constrained_delaunay_2(rust::Slice<const double> xy,
 // Regular triangulation of exact rational weighted points: `xyw` holds
 // 3 tokens per point ("num/den" or integers), whitespace separated.
 TriangulationOut regular_triangulation_2_exact(rust::Str xyw);
+
+// Regular triangulation of weighted points in 3D (x, y, z, w interleaved),
+// exact predicates on double input: positively oriented finite
+// tetrahedra as input indices, their adjacency, the hidden points. Throws
+// when the points are coplanar.
+TetrahedralisationOut regular_triangulation_3(rust::Slice<const double> xyzw);
 
 }  // namespace orthomesh

@@ -231,6 +231,30 @@ pub fn det3_q(r: [[&Q; 3]; 3]) -> Q {
         + r[0][2] * m(r[1][0], r[2][1], r[1][1], r[2][0])
 }
 
+/// 4x4 determinant of interval rows (expanded along the last column).
+pub fn det4(r: [[Iv; 4]; 4]) -> Iv {
+    let minor = |skip: usize| {
+        let m: Vec<[Iv; 3]> = (0..4)
+            .filter(|&i| i != skip)
+            .map(|i| [r[i][0], r[i][1], r[i][2]])
+            .collect();
+        det3([m[0], m[1], m[2]])
+    };
+    r[1][3] * minor(1) - r[0][3] * minor(0) - r[2][3] * minor(2) + r[3][3] * minor(3)
+}
+
+/// The same determinant exactly.
+pub fn det4_q(r: &[[Q; 4]; 4]) -> Q {
+    let minor = |skip: usize| {
+        let m: Vec<[&Q; 3]> = (0..4)
+            .filter(|&i| i != skip)
+            .map(|i| [&r[i][0], &r[i][1], &r[i][2]])
+            .collect();
+        det3_q([m[0], m[1], m[2]])
+    };
+    &r[1][3] * minor(1) - &r[0][3] * minor(0) - &r[2][3] * minor(2) + &r[3][3] * minor(3)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -82,6 +82,18 @@ pub fn staggered_chains(rows: usize, cols: usize, h: f64) -> Complex {
     Complex::new(points, segments)
 }
 
+/// Reproducible uniform doubles in [0, 1) from `seed` (xorshift64): the
+/// synthetic inputs' jitter, and the tests' random points.
+pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed.max(1);
+    move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 /// The scale test's mix (issue 5): an `nx` x `ny` grid of separate square
 /// cavities of side 50 (five segments per side), 10 apart, like the
 /// cavities around wells in a reservoir grid. In a checkerboard half, a
@@ -93,13 +105,8 @@ pub fn staggered_chains(rows: usize, cols: usize, h: f64) -> Complex {
 /// need the LP too.
 pub fn mixed(nx: usize, ny: usize, seed: u64) -> Complex {
     let mut cx = Complex::default();
-    let mut s = seed.max(1);
-    let mut jitter = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut u = uniform(seed);
+    let mut jitter = move || u() - 0.5;
     let (side, pitch) = (50.0, 60.0);
     let chain = |cx: &mut Complex, pts: &[[f64; 2]], closed: bool| {
         let first = cx.points.len() as u32;

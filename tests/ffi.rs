@@ -8,15 +8,8 @@ use orthomesh::exact::Q;
 use orthomesh::Error;
 
 fn random(n: usize, seed: u64) -> Vec<f64> {
-    let mut s = seed;
-    (0..n)
-        .map(|_| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        })
-        .collect()
+    let mut u = orthomesh::generate::uniform(seed);
+    (0..n).map(|_| u()).collect()
 }
 
 /// Every index a vertex or hidden, once; triangles counter-clockwise;
@@ -126,4 +119,37 @@ fn every_throw_in_the_shim_is_an_error() {
         Cgal.constrained_delaunay(&dup, &[[4, 1]]),
         "duplicate point",
     );
+}
+
+#[test]
+fn regular_triangulation_3_batch_and_throws() {
+    use orthomesh::backend::Backend3;
+    let n = 5_000;
+    let r = random(4 * n, 11);
+    let mut points: Vec<[f64; 3]> = (0..n)
+        .map(|i| [r[4 * i], r[4 * i + 1], r[4 * i + 2]])
+        .collect();
+    let mut weights: Vec<f64> = (0..n).map(|i| 1e-4 * r[4 * i + 3]).collect();
+    points.push(points[0]);
+    weights.push(weights[0] - 1.0);
+    let t = Cgal.regular3(&points, &weights).unwrap();
+    assert_eq!(t.hidden, vec![n as u32]);
+    let mut seen = vec![false; n + 1];
+    for tet in &t.tets {
+        for &v in tet {
+            seen[v as usize] = true;
+        }
+    }
+    assert!(seen[..n].iter().all(|&s| s));
+    let flat: Vec<[f64; 3]> = (0..6).map(|i| [i as f64, (i * i) as f64, 0.0]).collect();
+    match Cgal.regular3(&flat, &[0.0; 6]) {
+        Err(Error::Backend(m)) => assert!(m.contains("coplanar"), "{m}"),
+        other => panic!("expected a backend error, got {other:?}"),
+    }
+    let mut bad = flat.clone();
+    bad[1][1] = f64::INFINITY;
+    match Cgal.regular3(&bad, &[0.0; 6]) {
+        Err(Error::Backend(m)) => assert!(m.contains("is not finite"), "{m}"),
+        other => panic!("expected a backend error, got {other:?}"),
+    }
 }

@@ -8,6 +8,8 @@ pub mod pure;
 #[cfg(feature = "cgal")]
 pub use cgal::Cgal;
 pub(crate) mod points;
+mod tetrahedra;
+pub use tetrahedra::Tetrahedralisation;
 
 use crate::error::Result;
 use crate::exact::Q;
@@ -29,6 +31,22 @@ pub trait Backend: Sync {
     ) -> Result<Triangulation>;
     /// Regular triangulation of exact rational weighted points.
     fn regular_exact(&self, points: &[[Q; 2]], weights: &[Q]) -> Result<Triangulation>;
+}
+
+/// The 3D side of a backend (true 3D, issue 6): CGAL's so far; the
+/// pure-Rust engine has no 3D side yet.
+pub trait Backend3: Backend {
+    /// Regular triangulation of weighted double points in 3D, exact
+    /// predicates. Err when the points are coplanar (no tetrahedron).
+    fn regular3(&self, points: &[[f64; 3]], weights: &[f64]) -> Result<Tetrahedralisation>;
+}
+
+/// Every backend with a 3D side compiled in.
+pub fn compiled3() -> Vec<Box<dyn Backend3>> {
+    vec![
+        #[cfg(feature = "cgal")]
+        Box::new(Cgal),
+    ]
 }
 
 /// The backend compiled in by default.
@@ -80,7 +98,7 @@ pub struct Triangulation {
     corner: Vec<u32>,
 }
 
-/// No triangle.
+/// No triangle (tetrahedron).
 const NONE: u32 = u32::MAX;
 
 /// The exact tests Lawson flips decide with, by vertex index.

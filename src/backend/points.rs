@@ -2,7 +2,7 @@
 //! flips above the backends decide with, and the pure-Rust engine's input.
 
 use super::FlipTests;
-use crate::exact::{det3, det3_q, q, Iv, Q};
+use crate::exact::{det3, det3_q, det4, det4_q, q, Iv, Q};
 use std::cmp::Ordering;
 
 /// Double points and weights.
@@ -77,5 +77,58 @@ impl FlipTests for F64Points<'_> {
         let pt = [a, b, c, d].map(|x| self.p[x as usize].map(q));
         let wt = [a, b, c, d].map(|x| q(self.w[x as usize]));
         power_q(pt.each_ref(), wt.each_ref())
+    }
+}
+
+/// Double points in 3D and weights. (So far only the tests of the 3D
+/// backends use them; the 3D pipeline stages are next, issue 6.)
+#[allow(dead_code)]
+pub(crate) struct F64Points3<'a> {
+    pub p: &'a [[f64; 3]],
+    pub w: &'a [f64],
+}
+
+#[allow(dead_code)]
+impl F64Points3<'_> {
+    /// Greater when d sees (a, b, c) counter-clockwise: the sign of
+    /// det[b - a; c - a; d - a] (CGAL's orientation; Shewchuk's orient3d
+    /// has the opposite sign).
+    pub fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
+        let co = |x: u32| {
+            let p = self.p[x as usize];
+            robust::Coord3D {
+                x: p[0],
+                y: p[1],
+                z: p[2],
+            }
+        };
+        let s = robust::orient3d(co(a), co(b), co(c), co(d));
+        0.0.partial_cmp(&s).unwrap_or(Ordering::Equal)
+    }
+
+    /// Greater when e conflicts with the positively oriented tetrahedron
+    /// abcd: its lifted point lies strictly below the hyperplane through
+    /// theirs (inside their orthosphere). The sign of the lifted 4x4
+    /// determinant relative to e, negated: doubles against a bound on
+    /// their rounding error, then intervals, then rationals.
+    pub fn power(&self, t: [u32; 4], e: u32) -> Ordering {
+        let (pe, we) = (self.p[e as usize], self.w[e as usize]);
+        let rows_iv = t.map(|x| {
+            let (px, wx) = (self.p[x as usize], self.w[x as usize]);
+            let d = [0, 1, 2].map(|k| Iv::of(px[k]) - Iv::of(pe[k]));
+            let z = d[0].sqr() + d[1].sqr() + d[2].sqr() - (Iv::of(wx) - Iv::of(we));
+            [d[0], d[1], d[2], z]
+        });
+        if let Some(s) = det4(rows_iv).sign() {
+            return s.reverse();
+        }
+        let qe = pe.map(q);
+        let rows_q = t.map(|x| {
+            let (px, wx) = (self.p[x as usize], self.w[x as usize]);
+            let d = [0, 1, 2].map(|k| q(px[k]) - &qe[k]);
+            let z = &d[0] * &d[0] + &d[1] * &d[1] + &d[2] * &d[2] - q(wx) + q(we);
+            [d[0].clone(), d[1].clone(), d[2].clone(), z]
+        });
+        sign_q(&det4_q(&rows_q)).reverse()
     }
 }

@@ -14,11 +14,22 @@ pub(super) mod bridge {
         hidden: Vec<u32>,
     }
 
+    struct TetrahedralisationOut {
+        /// positively oriented tetrahedra, 4 input indices each
+        tets: Vec<u32>,
+        /// per tetrahedron, the one across the face opposite its vertex k,
+        /// u32::MAX on the hull
+        neighbours: Vec<u32>,
+        /// input indices that are no vertex of the triangulation
+        hidden: Vec<u32>,
+    }
+
     unsafe extern "C++" {
         include!("orthomesh/cpp/shim.h");
 
         fn regular_triangulation_2(xyw: &[f64]) -> Result<TriangulationOut>;
         fn constrained_delaunay_2(xy: &[f64], segments: &[u32]) -> Result<TriangulationOut>;
         fn regular_triangulation_2_exact(xyw: &str) -> Result<TriangulationOut>;
+        fn regular_triangulation_3(xyzw: &[f64]) -> Result<TetrahedralisationOut>;
     }
 }

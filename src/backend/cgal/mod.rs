@@ -1,10 +1,11 @@
 //! CGAL backend: `Regular_triangulation_2` over Epick (double input, exact
-//! predicates) and Epeck (rational input), `Constrained_Delaunay_triangulation_2`.
+//! predicates) and Epeck (rational input), `Constrained_Delaunay_triangulation_2`,
+//! `Regular_triangulation_3` over Epick.
 
 #[allow(unsafe_code)]
 mod ffi;
 
-use super::{Backend, Triangulation};
+use super::{Backend, Backend3, Tetrahedralisation, Triangulation};
 use crate::error::{Error, Result};
 use crate::exact::Q;
 use std::fmt::Write;
@@ -55,5 +56,22 @@ impl Backend for Cgal {
             let _ = writeln!(text, "{} {} {}", p[0], p[1], w);
         }
         convert(ffi::bridge::regular_triangulation_2_exact(&text))
+    }
+}
+
+impl Backend3 for Cgal {
+    fn regular3(&self, points: &[[f64; 3]], weights: &[f64]) -> Result<Tetrahedralisation> {
+        let xyzw: Vec<f64> = points
+            .iter()
+            .zip(weights)
+            .flat_map(|(p, w)| [p[0], p[1], p[2], *w])
+            .collect();
+        let out = ffi::bridge::regular_triangulation_3(&xyzw)
+            .map_err(|e| Error::Backend(format!("CGAL: {}", e.what())))?;
+        Ok(Tetrahedralisation::from_parts(
+            &out.tets,
+            &out.neighbours,
+            out.hidden,
+        ))
     }
 }
