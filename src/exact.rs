@@ -59,6 +59,19 @@ pub fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
     d.partial_cmp(&0.0).unwrap_or(Ordering::Equal)
 }
 
+/// Exact orientation of four double points: Greater when d sees (a, b, c)
+/// counter-clockwise, the sign of det[b - a; c - a; d - a] (CGAL's
+/// orientation; Shewchuk's orient3d, which decides it, has the other sign).
+pub fn orient3(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Ordering {
+    let co = |p: [f64; 3]| robust::Coord3D {
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    };
+    let s = robust::orient3d(co(a), co(b), co(c), co(d));
+    0.0.partial_cmp(&s).unwrap_or(Ordering::Equal)
+}
+
 /// Whether p lies in the closed axis-aligned box of segment ab.
 pub fn in_box(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
     (0..2).all(|k| p[k] >= a[k].min(b[k]) && p[k] <= a[k].max(b[k]))

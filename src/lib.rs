@@ -36,6 +36,7 @@
 pub mod backend;
 pub mod certify;
 pub mod complex;
+pub mod complex3;
 pub mod conform;
 pub mod diagram;
 pub mod domain;

@@ -194,7 +194,7 @@ fn demo_data_is_certified_with_zero_weights() {
 #[test]
 fn test_data_copies_are_unmodified() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    for folder in ["pslg", "grids"] {
+    for folder in ["pslg", "grids", "plc3d"] {
         let original = root.join("../shared/data").join(folder);
         let Ok(entries) = std::fs::read_dir(&original) else {
             eprintln!("no shared data next to the repository: nothing to compare");
@@ -264,4 +264,25 @@ fn split_segments_puts_every_site_inside_the_letter_a() {
             );
         }
     }
+}
+
+/// TetGen's example PLC: read and validated as a 3D complex (the 3D
+/// pipeline that would mesh it comes next, issue 6).
+#[test]
+fn tetgen_example_plc_reads_and_validates() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
+    let cx = orthomesh::io::read_complex3(&path).unwrap();
+    assert_eq!(cx.points.len(), 28);
+    assert_eq!(cx.facets.len(), 23);
+    // Facet 3: the front side with a window (a second polygon) and a
+    // hole point in it.
+    assert_eq!(cx.facets[2].polygons.len(), 2);
+    assert_eq!(cx.facets[2].holes, vec![[1.0, 0.0, 2.25]]);
+    assert_eq!(cx.facets[2].marker, 3);
+    assert_eq!(cx.holes, vec![[1.0, 0.4, 2.25], [1.0, 0.4, 0.75]]);
+    cx.validate().unwrap();
+    // The 2D reader says what the file is.
+    let e = orthomesh::io::read_complex(&path).unwrap_err().to_string();
+    assert!(e.contains("dimension 3") && e.contains("TetGen"), "{e}");
 }

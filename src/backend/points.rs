@@ -90,20 +90,10 @@ pub(crate) struct F64Points3<'a> {
 
 #[allow(dead_code)]
 impl F64Points3<'_> {
-    /// Greater when d sees (a, b, c) counter-clockwise: the sign of
-    /// det[b - a; c - a; d - a] (CGAL's orientation; Shewchuk's orient3d
-    /// has the opposite sign).
+    /// Greater when d sees (a, b, c) counter-clockwise (`exact::orient3`).
     pub fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
-        let co = |x: u32| {
-            let p = self.p[x as usize];
-            robust::Coord3D {
-                x: p[0],
-                y: p[1],
-                z: p[2],
-            }
-        };
-        let s = robust::orient3d(co(a), co(b), co(c), co(d));
-        0.0.partial_cmp(&s).unwrap_or(Ordering::Equal)
+        let p = |x: u32| self.p[x as usize];
+        crate::exact::orient3(p(a), p(b), p(c), p(d))
     }
 
     /// Greater when e conflicts with the positively oriented tetrahedron

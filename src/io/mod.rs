@@ -4,6 +4,7 @@ pub mod eclipse;
 pub mod edg;
 pub mod poly;
 pub mod svg;
+pub mod tetgen;
 pub mod tough;
 pub mod vtu;
 
@@ -27,6 +28,28 @@ pub fn read_complex(path: &Path) -> Result<Complex> {
             path.display()
         ))),
     }
+}
+
+/// Reads a 3D constraint complex (TetGen `.poly` or `.smesh`), not yet
+/// validated.
+pub fn read_complex3(path: &Path) -> Result<crate::complex3::Complex3> {
+    let text = read_text(path)?;
+    let format = match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .as_deref()
+    {
+        Some("poly") => tetgen::Format::Poly,
+        Some("smesh") => tetgen::Format::Smesh,
+        _ => {
+            return Err(Error::Usage(format!(
+                "{}: unknown 3D input format (expected .poly or .smesh)",
+                path.display()
+            )))
+        }
+    };
+    tetgen::parse(&text, path, format)
 }
 
 pub(crate) fn read_text(path: &Path) -> Result<String> {
@@ -67,6 +90,27 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         let _ = std::fs::remove_file(&tmp);
         io_err(path, e)
     })
+}
+
+/// Input index of each file id.
+pub(crate) fn index_of(ids: &[i64]) -> std::collections::HashMap<i64, u32> {
+    ids.iter()
+        .enumerate()
+        .map(|(i, &id)| (id, i as u32))
+        .collect()
+}
+
+/// Token 0 of a record as a vertex id, which must follow `prev` (ids are
+/// consecutive).
+pub(crate) fn next_id(r: &Records, line: usize, t: &[&str], prev: Option<&i64>) -> Result<i64> {
+    let id: i64 = r.num(line, t, 0, "vertex id")?;
+    match prev {
+        Some(prev) if id != prev + 1 => Err(r.error(
+            line,
+            format!("vertex id {id} after {prev}: ids must be consecutive"),
+        )),
+        _ => Ok(id),
+    }
 }
 
 /// Non-blank, non-comment lines of a text file as (1-based line, tokens),

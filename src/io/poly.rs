@@ -4,7 +4,6 @@
 use super::Records;
 use crate::complex::Complex;
 use crate::error::Result;
-use std::collections::HashMap;
 use std::path::Path;
 
 /// Writes a complex as a `.poly` text (its own vertex and segment ids,
@@ -43,12 +42,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Complex> {
     } else {
         read_vertex_list(&mut r, line, &head, &mut cx)?;
     }
-    let index: HashMap<i64, u32> = cx
-        .vertex_ids
-        .iter()
-        .enumerate()
-        .map(|(i, &id)| (id, i as u32))
-        .collect();
+    let index = super::index_of(&cx.vertex_ids);
 
     let (line, head) = r.next_record("the segment header 'count markers'")?;
     let ns: usize = r.num(line, &head, 0, "segment count")?;
@@ -93,22 +87,18 @@ fn read_vertex_list(r: &mut Records, line: usize, head: &[&str], cx: &mut Comple
     if dim != 2 {
         return Err(r.error(
             line,
-            format!("dimension {dim}: this reader takes 2D .poly files"),
+            format!(
+                "dimension {dim}: this reader takes 2D .poly files (a 3D one is TetGen's \
+                 piecewise linear complex, which `io::read_complex3` reads; the 3D \
+                 pipeline that would mesh it is not built yet)"
+            ),
         ));
     }
     for k in 0..nv {
         let (line, t) = r.next_record(&format!("vertex {} of {nv}", k + 1))?;
-        let id: i64 = r.num(line, &t, 0, "vertex id")?;
+        let id = super::next_id(r, line, &t, cx.vertex_ids.last())?;
         let x: f64 = r.num(line, &t, 1, "x coordinate")?;
         let y: f64 = r.num(line, &t, 2, "y coordinate")?;
-        if let Some(prev) = cx.vertex_ids.last() {
-            if id != prev + 1 {
-                return Err(r.error(
-                    line,
-                    format!("vertex id {id} after {prev}: ids must be consecutive"),
-                ));
-            }
-        }
         cx.points.push([x, y]);
         cx.vertex_ids.push(id);
     }
