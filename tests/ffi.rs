@@ -130,8 +130,11 @@ fn regular_triangulation_3_batch_and_throws() {
         .map(|i| [r[4 * i], r[4 * i + 1], r[4 * i + 2]])
         .collect();
     let mut weights: Vec<f64> = (0..n).map(|i| 1e-4 * r[4 * i + 3]).collect();
-    points.push(points[0]);
-    weights.push(weights[0] - 1.0);
+    // Hidden by its weight. (Not a duplicate point, as the unit tests
+    // have: under valgrind, which ignores the rounding modes CGAL's
+    // interval filters set, CGAL 3D then keeps both copies.)
+    points.push([0.5, 0.5, 0.5]);
+    weights.push(-1.0);
     let t = Cgal.regular3(&points, &weights).unwrap();
     assert_eq!(t.hidden, vec![n as u32]);
     let mut seen = vec![false; n + 1];
