@@ -58,6 +58,14 @@ pub enum Error {
     Certificate(String),
     /// Command-line usage error.
     Usage(String),
+    /// 3D input: pairs of facets (ids from 1) that meet other than in shared
+    /// edges and vertices.
+    CrossingFacets { pairs: Vec<(i64, i64)> },
+    /// 3D input: facets that are not planar polygons (named in the message).
+    BadFacets(String),
+    /// 3D input: what is wrong inside one facet (numbered from 1 in file
+    /// order), its edges numbered from 1 in file order.
+    InFacet { facet: i64, error: Box<Error> },
 }
 
 /// Shows at most 20 items, then how many more.
@@ -133,6 +141,17 @@ impl fmt::Display for Error {
             Error::Backend(m) => write!(f, "triangulation backend: {m}"),
             Error::Certificate(m) => write!(f, "certificate failed: {m}"),
             Error::Usage(m) => write!(f, "{m}"),
+            Error::BadFacets(m) => write!(f, "invalid facets: {m}"),
+            Error::CrossingFacets { pairs: p } => write!(
+                f,
+                "facets that cross, overlap or touch other than in shared edges and vertices \
+                 (facets numbered from 1 in file order): {}",
+                pairs(p, " x ")
+            ),
+            Error::InFacet { facet, error } => write!(
+                f,
+                "in facet {facet} (its edges numbered from 1 in file order): {error}"
+            ),
         }
     }
 }

@@ -72,6 +72,21 @@ pub fn orient3(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Ordering {
     0.0.partial_cmp(&s).unwrap_or(Ordering::Equal)
 }
 
+/// Whether the closed segments ab and cd share a point (exactly).
+pub fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    let o = [
+        orient(a, b, c),
+        orient(a, b, d),
+        orient(c, d, a),
+        orient(c, d, b),
+    ];
+    let touch = [(a, b, c), (a, b, d), (c, d, a), (c, d, b)];
+    if (0..4).any(|k| o[k] == Ordering::Equal && in_box(touch[k].0, touch[k].1, touch[k].2)) {
+        return true;
+    }
+    !o.contains(&Ordering::Equal) && o[0] != o[1] && o[2] != o[3]
+}
+
 /// Whether p lies in the closed axis-aligned box of segment ab.
 pub fn in_box(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
     (0..2).all(|k| p[k] >= a[k].min(b[k]) && p[k] <= a[k].max(b[k]))

@@ -282,6 +282,30 @@ fn tetgen_example_plc_reads_and_validates() {
     assert_eq!(cx.facets[2].marker, 3);
     assert_eq!(cx.holes, vec![[1.0, 0.4, 2.25], [1.0, 0.4, 0.75]]);
     cx.validate().unwrap();
+    // Its facets triangulated by every backend's 2D side, and found to
+    // meet only in shared edges and vertices. Facet 3 (a square with a
+    // square window) is an annulus of 8 triangles; every facet point is
+    // on a triangle.
+    for b in orthomesh::backend::compiled() {
+        let sc = cx.triangulate(&*b).unwrap();
+        let of = |f: u32| sc.triangle_facet.iter().filter(|&&g| g == f).count();
+        assert_eq!(of(2), 8, "{}", b.name());
+        assert!((0..23).all(|f| of(f) >= 2), "{}", b.name());
+        assert!(sc.segments.is_empty() && sc.points.is_empty());
+        // Facet 3: the 2 x 4 side less its 1.5 x 0.5 window.
+        let area: f64 = (0..sc.triangles.len())
+            .filter(|&t| sc.triangle_facet[t] == 2)
+            .map(|t| {
+                let [a, b, c] = sc.triangles[t].map(|v| cx.points[v as usize]);
+                let u = [0, 1, 2].map(|k| b[k] - a[k]);
+                let w = [0, 1, 2].map(|k| c[k] - a[k]);
+                let n = [0, 1, 2]
+                    .map(|k| u[(k + 1) % 3] * w[(k + 2) % 3] - u[(k + 2) % 3] * w[(k + 1) % 3]);
+                (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / 2.0
+            })
+            .sum();
+        assert!((area - 7.25).abs() < 1e-12, "{}: {area}", b.name());
+    }
     // The 2D reader says what the file is.
     let e = orthomesh::io::read_complex(&path).unwrap_err().to_string();
     assert!(e.contains("dimension 3") && e.contains("TetGen"), "{e}");

@@ -23,6 +23,11 @@ pub fn read_complex(path: &Path) -> Result<Complex> {
     {
         Some("poly") => poly::parse(&text, path),
         Some("edg") => edg::parse(&text, path),
+        Some("smesh") => Err(Error::Usage(format!(
+            "{}: a TetGen piecewise linear complex (3D), which `io::read_complex3` reads; \
+             the 3D pipeline that would mesh it is not built yet",
+            path.display()
+        ))),
         _ => Err(Error::Usage(format!(
             "{}: unknown input format (expected .poly or .edg)",
             path.display()
