@@ -19,14 +19,7 @@ use std::time::{Duration, Instant};
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn random_points(n: usize, seed: u64) -> Vec<[f64; 2]> {
-    // xorshift: reproducible without a dependency
-    let mut s = seed;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = orthomesh::generate::uniform(seed);
     (0..n).map(|_| [next(), next()]).collect()
 }
 
@@ -156,6 +149,25 @@ fn regular_triangulation(c: &mut Criterion) {
     g.finish();
 }
 
+/// The 3D side's raw regular triangulation (issue 6: the baseline the 3D
+/// pipeline will be measured against), every backend with a 3D side.
+fn regular_triangulation_3(c: &mut Criterion) {
+    let mut g = c.benchmark_group("regular_triangulation_3");
+    g.sample_size(10).measurement_time(Duration::from_secs(3));
+    for n in [10_000usize, 100_000] {
+        let mut u = orthomesh::generate::uniform(13);
+        let pts: Vec<[f64; 3]> = (0..n).map(|_| [u(), u(), u()]).collect();
+        let w: Vec<f64> = (0..n).map(|_| 1e-4 * u()).collect();
+        g.throughput(Throughput::Elements(n as u64));
+        for b in orthomesh::backend::compiled3() {
+            g.bench_with_input(BenchmarkId::new(b.name(), n), &n, |bench, _| {
+                bench.iter(|| b.regular3(&pts, &w).unwrap())
+            });
+        }
+    }
+    g.finish();
+}
+
 /// The whole pipeline on cavities around wells: zero weights, and, with the
 /// wells close to the cavity sides, the LP's local form.
 fn conform_pipeline(c: &mut Criterion) {
@@ -232,6 +244,7 @@ fn hybrid_pipeline(c: &mut Criterion) {
 criterion_group!(
     benches,
     regular_triangulation,
+    regular_triangulation_3,
     conform_pipeline,
     hybrid_pipeline
 );
