@@ -36,6 +36,59 @@ pub struct Complex {
     pub anchors: Vec<Option<[f64; 2]>>,
 }
 
+/// Points with a NaN or infinite coordinate, then points beyond
+/// MAX_COORD, as errors naming their ids (weights are squared lengths in
+/// doubles: squares must neither overflow nor vanish).
+pub(crate) fn finite_in_range<const D: usize>(points: &[[f64; D]], ids: &[i64]) -> Result<()> {
+    let bad: Vec<i64> = (0..points.len())
+        .filter(|&i| !points[i].iter().all(|c| c.is_finite()))
+        .map(|i| ids[i])
+        .collect();
+    if !bad.is_empty() {
+        return Err(Error::NonFinite { vertices: bad });
+    }
+    let big: Vec<i64> = (0..points.len())
+        .filter(|&i| points[i].iter().any(|c| c.abs() > MAX_COORD))
+        .map(|i| ids[i])
+        .collect();
+    if !big.is_empty() {
+        return Err(Error::OutOfRange(format!(
+            "vertices beyond +-{MAX_COORD:e} (rescale the input): {big:?}"
+        )));
+    }
+    Ok(())
+}
+
+/// Exact duplicates (-0.0 and 0.0 are the same position), then an extent
+/// below MIN_EXTENT, as errors naming them.
+pub(crate) fn distinct_with_extent<const D: usize>(points: &[[f64; D]], ids: &[i64]) -> Result<()> {
+    let key = |p: [f64; D]| p.map(|c| (c + 0.0).to_bits());
+    let mut seen: HashMap<[u64; D], usize> = HashMap::with_capacity(points.len());
+    let mut dups = vec![];
+    for (i, &p) in points.iter().enumerate() {
+        if let Some(&j) = seen.get(&key(p)) {
+            dups.push((ids[j], ids[i]));
+        } else {
+            seen.insert(key(p), i);
+        }
+    }
+    if !dups.is_empty() {
+        return Err(Error::DuplicateVertices { pairs: dups });
+    }
+    let extent = (0..D)
+        .map(|k| {
+            let it = points.iter().map(|p| p[k]);
+            it.clone().fold(f64::NEG_INFINITY, f64::max) - it.fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max);
+    if points.len() > 1 && extent < MIN_EXTENT {
+        return Err(Error::OutOfRange(format!(
+            "the input spans {extent:e}, below {MIN_EXTENT:e} (rescale the input)"
+        )));
+    }
+    Ok(())
+}
+
 impl Complex {
     /// A complex with ids 0.. for points and segments.
     pub fn new(points: Vec<[f64; 2]>, segments: Vec<[u32; 2]>) -> Self {
@@ -63,24 +116,7 @@ impl Complex {
         let vid = |i: u32| self.vertex_ids[i as usize];
         let sid = |s: usize| self.segment_ids[s];
 
-        let bad: Vec<i64> = (0..self.points.len())
-            .filter(|&i| !self.points[i].iter().all(|c| c.is_finite()))
-            .map(|i| self.vertex_ids[i])
-            .collect();
-        if !bad.is_empty() {
-            return Err(Error::NonFinite { vertices: bad });
-        }
-        // Weights are squared lengths in doubles: squares must neither
-        // overflow nor vanish.
-        let big: Vec<i64> = (0..self.points.len())
-            .filter(|&i| self.points[i].iter().any(|c| c.abs() > MAX_COORD))
-            .map(|i| self.vertex_ids[i])
-            .collect();
-        if !big.is_empty() {
-            return Err(Error::OutOfRange(format!(
-                "vertices beyond +-{MAX_COORD:e} (rescale the input): {big:?}"
-            )));
-        }
+        finite_in_range(&self.points, &self.vertex_ids)?;
         if let Some(h) = self
             .holes
             .iter()
@@ -109,31 +145,7 @@ impl Complex {
             )));
         }
 
-        // Exact duplicates: -0.0 and 0.0 are the same position.
-        let key = |p: [f64; 2]| [(p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits()];
-        let mut seen: HashMap<[u64; 2], u32> = HashMap::with_capacity(self.points.len());
-        let mut dups = vec![];
-        for (i, &p) in self.points.iter().enumerate() {
-            if let Some(&j) = seen.get(&key(p)) {
-                dups.push((vid(j), vid(i as u32)));
-            } else {
-                seen.insert(key(p), i as u32);
-            }
-        }
-        if !dups.is_empty() {
-            return Err(Error::DuplicateVertices { pairs: dups });
-        }
-        let extent = (0..2)
-            .map(|k| {
-                let it = self.points.iter().map(|p| p[k]);
-                it.clone().fold(f64::NEG_INFINITY, f64::max) - it.fold(f64::INFINITY, f64::min)
-            })
-            .fold(0.0, f64::max);
-        if self.points.len() > 1 && extent < MIN_EXTENT {
-            return Err(Error::OutOfRange(format!(
-                "the input spans {extent:e}, below {MIN_EXTENT:e} (rescale the input)"
-            )));
-        }
+        distinct_with_extent(&self.points, &self.vertex_ids)?;
 
         let zero: Vec<i64> = (0..self.segments.len())
             .filter(|&s| self.segments[s][0] == self.segments[s][1])

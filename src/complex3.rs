@@ -8,7 +8,7 @@
 //! meet only in a common face.
 
 use crate::backend::Backend;
-use crate::complex::{Complex, MAX_COORD};
+use crate::complex::{distinct_with_extent, finite_in_range, Complex};
 use crate::error::{Error, Result};
 use crate::exact::{is_pos, orient, orient3, q, Q};
 use std::cmp::Ordering;
@@ -42,21 +42,7 @@ impl Complex3 {
     /// range, distinct points, cycles without a repeated vertex, and
     /// facets that are planar and not all on one line (exactly).
     pub fn validate(&self) -> Result<()> {
-        let bad: Vec<i64> = (0..self.points.len())
-            .filter(|&i| self.points[i].iter().any(|c| !c.is_finite()))
-            .map(|i| self.vertex_ids[i])
-            .collect();
-        if !bad.is_empty() {
-            return Err(Error::NonFinite { vertices: bad });
-        }
-        if let Some(i) =
-            (0..self.points.len()).find(|&i| self.points[i].iter().any(|c| c.abs() > MAX_COORD))
-        {
-            return Err(Error::OutOfRange(format!(
-                "vertex {} has a coordinate beyond {MAX_COORD:e} (its square would overflow)",
-                self.vertex_ids[i]
-            )));
-        }
+        finite_in_range(&self.points, &self.vertex_ids)?;
         let holes = self
             .holes
             .iter()
@@ -66,7 +52,7 @@ impl Complex3 {
                 "a hole point has a NaN or infinite coordinate".into(),
             ));
         }
-        self.distinct()?;
+        distinct_with_extent(&self.points, &self.vertex_ids)?;
         let mut repeated = vec![];
         let mut flat = vec![];
         let mut non_planar = vec![];
@@ -140,19 +126,15 @@ impl Complex3 {
         let p = |v: u32| self.points[v as usize];
         let axis = plane_axis(p(a), p(b), p(c))?;
         let flat = |x: [f64; 3]| drop_axis(axis, x);
-        let local: std::collections::HashMap<u32, u32> = global
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| (v, i as u32))
-            .collect();
-        let mut segments: Vec<[u32; 2]> = vec![];
+        let local = |v: u32| global.binary_search(&v).expect("a facet vertex") as u32;
+        let (mut segments, mut seen) = (vec![], std::collections::HashSet::new());
         for poly in &facet.polygons {
             let n = poly.len();
             let edges = if n >= 3 { n } else { n - 1 };
             for k in 0..edges {
-                let s = [local[&poly[k]], local[&poly[(k + 1) % n]]];
-                if !segments.iter().any(|t| t == &s || t == &[s[1], s[0]]) {
-                    segments.push(s);
+                let (a, b) = (local(poly[k]), local(poly[(k + 1) % n]));
+                if seen.insert((a.min(b), a.max(b))) {
+                    segments.push([a, b]);
                 }
             }
         }
@@ -164,28 +146,6 @@ impl Complex3 {
         cx.segment_ids = (1..=cx.segments.len() as i64).collect();
         cx.holes = facet.holes.iter().map(|&h| flat(h)).collect();
         Some((cx, global))
-    }
-
-    /// Pairs of points at the same position (exactly: doubles compare
-    /// exactly), as an error naming them.
-    fn distinct(&self) -> Result<()> {
-        let mut order: Vec<usize> = (0..self.points.len()).collect();
-        let key = |i: usize| self.points[i];
-        order.sort_unstable_by(|&a, &b| {
-            (0..3).fold(Ordering::Equal, |o, k| {
-                o.then(key(a)[k].total_cmp(&key(b)[k]))
-            })
-        });
-        let pairs: Vec<(i64, i64)> = order
-            .windows(2)
-            .filter(|w| key(w[0]) == key(w[1]))
-            .map(|w| (self.vertex_ids[w[0]], self.vertex_ids[w[1]]))
-            .collect();
-        if pairs.is_empty() {
-            Ok(())
-        } else {
-            Err(Error::DuplicateVertices { pairs })
-        }
     }
 
     /// The first non-collinear triple of these vertices.
@@ -594,6 +554,15 @@ mod tests {
         let e = c.validate().unwrap_err();
         assert!(
             matches!(e, Error::DuplicateVertices { ref pairs } if pairs == &[(1, 4)]),
+            "{e}"
+        );
+
+        // -0.0 is 0.0, with other points sorted between them.
+        let mut c = cube();
+        c.points[7] = [-0.0, 0.0, 0.0];
+        let e = c.validate().unwrap_err();
+        assert!(
+            matches!(e, Error::DuplicateVertices { ref pairs } if pairs == &[(1, 8)]),
             "{e}"
         );
 

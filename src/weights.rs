@@ -973,12 +973,7 @@ fn margin_floor(sys: &System, with3: bool, big: bool) -> Bound<f64> {
         .rows
         .iter()
         .filter(finite)
-        .filter(|r| r.share > 0.0)
-        .filter(|r| match r.family {
-            Family::Anchor => false,
-            Family::Sys3(_) => with3,
-            _ => true,
-        })
+        .filter(|r| r.share > 0.0 && margin_row(r, with3))
         .map(|r| -r.rhs / r.share)
         .fold(f64::INFINITY, f64::min);
     if big || floor.is_nan() || floor.abs() >= 1.0 {
@@ -988,12 +983,20 @@ fn margin_floor(sys: &System, with3: bool, big: bool) -> Bound<f64> {
     }
 }
 
-/// Bounds of p_i and q_i for |w_i| <= k l_i^2 (k None: unbounded).
-fn part_bounds(sys: &System, i: usize, k: Option<f64>) -> (Bound<f64>, Bound<f64>) {
-    (
-        Bound::Included(0.0),
-        k.map_or(Bound::Unbounded, |k| Bound::Included(k * sys.l2[i])),
-    )
+/// Whether a row is one of the model's margin rows: system 1's, and
+/// system 3's when asked for (anchors are elastic rows of phase 2).
+fn margin_row(r: &Row, with3: bool) -> bool {
+    match r.family {
+        Family::Anchor => false,
+        Family::Sys3(_) => with3,
+        Family::Sys1 => true,
+    }
+}
+
+/// Upper bound of p_i and q_i (>= 0) for |w_i| <= k l_i^2 (k None:
+/// unbounded).
+fn part_upper(sys: &System, i: usize, k: Option<f64>) -> f64 {
+    k.map_or(f64::INFINITY, |k| k * sys.l2[i])
 }
 
 impl Lp {
@@ -1005,8 +1008,8 @@ impl Lp {
         let w: Vec<_> = (0..sys.n)
             .map(|i| {
                 sys.free[i].then(|| {
-                    let b = part_bounds(sys, i, k);
-                    (pb.add_column(0.0, b), pb.add_column(0.0, b))
+                    let b = 0.0..=part_upper(sys, i, k);
+                    (pb.add_column(0.0, b.clone()), pb.add_column(0.0, b))
                 })
             })
             .collect();
@@ -1039,9 +1042,9 @@ impl Lp {
         let mut lazy = vec![];
         for (at, r) in sys.rows.iter().enumerate().filter(|(_, r)| finite(r)) {
             match (r.family, mode) {
-                // Elastic in phase 2 only (`regularise`).
-                (Family::Anchor, _) => continue,
-                (Family::Sys3(_), _) if !with3 => continue,
+                // Anchors (elastic in phase 2 only, `regularise`), and
+                // system 3 unless asked for.
+                _ if !margin_row(r, with3) => continue,
                 // A margin row; its slack at zero weights and margin is -rhs.
                 _ if lazy_ok && -r.rhs > LAZY_SLACK => lazy.push(at),
                 (Family::Sys3(s), Mode::Elastic { costs, .. }) => {
@@ -1141,7 +1144,7 @@ impl Lp {
         for (i, pq) in self.w.iter().enumerate() {
             if let Some((p, q)) = *pq {
                 cols.extend([p, q]);
-                upper.extend([k.map_or(f64::INFINITY, |k| k * sys.l2[i]); 2]);
+                upper.extend([part_upper(sys, i, k); 2]);
             }
         }
         let lower = vec![0.0; cols.len()];

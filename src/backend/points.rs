@@ -99,8 +99,7 @@ impl F64Points3<'_> {
     /// Greater when e conflicts with the positively oriented tetrahedron
     /// abcd: its lifted point lies strictly below the hyperplane through
     /// theirs (inside their orthosphere). The sign of the lifted 4x4
-    /// determinant relative to e, negated: doubles against a bound on
-    /// their rounding error, then intervals, then rationals.
+    /// determinant relative to e, negated: in intervals, then rationals.
     pub fn power(&self, t: [u32; 4], e: u32) -> Ordering {
         let (pe, we) = (self.p[e as usize], self.w[e as usize]);
         let rows_iv = t.map(|x| {
