@@ -490,7 +490,7 @@ impl Geometry<'_> {
 /// The coordinate (0, 1, 2) whose drop keeps the triangle abc
 /// non-degenerate, the one along which its plane is steepest; None for
 /// collinear points.
-fn plane_axis(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<usize> {
+pub(crate) fn plane_axis(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<usize> {
     let u = [0, 1, 2].map(|k| b[k] - a[k]);
     let w = [0, 1, 2].map(|k| c[k] - a[k]);
     let normal = [0, 1, 2].map(|k| {
@@ -503,7 +503,7 @@ fn plane_axis(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<usize> {
 }
 
 /// A point with coordinate `axis` dropped (the others in cyclic order).
-fn drop_axis(axis: usize, x: [f64; 3]) -> [f64; 2] {
+pub(crate) fn drop_axis(axis: usize, x: [f64; 3]) -> [f64; 2] {
     [x[(axis + 1) % 3], x[(axis + 2) % 3]]
 }
 

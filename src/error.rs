@@ -36,6 +36,12 @@ pub enum Error {
     Degenerate(String),
     /// System 1 infeasible: no regular constrained triangulation exists.
     NoRegularConstrainedTriangulation { segments: Vec<i64> },
+    /// 3D system 1 infeasible: no regular triangulation contains the
+    /// facets' triangles (facet ids) and the isolated points (vertex ids).
+    NoRegularConstrainedTetrahedralisation {
+        facets: Vec<i64>,
+        vertices: Vec<i64>,
+    },
     /// System 3 infeasible: these segments cannot cross their dual edges, so
     /// some sites must lie outside their cells.
     /// `lp_error`: None when the LP proved it; else why the LP gave no answer
@@ -116,6 +122,17 @@ impl fmt::Display for Error {
                 "no regular constrained triangulation exists (system 1 is infeasible), so no conforming \
                  power diagram can be built without extra points; constraints involved (segment ids): {}",
                 list(segments)
+            ),
+            Error::NoRegularConstrainedTetrahedralisation { facets, vertices } => write!(
+                f,
+                "no regular triangulation contains the 3D constraints (system 1 is infeasible), so no \
+                 conforming power diagram can be built without extra points; facets involved (ids): {}{}",
+                list(facets),
+                if vertices.is_empty() {
+                    String::new()
+                } else {
+                    format!("; isolated vertices: {}", list(vertices))
+                }
             ),
             Error::SegmentsMissTheirDuals { segments, lp_error } => write!(
                 f,

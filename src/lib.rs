@@ -52,6 +52,7 @@ pub mod relocate;
 pub mod sites;
 pub mod split;
 pub mod weights;
+pub mod weights3;
 
 pub use complex::Complex;
 pub use error::{Error, Result};

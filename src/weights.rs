@@ -27,23 +27,23 @@ use crate::domain::Domain;
 use crate::error::{Error, Result};
 use crate::exact::{abs, dot, in_diametral_disc, is_pos, norm2, q, qp, sub, Q};
 use highs::{HighsModelStatus, RowProblem, Sense};
-use nalgebra::Vector2;
+use nalgebra::{SVector, Vector2};
 use serde::Serialize;
 use std::collections::{BTreeSet, HashMap};
 use std::ops::Bound;
 
 /// Margins below this are inside HiGHS' tolerances: not trusted.
-const TRUST: f64 = 1e-6;
+pub(crate) const TRUST: f64 = 1e-6;
 /// Bounds |w_i| <= k l_i^2 tried in turn after the unbounded try.
 const K_LADDER: [f64; 2] = [1.0, 16.0];
 /// Time all LP solves of one run may take together.
 const LP_BUDGET: std::time::Duration = std::time::Duration::from_secs(1800);
 /// Largest number of point rows the lazy global form may grow to.
-const MAX_GLOBAL_ROWS: usize = 5_000_000;
+pub(crate) const MAX_GLOBAL_ROWS: usize = 5_000_000;
 /// System 1 margin tried first by the elastic phase.
 const ELASTIC_MARGIN: f64 = 1e-3;
 /// Rounds of the lazy global form before giving up on adding rows locally.
-const GLOBAL_ROUNDS: usize = 40;
+pub(crate) const GLOBAL_ROUNDS: usize = 40;
 /// An anchor within this fraction of its segment's length of the dual line
 /// is met (the hybrid report's orthogonality threshold is 1e-6).
 const ANCHOR_MET: f64 = 1e-9;
@@ -105,6 +105,15 @@ pub struct WeightsReport {
 }
 
 impl WeightsReport {
+    /// A report whose LP work has the whole budget from now.
+    pub(crate) fn started(method: &str) -> WeightsReport {
+        WeightsReport {
+            method: method.into(),
+            deadline: Some(std::time::Instant::now() + LP_BUDGET),
+            ..Default::default()
+        }
+    }
+
     /// Adds what one piece's LPs did: counts add up, sizes take the
     /// largest, the margin the smallest, the bound the loosest.
     fn absorb(&mut self, piece: &WeightsReport) {
@@ -257,12 +266,8 @@ fn lp<B: Backend + ?Sized>(
 ) -> Result<Weights> {
     let cx = &dom.complex;
     let n = cx.points.len();
-    let units = Units::new(cx, &dom.cdt);
-    let mut report = WeightsReport {
-        method: "local".into(),
-        deadline: Some(std::time::Instant::now() + LP_BUDGET),
-        ..Default::default()
-    };
+    let units = Units::new(&cx.points, dom.cdt.edges());
+    let mut report = WeightsReport::started("local");
     // The local form fixes the triangulation, so its failures are no
     // verdict. First with weights free only near the segments that need
     // them (method.md section 2), then with all free.
@@ -518,7 +523,7 @@ fn finish(found: Found, mut report: WeightsReport) -> Result<Weights> {
 
 /// Which rows a row belongs to.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Family {
+pub(crate) enum Family {
     Sys1,
     Sys3(u32),
     /// An anchor on a segment's dual line: in `rows`, an elastic equality
@@ -529,38 +534,38 @@ enum Family {
 /// sum(terms) - share * delta >= rhs  (or == rhs for equalities, without
 /// delta).
 #[derive(Debug, Clone)]
-struct Row {
-    terms: Vec<(usize, f64)>,
-    rhs: f64,
-    family: Family,
+pub(crate) struct Row {
+    pub(crate) terms: Vec<(usize, f64)>,
+    pub(crate) rhs: f64,
+    pub(crate) family: Family,
     /// This row's part of a row split between pieces (1 when whole).
-    share: f64,
+    pub(crate) share: f64,
     /// A row about a triangle outside the domain (the gap between two
     /// cavities): `pieces` may split it between the pieces it joins.
-    outside: bool,
+    pub(crate) outside: bool,
     /// An outside row at an edge that is not a segment: between pieces,
     /// `pieces` leaves it out. Outside the domain only segments need be
     /// strict edges, and a gap between cavities on a lattice is
     /// cocircular: splitting its rows would tie the pieces' weights.
-    weak: bool,
+    pub(crate) weak: bool,
 }
 
 /// An LP over the weights (columns 0..n) and auxiliary free columns.
 #[derive(Debug, Clone, Default)]
-struct System {
-    n: usize,
+pub(crate) struct System {
+    pub(crate) n: usize,
     /// Which weights are unknowns; the others stay zero.
-    free: Vec<bool>,
+    pub(crate) free: Vec<bool>,
     /// Whether infeasibility of these rows proves infeasibility (global form).
-    verdict: bool,
+    pub(crate) verdict: bool,
     /// Rows are written for points divided by a power of two near the
     /// input's extent (so HiGHS' absolute tolerances mean the same at any
     /// scale); weights come back multiplied by its square, exactly.
-    unit2: f64,
-    aux: usize,
-    l2: Vec<f64>,
-    rows: Vec<Row>,
-    eqs: Vec<Row>,
+    pub(crate) unit2: f64,
+    pub(crate) aux: usize,
+    pub(crate) l2: Vec<f64>,
+    pub(crate) rows: Vec<Row>,
+    pub(crate) eqs: Vec<Row>,
 }
 
 /// Power-test rows for every interior edge of `t`, and system 3 rows for
@@ -571,7 +576,7 @@ fn local_system(
     cx: &Complex,
     t: &Triangulation,
     inside: &[bool],
-    units: &Units,
+    units: &Units<2>,
     free: Vec<bool>,
 ) -> System {
     let p = &units.points;
@@ -638,7 +643,7 @@ fn local_system(
 /// c to i and j is zero, w_i - w_j = |c - p_i|^2 - |c - p_j|^2, over L^2.
 /// An equality where zero weights meet it (orthogonality already there is
 /// not traded for orthogonality elsewhere), else elastic in phase 2.
-fn anchor_rows(sys: &mut System, cx: &Complex, units: &Units) {
+fn anchor_rows(sys: &mut System, cx: &Complex, units: &Units<2>) {
     let p = &units.points;
     let scale = units.unit2.sqrt();
     let zero = vec![0.0; cx.points.len()];
@@ -695,8 +700,8 @@ fn near_failures(
 }
 
 /// p_to - p_from.
-fn rel(p: &[[f64; 2]], from: u32, to: u32) -> Vector2<f64> {
-    Vector2::from(p[to as usize]) - Vector2::from(p[from as usize])
+pub(crate) fn rel<const D: usize>(p: &[[f64; D]], from: u32, to: u32) -> SVector<f64, D> {
+    SVector::from(p[to as usize]) - SVector::from(p[from as usize])
 }
 
 /// Lifted edge (a, b) of ccw triangle (a, b, c), apex d across: locally
@@ -723,7 +728,13 @@ fn convexity_row(p: &[[f64; 2]], a: u32, b: u32, c: u32, d: u32) -> Row {
 
 /// System 3 for segment s = (i, j): |w_i - w_j| < L and, for each m, the
 /// radical point q of i, j on the segment has smaller power for i than for m.
-fn sys3_rows(p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &[u32]) -> Vec<Row> {
+pub(crate) fn sys3_rows<const D: usize>(
+    p: &[[f64; D]],
+    s: u32,
+    i: u32,
+    j: u32,
+    others: &[u32],
+) -> Vec<Row> {
     let u = rel(p, i, j);
     let l = u.norm_squared();
     let fam = Family::Sys3(s);
@@ -765,54 +776,51 @@ fn sys3_rows(p: &[[f64; 2]], s: u32, i: u32, j: u32, others: &[u32]) -> Vec<Row>
     rows
 }
 
-/// The supporting-plane rows of segment s = (i, j) (or, with j == i, of an
-/// isolated vertex): the plane through the lifts of i (and j), relative to
-/// p_i, has free slopes in two auxiliary columns; every m lies above it.
-fn plane_rows(
+/// The supporting-plane rows of a face with first vertex i and the
+/// vertices `on` (none for an isolated vertex): the plane through their
+/// lifts, relative to p_i, has free slopes in D auxiliary columns; every m
+/// lies above it.
+pub(crate) fn plane_rows<const D: usize>(
     sys: &mut System,
-    p: &[[f64; 2]],
+    p: &[[f64; D]],
     i: u32,
-    j: Option<u32>,
+    on: &[u32],
     others: &[u32],
     scale2: f64,
 ) -> usize {
     let a0 = sys.n + sys.aux;
-    sys.aux += 2;
-    if let Some(j) = j {
+    sys.aux += D;
+    let slopes =
+        |r: SVector<f64, D>, sign: f64| (0..D).map(move |k| (a0 + k, sign * r[k] / scale2));
+    for &j in on {
         // a.u + w_j - w_i = |u|^2, scaled by 1/L.
         let u = rel(p, i, j);
-        sys.eqs.push(Row {
-            terms: vec![
-                (a0, u[0] / scale2),
-                (a0 + 1, u[1] / scale2),
-                (j as usize, 1.0 / scale2),
-                (i as usize, -1.0 / scale2),
-            ],
-            rhs: u.norm_squared() / scale2,
-            family: Family::Sys1,
-            share: 1.0,
-            outside: false,
-            weak: false,
-        });
+        let mut terms: Vec<(usize, f64)> = slopes(u, 1.0).collect();
+        terms.extend([(j as usize, 1.0 / scale2), (i as usize, -1.0 / scale2)]);
+        sys.eqs.push(Row::sys1(terms, u.norm_squared() / scale2));
     }
     for &m in others {
         let r = rel(p, i, m);
         // |r|^2 - w_m + w_i - a.r >= delta * scale2
-        sys.rows.push(Row {
-            terms: vec![
-                (m as usize, -1.0 / scale2),
-                (i as usize, 1.0 / scale2),
-                (a0, -r[0] / scale2),
-                (a0 + 1, -r[1] / scale2),
-            ],
-            rhs: -r.norm_squared() / scale2,
+        let mut terms = vec![(m as usize, -1.0 / scale2), (i as usize, 1.0 / scale2)];
+        terms.extend(slopes(r, -1.0));
+        sys.rows.push(Row::sys1(terms, -r.norm_squared() / scale2));
+    }
+    a0
+}
+
+impl Row {
+    /// A whole system 1 row inside the domain.
+    pub(crate) fn sys1(terms: Vec<(usize, f64)>, rhs: f64) -> Row {
+        Row {
+            terms,
+            rhs,
             family: Family::Sys1,
             share: 1.0,
             outside: false,
             weak: false,
-        });
+        }
     }
-    a0
 }
 
 enum Mode {
@@ -888,7 +896,7 @@ impl Drop for Lp {
 
 /// Destroys the finished models that wait, on this thread and on every
 /// thread of rayon's pool (at the end of a weights step).
-fn destroy_finished() {
+pub(crate) fn destroy_finished() {
     let flush = || {
         let batch = FINISHED.with_borrow_mut(std::mem::take);
         let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
@@ -1350,7 +1358,7 @@ enum Attempt {
 }
 
 /// What the LP says about one row system (no verification yet).
-enum Answer {
+pub(crate) enum Answer {
     /// Weights (for the system's columns), and whether system 3 held on
     /// the rows (false: elastic).
     Weights(Vec<f64>, bool),
@@ -1398,7 +1406,11 @@ fn verify<B: Backend + ?Sized>(
 
 /// The LP on one row system: system 1 + 3; else system 1 with system 3
 /// elastic (as few segments as possible missing their duals).
-fn solve_rows(sys: &System, elastic: bool, report: &mut WeightsReport) -> Result<Answer> {
+pub(crate) fn solve_rows(
+    sys: &System,
+    elastic: bool,
+    report: &mut WeightsReport,
+) -> Result<Answer> {
     let (m3, k3, mut lp) = margin(sys, true, report)?;
     if m3 <= TRUST && !elastic {
         return Ok(Answer::Sys3Infeasible);
@@ -1605,33 +1617,29 @@ fn slivers(p: &[[f64; 2]], t: &Triangulation) -> Vec<u32> {
 }
 
 /// The input in LP units.
-struct Units {
+pub(crate) struct Units<const D: usize> {
     /// Points divided by the power of two nearest the input's extent.
-    points: Vec<[f64; 2]>,
+    pub points: Vec<[f64; D]>,
     /// That power of two, squared: the unit of weights.
-    unit2: f64,
-    /// Squared length of the shortest CDT edge at each vertex, in LP units.
-    l2: Vec<f64>,
+    pub unit2: f64,
+    /// Squared length of the shortest given edge at each vertex, in LP units.
+    pub l2: Vec<f64>,
 }
 
-impl Units {
-    fn new(cx: &Complex, t: &Triangulation) -> Units {
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in &cx.points {
-            for k in 0..2 {
+impl<const D: usize> Units<D> {
+    pub fn new(input: &[[f64; D]], edges: impl Iterator<Item = (u32, u32)>) -> Units<D> {
+        let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
+        for p in input {
+            for k in 0..D {
                 lo[k] = lo[k].min(p[k]);
                 hi[k] = hi[k].max(p[k]);
             }
         }
-        let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        let extent = (0..D).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
         let scale = 2f64.powi(extent.log2().round() as i32);
-        let points: Vec<[f64; 2]> = cx
-            .points
-            .iter()
-            .map(|p| [p[0] / scale, p[1] / scale])
-            .collect();
+        let points: Vec<[f64; D]> = input.iter().map(|p| p.map(|x| x / scale)).collect();
         let mut l2 = vec![f64::INFINITY; points.len()];
-        for (a, b) in t.edges() {
+        for (a, b) in edges {
             let d = rel(&points, a, b).norm_squared();
             for v in [a, b] {
                 l2[v as usize] = l2[v as usize].min(d);
@@ -1655,7 +1663,7 @@ impl Units {
 fn global<B: Backend + ?Sized>(
     backend: &B,
     dom: &Domain,
-    units: &Units,
+    units: &Units<2>,
     mut report: WeightsReport,
     anchored: bool,
 ) -> Result<Weights> {
@@ -1702,7 +1710,7 @@ fn global<B: Backend + ?Sized>(
         for (o, &(i, j)) in owners.iter().enumerate() {
             let others: Vec<u32> = sets[o].iter().copied().collect();
             let scale2 = j.map_or(l2[i as usize], |j| rel(p, i, j).norm_squared());
-            plane_rows(&mut sys, p, i, j, &others, scale2);
+            plane_rows(&mut sys, p, i, j.as_slice(), &others, scale2);
             if let Some(j) = j {
                 sys.rows.extend(sys3_rows(p, o as u32, i, j, &others));
             }
@@ -1890,7 +1898,7 @@ mod tests {
             l2: vec![1.0; 3],
             ..Default::default()
         };
-        let a0 = plane_rows(&mut sys, &p, 0, Some(1), &[2], 4.0);
+        let a0 = plane_rows(&mut sys, &p, 0, &[1], &[2], 4.0);
         assert_eq!((a0, sys.aux), (3, 2));
         // a.u + w_1 - w_0 = |u|^2, over L = 4
         let eq = &sys.eqs[0];

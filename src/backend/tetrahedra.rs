@@ -2,6 +2,7 @@
 //! what the backends' 3D side returns.
 
 use super::NONE;
+use std::collections::HashMap;
 
 /// Positively oriented tetrahedra (input indices; each vertex sees the
 /// other three counter-clockwise, see `points::F64Points3::orient`), and
@@ -52,6 +53,51 @@ impl Tetrahedralisation {
                 Some((t, k, u, l))
             })
         })
+    }
+
+    /// Each of n points' neighbours along edges (empty for hidden points).
+    pub fn neighbours(&self, n: usize) -> Vec<Vec<u32>> {
+        let mut nb = vec![vec![]; n];
+        for [a, b] in self.edge_links().into_keys() {
+            nb[a as usize].push(b);
+            nb[b as usize].push(a);
+        }
+        nb.iter_mut().for_each(|v| v.sort_unstable());
+        nb
+    }
+
+    /// Every triangle (vertices sorted) with the vertices across it: two
+    /// inside, one on the hull.
+    pub fn triangle_apexes(&self) -> HashMap<[u32; 3], Vec<u32>> {
+        let mut out: HashMap<[u32; 3], Vec<u32>> = HashMap::new();
+        for t in &self.tets {
+            for k in 0..4 {
+                let mut f = [0, 1, 2].map(|i| t[(k + 1 + i) % 4]);
+                f.sort_unstable();
+                out.entry(f).or_default().push(t[k]);
+            }
+        }
+        out
+    }
+
+    /// Every edge (vertices sorted) with the other vertices of the
+    /// tetrahedra around it (its link), sorted.
+    pub fn edge_links(&self) -> HashMap<[u32; 2], Vec<u32>> {
+        let mut out: HashMap<[u32; 2], Vec<u32>> = HashMap::new();
+        for t in &self.tets {
+            for a in 0..4 {
+                for b in a + 1..4 {
+                    let e = [t[a].min(t[b]), t[a].max(t[b])];
+                    let link = out.entry(e).or_default();
+                    link.extend((0..4).filter(|&c| c != a && c != b).map(|c| t[c]));
+                }
+            }
+        }
+        for link in out.values_mut() {
+            link.sort_unstable();
+            link.dedup();
+        }
+        out
     }
 
     /// Hull faces, each seen counter-clockwise from inside.

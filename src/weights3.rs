@@ -1,0 +1,880 @@
+//! Weights in 3D (issue 6): system 1 (a regular triangulation that has
+//! every face of the complex as a face) and system 3 (every face crosses
+//! its dual) in the lazy global form. There is no constrained Delaunay
+//! tetrahedralisation to lean on (some complexes admit none), so there is
+//! no local form: each maximal face gets a supporting hyperplane through
+//! its lifted vertices with rows for the points near it, and rows are added
+//! where the regular triangulation of the LP's weights, built with exact
+//! predicates, disagrees. A restricted LP that is infeasible proves the
+//! whole one so. The LP, its objective and its trust threshold are the 2D
+//! ones (`weights`).
+//!
+//! Planar convex polygons whose vertices are exactly cocircular
+//! (rectangles, regular polygons) are kept whole: their vertices share one
+//! weight, which makes their lifts exactly coplanar (method.md section 6
+//! asks for equality rows; a shared weight makes the equalities exact, not
+//! true within HiGHS' tolerances), so the polygon is one face of the
+//! regular subdivision and one face of the power diagram. Other polygons
+//! are triangulated. When shared weights leave no solution, every facet is
+//! triangulated and the LP tried again.
+
+use crate::backend::{Backend3, Tetrahedralisation};
+use crate::complex3::{drop_axis, plane_axis, Complex3, Simplices3};
+use crate::error::{Error, Result};
+use crate::exact::{is_pos, q, Q};
+use crate::weights::{
+    destroy_finished, plane_rows, rel, solve_rows, sys3_rows, Answer, Family, Row, System, Units,
+    WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
+};
+use nalgebra::{Matrix2, Matrix3x2, Vector2};
+use std::collections::{BTreeSet, HashMap, HashSet};
+
+/// Polygons with more vertices than this are triangulated (the exact check
+/// of a whole polygon looks at every triple of its vertices).
+const MAX_WHOLE: usize = 12;
+
+/// A maximal face of the complex: it must be a face of the regular
+/// triangulation, and of the power diagram of the sites.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Face {
+    /// One vertex (an isolated point), two (a dangling segment), three (a
+    /// triangle), or more (a convex polygon kept whole, in cycle order).
+    pub vertices: Vec<u32>,
+    /// Its facet (index into `Complex3::facets`); None for a point on no
+    /// facet.
+    pub facet: Option<u32>,
+}
+
+impl Face {
+    /// 0, 1 or 2.
+    pub fn dim(&self) -> usize {
+        self.vertices.len().min(3) - 1
+    }
+}
+
+/// Verified weights, their regular triangulation and the faces it has.
+#[derive(Debug, Clone)]
+pub struct Weights3 {
+    pub w: Vec<f64>,
+    /// RT(w): has every face (polygons as unions of its triangles), hides
+    /// no vertex (checked exactly).
+    pub rt: Tetrahedralisation,
+    pub faces: Vec<Face>,
+    pub report: WeightsReport,
+    /// Polygons kept whole.
+    pub whole_polygons: usize,
+    /// Faces (indices into `faces`) of dimension 1 or 2 that do not cross
+    /// their dual (exact check).
+    pub sys3_failed: Vec<u32>,
+}
+
+/// Finds weights for a validated, triangulated 3D complex.
+pub fn solve<B: Backend3 + ?Sized>(
+    backend: &B,
+    cx: &Complex3,
+    sc: &Simplices3,
+) -> Result<Weights3> {
+    let mut whole = kept_whole(cx);
+    let mut out = global(backend, cx, faces(cx, sc, &whole));
+    // Shared weights fix the shape of the regular triangulation in every
+    // plane where their vertices lie (they are Delaunay there), which the
+    // triangles of other facets may contradict: then only the whole
+    // polygons whose vertices are on no triangle or segment, then none.
+    for retry in [untouched(cx, sc, &whole), vec![false; whole.len()]] {
+        if !matches!(
+            out,
+            Err(Error::NoRegularConstrainedTetrahedralisation { .. })
+        ) {
+            break;
+        }
+        if retry != whole {
+            whole = retry;
+            out = global(backend, cx, faces(cx, sc, &whole));
+        }
+    }
+    destroy_finished();
+    out
+}
+
+/// The whole polygons whose shared-weight class (polygons joined through
+/// common vertices) has no vertex on a triangle or segment.
+fn untouched(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<bool> {
+    let fs = faces(cx, sc, whole);
+    let tie = ties(cx.points.len(), &fs);
+    let mut touched = vec![false; cx.points.len()];
+    for f in fs.iter().filter(|f| (2..=3).contains(&f.vertices.len())) {
+        f.vertices
+            .iter()
+            .for_each(|&v| touched[tie[v as usize] as usize] = true);
+    }
+    let mut out = whole.to_vec();
+    for f in fs.iter().filter(|f| f.vertices.len() > 3) {
+        if touched[tie[f.vertices[0] as usize] as usize] {
+            out[f.facet.expect("polygons have a facet") as usize] = false;
+        }
+    }
+    out
+}
+
+/// Per facet, whether it is kept whole: one strictly convex polygon of 4
+/// to `MAX_WHOLE` vertices, no holes, its vertices exactly cocircular.
+fn kept_whole(cx: &Complex3) -> Vec<bool> {
+    let p = |v: u32| cx.points[v as usize];
+    cx.facets
+        .iter()
+        .map(|f| {
+            let [poly] = f.polygons.as_slice() else {
+                return false;
+            };
+            if poly.len() < 4 || poly.len() > MAX_WHOLE || !f.holes.is_empty() {
+                return false;
+            }
+            let Some(axis) = plane_axis(p(poly[0]), p(poly[1]), p(poly[2])) else {
+                return false;
+            };
+            let flat = |v: u32| drop_axis(axis, p(v));
+            let m = poly.len();
+            let turn = |k: usize| {
+                crate::exact::orient(
+                    flat(poly[k]),
+                    flat(poly[(k + 1) % m]),
+                    flat(poly[(k + 2) % m]),
+                )
+            };
+            // A simple polygon (validated) turning one way at every vertex
+            // is strictly convex.
+            let first = turn(0);
+            first != std::cmp::Ordering::Equal
+                && (1..m).all(|k| turn(k) == first)
+                && poly[3..]
+                    .iter()
+                    .all(|&d| cocircular(cx, axis, poly[0], poly[1], poly[2], d))
+        })
+        .collect()
+}
+
+/// Whether d, coplanar with a, b, c, lies on their circle: with one
+/// weight for all four, whether their lifts are coplanar. In affine
+/// coordinates d = a + s (b - a) + t (c - a) (a coordinate projection
+/// keeps them), the lift must be the same combination:
+/// D (|d|^2 - |a|^2) = S (|b|^2 - |a|^2) + T (|c|^2 - |a|^2), s = S / D.
+fn cocircular(cx: &Complex3, axis: usize, a: u32, b: u32, c: u32, d: u32) -> bool {
+    let p = |v: u32| cx.points[v as usize];
+    let f = |v: u32| drop_axis(axis, p(v)).map(q);
+    let (fa, fb, fc, fd) = (f(a), f(b), f(c), f(d));
+    let det = |x: &[Q; 2], y: &[Q; 2], o: &[Q; 2]| {
+        (&x[0] - &o[0]) * (&y[1] - &o[1]) - (&x[1] - &o[1]) * (&y[0] - &o[0])
+    };
+    let big_d = det(&fb, &fc, &fa);
+    let s = det(&fd, &fc, &fa);
+    let t = det(&fb, &fd, &fa);
+    let n2 = |v: u32| {
+        p(v).iter()
+            .map(|&x| q(x) * q(x))
+            .fold(Q::from(0), |acc, x| acc + x)
+    };
+    let na = n2(a);
+    big_d * (n2(d) - &na) == s * (n2(b) - &na) + t * (n2(c) - &na)
+}
+
+/// The maximal faces: whole polygons, the triangles of the other facets,
+/// dangling segments, then points on no triangle or segment.
+fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<Face> {
+    let mut out: Vec<Face> = vec![];
+    for (f, _) in whole.iter().enumerate().filter(|w| *w.1) {
+        out.push(Face {
+            vertices: cx.facets[f].polygons[0].clone(),
+            facet: Some(f as u32),
+        });
+    }
+    for (t, &f) in sc.triangles.iter().zip(&sc.triangle_facet) {
+        if !whole[f as usize] {
+            out.push(Face {
+                vertices: t.to_vec(),
+                facet: Some(f),
+            });
+        }
+    }
+    for (s, &f) in sc.segments.iter().zip(&sc.segment_facet) {
+        out.push(Face {
+            vertices: s.to_vec(),
+            facet: Some(f),
+        });
+    }
+    let mut used = vec![false; cx.points.len()];
+    for face in &out {
+        face.vertices.iter().for_each(|&v| used[v as usize] = true);
+    }
+    for (&v, &f) in sc.points.iter().zip(&sc.point_facet) {
+        if !std::mem::replace(&mut used[v as usize], true) {
+            out.push(Face {
+                vertices: vec![v],
+                facet: Some(f),
+            });
+        }
+    }
+    for v in 0..cx.points.len() as u32 {
+        if !used[v as usize] {
+            out.push(Face {
+                vertices: vec![v],
+                facet: None,
+            });
+        }
+    }
+    out
+}
+
+/// Per vertex, the vertex whose weight it shares (the smallest of the
+/// whole polygons joined to it; itself when on none).
+fn ties(n: usize, faces: &[Face]) -> Vec<u32> {
+    let mut rep: Vec<u32> = (0..n as u32).collect();
+    fn root(rep: &mut [u32], mut v: u32) -> u32 {
+        while rep[v as usize] != v {
+            rep[v as usize] = rep[rep[v as usize] as usize];
+            v = rep[v as usize];
+        }
+        v
+    }
+    for face in faces.iter().filter(|f| f.vertices.len() > 3) {
+        for &v in &face.vertices[1..] {
+            let (a, b) = (root(&mut rep, face.vertices[0]), root(&mut rep, v));
+            let (lo, hi) = (a.min(b), a.max(b));
+            rep[hi as usize] = lo;
+        }
+    }
+    (0..n as u32).map(|v| root(&mut rep, v)).collect()
+}
+
+/// System 3 for a triangle or polygon face f: its power centre c (in its
+/// plane, equal power to all its vertices) lies strictly inside it, at
+/// least delta times its longest edge from every edge, and every point m
+/// has a larger power at c than the face's vertices (over the squared
+/// longest edge). With u = p_j - p_i, v = p_k - p_i and G their Gram
+/// matrix, c - p_i = M (|u|^2 + w_i - w_j, |v|^2 + w_i - w_k), M = [u v] G^-1 / 2.
+fn centre_rows(p: &[[f64; 3]], f: u32, verts: &[u32], others: &[u32]) -> Vec<Row> {
+    let (i, j, k) = (verts[0], verts[1], verts[2]);
+    let (u, v) = (rel(p, i, j), rel(p, i, k));
+    let g = Matrix2::new(u.dot(&u), u.dot(&v), u.dot(&v), v.dot(&v));
+    let Some(gi) = g.try_inverse() else {
+        return vec![];
+    };
+    let m = Matrix3x2::from_columns(&[u, v]) * gi * 0.5;
+    let x0 = m * Vector2::new(u.norm_squared(), v.norm_squared());
+    let cycle = || verts.iter().zip(verts.iter().cycle().skip(1));
+    let l = cycle()
+        .map(|(&a, &b)| rel(p, a, b).norm_squared())
+        .fold(0.0, f64::max);
+    // base + c . (w_i - w_j, w_i - w_k) + extra >= delta * scale
+    let row = |base: f64, c: Vector2<f64>, extra: &[(u32, f64)], scale: f64| {
+        let mut terms = vec![
+            (i as usize, (c[0] + c[1]) / scale),
+            (j as usize, -c[0] / scale),
+            (k as usize, -c[1] / scale),
+        ];
+        terms.extend(extra.iter().map(|&(v, x)| (v as usize, x / scale)));
+        let mut r = Row::sys1(terms, -base / scale);
+        r.family = Family::Sys3(f);
+        r
+    };
+    let normal = u.cross(&v);
+    let mut rows: Vec<Row> = cycle()
+        .map(|(&a, &b)| {
+            // inward in the face's plane (the cycle turns about `normal`)
+            let n = normal.cross(&rel(p, a, b)).normalize();
+            let base = (rel(p, a, i) + x0).dot(&n);
+            row(base, m.transpose() * n, &[], l.sqrt())
+        })
+        .collect();
+    for &o in others {
+        let r = rel(p, i, o);
+        let base = r.norm_squared() - 2.0 * x0.dot(&r);
+        rows.push(row(
+            base,
+            -2.0 * m.transpose() * r,
+            &[(o, -1.0), (i, 1.0)],
+            l,
+        ));
+    }
+    rows
+}
+
+/// Rows over shared weights: every weight column replaced by its
+/// representative's, repeated columns merged.
+fn tie_rows(rows: &mut [Row], n: usize, tie: &[u32]) {
+    for r in rows {
+        let mut merged: Vec<(usize, f64)> = vec![];
+        for &(c, x) in &r.terms {
+            let c = if c < n { tie[c] as usize } else { c };
+            match merged.iter_mut().find(|t| t.0 == c) {
+                Some(t) => t.1 += x,
+                None => merged.push((c, x)),
+            }
+        }
+        r.terms = merged;
+    }
+}
+
+/// What the exact check of RT(w) finds wrong.
+#[derive(Default)]
+struct Misses {
+    /// Faces that are not faces of RT(w).
+    faces: Vec<u32>,
+    /// Vertices RT(w) hides.
+    hidden: Vec<u32>,
+}
+
+/// The lazy global form (see the module's doc).
+fn global<B: Backend3 + ?Sized>(backend: &B, cx: &Complex3, faces: Vec<Face>) -> Result<Weights3> {
+    let n = cx.points.len();
+    let dt = backend.regular3(&cx.points, &vec![0.0; n])?;
+    let dt_nb = dt.neighbours(n);
+    let units = Units::new(&cx.points, dt.edge_links().into_keys().map(|[a, b]| (a, b)));
+    let p = &units.points;
+    let tie = ties(n, &faces);
+    let whole_polygons = faces.iter().filter(|f| f.vertices.len() > 3).count();
+    let mut report = WeightsReport::started("global");
+    let ring = |vs: &[u32], nbs: &[&Vec<Vec<u32>>]| -> BTreeSet<u32> {
+        let mut out = BTreeSet::new();
+        for &v in vs {
+            for nb in nbs {
+                for &a in &nb[v as usize] {
+                    out.insert(a);
+                }
+            }
+        }
+        out
+    };
+    let mut sets: Vec<BTreeSet<u32>> = faces
+        .iter()
+        .map(|f| {
+            let mut s = ring(&f.vertices, &[&dt_nb]);
+            for v in &f.vertices {
+                s.remove(v);
+            }
+            s
+        })
+        .collect();
+    let mut last = Misses::default();
+    let mut found: Option<Weights3> = None;
+    for round in 1..=GLOBAL_ROUNDS + 2 {
+        report.global_rounds = round;
+        let mut sys = System {
+            n,
+            free: (0..n).map(|v| tie[v] == v as u32).collect(),
+            verdict: true,
+            unit2: units.unit2,
+            l2: units.l2.clone(),
+            ..Default::default()
+        };
+        for (fi, face) in faces.iter().enumerate() {
+            let others: Vec<u32> = sets[fi].iter().copied().collect();
+            let vs = &face.vertices;
+            let on = &vs[1..vs.len().min(3)];
+            let scale2 = on
+                .iter()
+                .map(|&j| rel(p, vs[0], j).norm_squared())
+                .fold(units.l2[vs[0] as usize], f64::max);
+            plane_rows(&mut sys, p, vs[0], on, &others, scale2);
+            match face.dim() {
+                1 => sys
+                    .rows
+                    .extend(sys3_rows(p, fi as u32, vs[0], vs[1], &others)),
+                2 => sys.rows.extend(centre_rows(p, fi as u32, vs, &others)),
+                _ => {}
+            }
+        }
+        tie_rows(&mut sys.rows, n, &tie);
+        tie_rows(&mut sys.eqs, n, &tie);
+        let (w, lp_sys3) = match solve_rows(&sys, true, &mut report)? {
+            Answer::Weights(w, lp_sys3) => (w, lp_sys3),
+            Answer::Sys1Infeasible => return Err(infeasible(cx, &faces, &last)),
+            Answer::Sys3Infeasible => unreachable!("the global form goes elastic"),
+        };
+        let w: Vec<f64> = (0..n).map(|v| w[tie[v] as usize]).collect();
+        let rt = backend.regular3(&cx.points, &w)?;
+        let misses = check(cx, &faces, &rt);
+        let mut bad: BTreeSet<usize> = misses.faces.iter().map(|&f| f as usize).collect();
+        for h in &misses.hidden {
+            bad.extend(faces.iter().position(|f| f.vertices.contains(h)));
+        }
+        if bad.is_empty() {
+            let sys3_failed = sys3_failures(cx, &faces, &w, &rt);
+            if sys3_failed.is_empty() || !lp_sys3 {
+                return Ok(finish(w, rt, faces, report, whole_polygons, sys3_failed));
+            }
+            bad.extend(sys3_failed.iter().map(|&f| f as usize));
+            found = Some(finish(
+                w,
+                rt.clone(),
+                faces.clone(),
+                report.clone(),
+                whole_polygons,
+                sys3_failed,
+            ));
+        }
+        let rt_nb = rt.neighbours(n);
+        let widen = round > GLOBAL_ROUNDS / 2;
+        let mut grew = false;
+        for f in bad {
+            let vs = &faces[f].vertices;
+            let first = ring(vs, &[&rt_nb, &dt_nb]);
+            let mut add = first.clone();
+            for a in first {
+                add.extend(rt_nb[a as usize].iter().chain(&dt_nb[a as usize]).copied());
+            }
+            if widen {
+                add.extend(0..n as u32); // the dense rows for this face only
+            }
+            for v in vs {
+                add.remove(v);
+            }
+            let before = sets[f].len();
+            sets[f].extend(add);
+            grew |= sets[f].len() > before;
+        }
+        last = misses;
+        if sets.iter().map(BTreeSet::len).sum::<usize>() > MAX_GLOBAL_ROWS {
+            return Err(Error::Lp(format!(
+                "the 3D lazy global form needs more than {MAX_GLOBAL_ROWS} rows without converging"
+            )));
+        }
+        if !grew {
+            // Every violated face has all its rows, yet RT(w) disagrees:
+            // the LP's margin is below what the exact check confirms.
+            return found.ok_or_else(|| {
+                Error::Lp("3D weights from the LP do not give a conforming triangulation and no rows are left to add".into())
+            });
+        }
+    }
+    Err(Error::Lp("the 3D lazy global form did not converge".into()))
+}
+
+fn finish(
+    w: Vec<f64>,
+    rt: Tetrahedralisation,
+    faces: Vec<Face>,
+    mut report: WeightsReport,
+    whole_polygons: usize,
+    sys3_failed: Vec<u32>,
+) -> Weights3 {
+    report.max_abs_weight = w.iter().fold(0.0, |m, x| m.max(x.abs()));
+    report.system3_feasible = sys3_failed.is_empty();
+    report.free_weights = w.len();
+    Weights3 {
+        w,
+        rt,
+        faces,
+        report,
+        whole_polygons,
+        sys3_failed,
+    }
+}
+
+/// The verdict of an infeasible restricted LP, naming the faces the last
+/// RT(w) missed (all, when none was built yet).
+fn infeasible(cx: &Complex3, faces: &[Face], last: &Misses) -> Error {
+    let named: Vec<&Face> = if last.faces.is_empty() && last.hidden.is_empty() {
+        faces.iter().collect()
+    } else {
+        let mut v: Vec<&Face> = last.faces.iter().map(|&f| &faces[f as usize]).collect();
+        v.extend(
+            faces
+                .iter()
+                .filter(|f| f.vertices.iter().any(|x| last.hidden.contains(x))),
+        );
+        v
+    };
+    let facets: BTreeSet<i64> = named
+        .iter()
+        .filter_map(|f| f.facet)
+        .map(|f| f as i64 + 1)
+        .collect();
+    let vertices: BTreeSet<i64> = named
+        .iter()
+        .filter(|f| f.facet.is_none())
+        .map(|f| cx.vertex_ids[f.vertices[0] as usize])
+        .collect();
+    Error::NoRegularConstrainedTetrahedralisation {
+        facets: facets.into_iter().collect(),
+        vertices: vertices.into_iter().collect(),
+    }
+}
+
+/// The triangles of RT among a polygon's vertices (sorted triples).
+fn fan(face: &Face, tris: &HashMap<[u32; 3], Vec<u32>>) -> Vec<[u32; 3]> {
+    let vs = &face.vertices;
+    let mut out = vec![];
+    for a in 0..vs.len() {
+        for b in a + 1..vs.len() {
+            for c in b + 1..vs.len() {
+                let mut t = [vs[a], vs[b], vs[c]];
+                t.sort_unstable();
+                if tris.contains_key(&t) {
+                    out.push(t);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Twice the area of a triangle projected along `axis`, exactly.
+fn area2(cx: &Complex3, axis: usize, [a, b, c]: [u32; 3]) -> Q {
+    let f = |v: u32| drop_axis(axis, cx.points[v as usize]).map(q);
+    let (a, b, c) = (f(a), f(b), f(c));
+    (&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0])
+}
+
+/// Exactly: the faces RT(w) lacks and the vertices it hides. A polygon is
+/// there when RT's triangles among its vertices (all in its plane) have
+/// its area: they then tile it.
+fn check(cx: &Complex3, faces: &[Face], rt: &Tetrahedralisation) -> Misses {
+    let tris = rt.triangle_apexes();
+    let edges = rt.edge_links();
+    let hidden: HashSet<u32> = rt.hidden.iter().copied().collect();
+    let present = |(fi, face): (usize, &Face)| -> Option<u32> {
+        let vs = &face.vertices;
+        let ok = match vs.len() {
+            1 => !hidden.contains(&vs[0]),
+            2 => edges.contains_key(&[vs[0].min(vs[1]), vs[0].max(vs[1])]),
+            3 => {
+                let mut t = [vs[0], vs[1], vs[2]];
+                t.sort_unstable();
+                tris.contains_key(&t)
+            }
+            _ => {
+                let axis = plane_axis(
+                    cx.points[vs[0] as usize],
+                    cx.points[vs[1] as usize],
+                    cx.points[vs[2] as usize],
+                )
+                .expect("whole polygons are strictly convex");
+                let abs = |x: Q| if is_pos(&x) { x } else { -x };
+                let polygon: Q = (1..vs.len() - 1)
+                    .map(|k| abs(area2(cx, axis, [vs[0], vs[k], vs[k + 1]])))
+                    .sum();
+                let covered: Q = fan(face, &tris)
+                    .into_iter()
+                    .map(|t| abs(area2(cx, axis, t)))
+                    .sum();
+                covered == polygon
+            }
+        };
+        (!ok).then_some(fi as u32)
+    };
+    let mut hidden: Vec<u32> = rt.hidden.clone();
+    hidden.sort_unstable();
+    Misses {
+        faces: faces.iter().enumerate().filter_map(present).collect(),
+        hidden,
+    }
+}
+
+/// The exact point of a face of dimension 1 or 2 on its dual (the radical
+/// point on a segment; the power centre in a triangle's or polygon's
+/// plane), and its power to the face's vertices.
+pub fn face_centre(cx: &Complex3, w: &[f64], face: &Face) -> Option<([Q; 3], Q)> {
+    let p = |v: u32| cx.points[v as usize].map(q);
+    let vs = &face.vertices;
+    let (pi, wi) = (p(vs[0]), q(w[vs[0] as usize]));
+    let d = |v: u32| -> [Q; 3] {
+        let pv = p(v);
+        [0, 1, 2].map(|k| &pv[k] - &pi[k])
+    };
+    let dot = |a: &[Q; 3], b: &[Q; 3]| &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2];
+    // c - p_i = alpha u + beta v with 2 (c - p_i).u = |u|^2 + w_i - w_j ...
+    let rhs = |v: u32, u: &[Q; 3]| dot(u, u) + &wi - q(w[v as usize]);
+    let x: [Q; 3] = match vs.len() {
+        2 => {
+            let u = d(vs[1]);
+            let lambda = rhs(vs[1], &u) / (Q::from(2) * dot(&u, &u));
+            u.map(|c| c * &lambda)
+        }
+        3.. => {
+            let (u, v) = (d(vs[1]), d(vs[2]));
+            let (uu, uv, vv) = (dot(&u, &u), dot(&u, &v), dot(&v, &v));
+            let det = &uu * &vv - &uv * &uv;
+            if det == 0 {
+                return None;
+            }
+            let (r1, r2) = (rhs(vs[1], &u) / Q::from(2), rhs(vs[2], &v) / Q::from(2));
+            let alpha = (&vv * &r1 - &uv * &r2) / &det;
+            let beta = (&uu * &r2 - &uv * &r1) / &det;
+            [0, 1, 2].map(|k| &u[k] * &alpha + &v[k] * &beta)
+        }
+        _ => return None,
+    };
+    let power = dot(&x, &x) - &wi;
+    Some(([0, 1, 2].map(|k| &pi[k] + &x[k]), power))
+}
+
+/// Faces of dimension 1 or 2 whose dual they do not cross, exactly: the
+/// centre must lie strictly inside the face and have a smaller power to
+/// the face's vertices than to every vertex of RT next to the face (those
+/// across its triangles; around a segment, its link).
+pub fn sys3_failures(
+    cx: &Complex3,
+    faces: &[Face],
+    w: &[f64],
+    rt: &Tetrahedralisation,
+) -> Vec<u32> {
+    let tris = rt.triangle_apexes();
+    let links = rt.edge_links();
+    let p = |v: u32| cx.points[v as usize].map(q);
+    let crosses = |face: &Face| -> bool {
+        let Some((c, power)) = face_centre(cx, w, face) else {
+            return false;
+        };
+        let vs = &face.vertices;
+        let power_to = |m: u32| {
+            let pm = p(m);
+            let d: Q = (0..3).map(|k| (&c[k] - &pm[k]) * (&c[k] - &pm[k])).sum();
+            d - q(w[m as usize])
+        };
+        let near: Vec<u32> = if vs.len() == 2 {
+            let pi = p(vs[0]);
+            let u: [Q; 3] = {
+                let pj = p(vs[1]);
+                [0, 1, 2].map(|k| &pj[k] - &pi[k])
+            };
+            let t: Q = (0..3).map(|k| (&c[k] - &pi[k]) * &u[k]).sum();
+            let uu: Q = (0..3).map(|k| &u[k] * &u[k]).sum();
+            if !(is_pos(&t) && is_pos(&(uu - t))) {
+                return false;
+            }
+            links
+                .get(&[vs[0].min(vs[1]), vs[0].max(vs[1])])
+                .cloned()
+                .unwrap_or_default()
+        } else {
+            let axis = plane_axis(
+                cx.points[vs[0] as usize],
+                cx.points[vs[1] as usize],
+                cx.points[vs[2] as usize],
+            )
+            .expect("faces span a plane");
+            let flat = |v: u32| drop_axis(axis, cx.points[v as usize]).map(q);
+            let cf = [1, 2].map(|k| c[(axis + k) % 3].clone());
+            let side = |a: &[Q; 2], b: &[Q; 2], x: &[Q; 2]| {
+                (&b[0] - &a[0]) * (&x[1] - &a[1]) - (&b[1] - &a[1]) * (&x[0] - &a[0])
+            };
+            let turn = side(&flat(vs[0]), &flat(vs[1]), &flat(vs[2]));
+            let m = vs.len();
+            let inside = (0..m).all(|k| {
+                let s = side(&flat(vs[k]), &flat(vs[(k + 1) % m]), &cf);
+                is_pos(&(s * &turn))
+            });
+            if !inside {
+                return false;
+            }
+            let fan_tris = if m == 3 {
+                let mut t = [vs[0], vs[1], vs[2]];
+                t.sort_unstable();
+                vec![t]
+            } else {
+                fan(face, &tris)
+            };
+            fan_tris
+                .iter()
+                .flat_map(|t| tris.get(t).cloned().unwrap_or_default())
+                .filter(|a| !vs.contains(a))
+                .collect()
+        };
+        near.iter().all(|&m| is_pos(&(power_to(m) - &power)))
+    };
+    faces
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.dim() > 0 && !crosses(f))
+        .map(|(i, _)| i as u32)
+        .collect()
+}
+
+#[cfg(all(test, feature = "cgal"))]
+mod tests {
+    use super::*;
+    use crate::backend::compiled3;
+    use crate::complex3::Facet;
+
+    fn facet(polygons: Vec<Vec<u32>>) -> Facet {
+        Facet {
+            polygons,
+            ..Default::default()
+        }
+    }
+
+    /// A box [0,2]x[0,1]x[0,1] with its six rectangles, and more points.
+    fn boxed(extra: Vec<[f64; 3]>) -> Complex3 {
+        let mut points = vec![];
+        for k in 0..8 {
+            points.push([
+                (2 * (k & 1)) as f64,
+                ((k >> 1) & 1) as f64,
+                ((k >> 2) & 1) as f64,
+            ]);
+        }
+        points.extend(extra);
+        let n = points.len();
+        Complex3 {
+            points,
+            vertex_ids: (1..=n as i64).collect(),
+            facets: vec![
+                facet(vec![vec![0, 1, 3, 2]]),
+                facet(vec![vec![4, 5, 7, 6]]),
+                facet(vec![vec![0, 1, 5, 4]]),
+                facet(vec![vec![2, 3, 7, 6]]),
+                facet(vec![vec![0, 2, 6, 4]]),
+                facet(vec![vec![1, 3, 7, 5]]),
+            ],
+            holes: vec![],
+        }
+    }
+
+    fn run(cx: &Complex3) -> Result<Weights3> {
+        let b = &compiled3()[0];
+        let sc = cx.triangulate(b.as_ref())?;
+        solve(b.as_ref(), cx, &sc)
+    }
+
+    #[test]
+    fn a_box_keeps_its_rectangles_whole() {
+        let cx = boxed(vec![[3.0, 0.2, 0.3], [-1.0, 0.6, 0.4], [1.0, 0.5, 1.2]]);
+        let out = run(&cx).unwrap();
+        assert_eq!(out.whole_polygons, 6);
+        assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+        // the eight corners share a weight
+        assert!(out.w[..8].iter().all(|&x| x == out.w[0]));
+        assert!(out.sys3_failed.is_empty(), "{:?}", out.sys3_failed);
+        assert_eq!(out.faces.len(), 6 + 3);
+    }
+
+    #[test]
+    fn a_point_inside_a_box_of_whole_rectangles() {
+        // The faces' supporting hyperplanes tilt about their lifted
+        // rectangles; the point's weight lowers it below them all.
+        let cx = boxed(vec![[1.0, 0.5, 0.5]]);
+        let out = run(&cx).unwrap();
+        assert_eq!(out.whole_polygons, 6);
+        assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+        assert!(out.rt.hidden.is_empty());
+        assert!(out.w[8] < out.w[0]);
+    }
+
+    #[test]
+    fn shared_weights_without_a_solution_fall_back_to_triangles() {
+        // Rectangle A in z = 0 on the circle of radius 5; rectangle B shares
+        // a corner with A (so all eight share one weight) and has a corner
+        // (5, 0, 0) on A's circle: its lift is on A's lifted plane, which no
+        // hyperplane then separates. Triangulated, A and B have weights.
+        let points = vec![
+            [-3.0, -4.0, 0.0],
+            [3.0, -4.0, 0.0],
+            [3.0, 4.0, 0.0],
+            [-3.0, 4.0, 0.0],
+            [5.0, 0.0, 0.0],
+            [5.0, 0.0, 1.0],
+            [3.0, 4.0, 1.0],
+        ];
+        let cx = Complex3 {
+            points,
+            vertex_ids: (1..=7).collect(),
+            facets: vec![facet(vec![vec![0, 1, 2, 3]]), facet(vec![vec![2, 4, 5, 6]])],
+            holes: vec![],
+        };
+        assert_eq!(kept_whole(&cx), vec![true, true]);
+        let out = run(&cx).unwrap();
+        assert_eq!(out.whole_polygons, 0);
+        assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+    }
+
+    #[test]
+    fn a_skewed_quad_is_triangulated() {
+        // not cocircular: a trapezoid that is not isosceles
+        let mut cx = boxed(vec![[3.0, 0.0, 0.0], [2.5, 1.0, 0.0]]);
+        cx.facets.push(facet(vec![vec![1, 8, 9, 3]]));
+        let out = run(&cx).unwrap();
+        assert_eq!(out.whole_polygons, 6);
+        assert_eq!(
+            out.faces.iter().filter(|f| f.vertices.len() == 3).count(),
+            2
+        );
+        assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+    }
+
+    #[test]
+    fn a_tilted_triangle_needs_weights() {
+        // a long thin triangle whose diametral spheres hold other points:
+        // Delaunay alone would not have it
+        let mut points = vec![[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [2.0, 0.3, 0.1]];
+        points.extend([
+            [2.0, -0.2, 0.6],
+            [2.0, 0.5, -0.5],
+            [1.0, 1.0, 1.0],
+            [3.0, -1.0, -1.0],
+        ]);
+        let n = points.len();
+        let cx = Complex3 {
+            points,
+            vertex_ids: (0..n as i64).collect(),
+            facets: vec![facet(vec![vec![0, 1, 2]])],
+            holes: vec![],
+        };
+        let b = &compiled3()[0];
+        let dt = b.regular3(&cx.points, &vec![0.0; n]).unwrap();
+        assert!(!dt.triangle_apexes().contains_key(&[0, 1, 2]));
+        let out = run(&cx).unwrap();
+        assert!(out.rt.triangle_apexes().contains_key(&[0, 1, 2]));
+        assert!(out.rt.hidden.is_empty());
+        assert!(out.report.margin.unwrap() > 1e-6);
+    }
+
+    #[test]
+    fn schoenhardt_has_no_regular_triangulation() {
+        // Schoenhardt's twisted prism: no triangulation of its six vertices
+        // has its eight boundary triangles (its interior has none).
+        let t = 0.5f64; // twist (radians)
+        let mut points = vec![];
+        for (z, a0) in [(0.0, 0.0), (2.0, t)] {
+            for k in 0..3 {
+                let a = a0 + k as f64 * 2.0 * std::f64::consts::PI / 3.0;
+                points.push([a.cos(), a.sin(), z]);
+            }
+        }
+        // Each side quad (b_k, b_k+1, t_k+1, t_k) folded along the
+        // diagonal that is not a hull edge.
+        let b = &compiled3()[0];
+        let hull = b.regular3(&points, &[0.0; 6]).unwrap();
+        let on_hull = |a: u32, b: u32| {
+            hull.hull_faces().any(|f| {
+                (0..3).any(|k| [f[k], f[(k + 1) % 3]] == [a, b] || [f[k], f[(k + 1) % 3]] == [b, a])
+            })
+        };
+        let twisted = !on_hull(0, 4);
+        assert_ne!(
+            twisted,
+            !on_hull(1, 3),
+            "one diagonal of each side is a hull edge"
+        );
+        let mut tris = vec![[0, 2, 1], [3, 4, 5]];
+        for k in 0..3u32 {
+            let (b0, b1, t0, t1) = (k, (k + 1) % 3, k + 3, (k + 1) % 3 + 3);
+            tris.extend(if twisted {
+                [[b0, b1, t1], [b0, t1, t0]]
+            } else {
+                [[b0, b1, t0], [b1, t1, t0]]
+            });
+        }
+        let cx = Complex3 {
+            points,
+            vertex_ids: (1..=6).collect(),
+            facets: tris.iter().map(|t| facet(vec![t.to_vec()])).collect(),
+            holes: vec![],
+        };
+        match run(&cx) {
+            Err(Error::NoRegularConstrainedTetrahedralisation { facets, .. }) => {
+                assert!(!facets.is_empty())
+            }
+            other => panic!("expected infeasible, got {:?}", other.map(|w| w.w)),
+        }
+    }
+}
