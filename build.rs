@@ -35,6 +35,7 @@ mod cgal {
                 "cpp/regular2.cpp",
                 "cpp/regular2_exact.cpp",
                 "cpp/regular3.cpp",
+                "cpp/regular3_exact.cpp",
             ])
             .include(&cgal_dir)
             .std("c++17")
@@ -53,7 +54,10 @@ mod cgal {
             "cpp/collect.h",
             "cpp/regular2.cpp",
             "cpp/regular2_exact.cpp",
+            "cpp/hidden.h",
+            "cpp/regular3.h",
             "cpp/regular3.cpp",
+            "cpp/regular3_exact.cpp",
             "src/backend/cgal/ffi.rs",
         ] {
             println!("cargo:rerun-if-changed={f}");

@@ -2,6 +2,7 @@
 // regular triangulation whose vertices carry their input index, and its
 // conversion into flat arrays.
 #pragma once
+#include "orthomesh/cpp/hidden.h"
 #include "orthomesh/src/backend/cgal/ffi.rs.h"
 #include <CGAL/Regular_triangulation_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
@@ -26,13 +27,7 @@ using RegularWithIndex2 = CGAL::Regular_triangulation_2<
 template <class Tr>
 TriangulationOut collect(Tr& tr, std::size_t n) {
   TriangulationOut out;
-  std::vector<bool> present(n, false);
-  for (auto v = tr.finite_vertices_begin(); v != tr.finite_vertices_end(); ++v) {
-    present.at(v->info()) = true;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!present[i]) out.hidden.push_back(static_cast<uint32_t>(i));
-  }
+  for (uint32_t i : hidden_indices(tr, n)) out.hidden.push_back(i);
   if (tr.dimension() == 2) {
     out.triangles.reserve(3 * tr.number_of_faces());
     out.neighbours.reserve(3 * tr.number_of_faces());

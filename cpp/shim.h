@@ -30,4 +30,8 @@ TriangulationOut regular_triangulation_2_exact(rust::Str xyw);
 // when the points are coplanar.
 TetrahedralisationOut regular_triangulation_3(rust::Slice<const double> xyzw);
 
+// The same for exact rational weighted points: `xyzw` holds 4 tokens per
+// point ("num/den" or integers), whitespace separated.
+TetrahedralisationOut regular_triangulation_3_exact(rust::Str xyzw);
+
 }  // namespace orthomesh

@@ -37,16 +37,28 @@ pub fn abs(x: &Q) -> Q {
     x.abs()
 }
 
-pub fn sub(a: &QPoint, b: &QPoint) -> QPoint {
-    [&a[0] - &b[0], &a[1] - &b[1]]
+pub fn sub<const N: usize>(a: &[Q; N], b: &[Q; N]) -> [Q; N] {
+    std::array::from_fn(|k| &a[k] - &b[k])
 }
 
-pub fn dot(a: &QPoint, b: &QPoint) -> Q {
-    &a[0] * &b[0] + &a[1] * &b[1]
+pub fn dot<const N: usize>(a: &[Q; N], b: &[Q; N]) -> Q {
+    (0..N).map(|k| &a[k] * &b[k]).sum()
 }
 
-pub fn norm2(a: &QPoint) -> Q {
+pub fn norm2<const N: usize>(a: &[Q; N]) -> Q {
     dot(a, a)
+}
+
+pub fn cross(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
+    std::array::from_fn(|k| {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        &a[i] * &b[j] - &a[j] * &b[i]
+    })
+}
+
+/// a + t d.
+pub fn along<const N: usize>(a: &[Q; N], t: &Q, d: &[Q; N]) -> [Q; N] {
+    std::array::from_fn(|k| &a[k] + t * &d[k])
 }
 
 /// Exact orientation of double points (Shewchuk's adaptive predicate).

@@ -21,7 +21,7 @@
 use crate::backend::{Backend3, Tetrahedralisation};
 use crate::complex3::{drop_axis, plane_axis, Complex3, Simplices3};
 use crate::error::{Error, Result};
-use crate::exact::{is_pos, q, Q};
+use crate::exact::{along, dot, is_pos, norm2, q, sub, Q};
 use crate::weights::{
     destroy_finished, plane_rows, rel, solve_rows, sys3_rows, Answer, Family, Row, System, Units,
     WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
@@ -500,15 +500,20 @@ fn infeasible(cx: &Complex3, faces: &[Face], last: &Misses) -> Error {
     }
 }
 
+/// A triangle's vertices sorted (the key of `Tetrahedralisation::triangle_apexes`).
+pub(crate) fn sorted3(v: &[u32]) -> [u32; 3] {
+    let mut t = [v[0], v[1], v[2]];
+    t.sort_unstable();
+    t
+}
+
 /// The triangles of RT among a polygon's vertices (sorted triples).
-fn fan(face: &Face, tris: &HashMap<[u32; 3], Vec<u32>>) -> Vec<[u32; 3]> {
-    let vs = &face.vertices;
+pub(crate) fn fan(vs: &[u32], tris: &HashMap<[u32; 3], Vec<u32>>) -> Vec<[u32; 3]> {
     let mut out = vec![];
     for a in 0..vs.len() {
         for b in a + 1..vs.len() {
             for c in b + 1..vs.len() {
-                let mut t = [vs[a], vs[b], vs[c]];
-                t.sort_unstable();
+                let t = sorted3(&[vs[a], vs[b], vs[c]]);
                 if tris.contains_key(&t) {
                     out.push(t);
                 }
@@ -537,11 +542,7 @@ fn check(cx: &Complex3, faces: &[Face], rt: &Tetrahedralisation) -> Misses {
         let ok = match vs.len() {
             1 => !hidden.contains(&vs[0]),
             2 => edges.contains_key(&[vs[0].min(vs[1]), vs[0].max(vs[1])]),
-            3 => {
-                let mut t = [vs[0], vs[1], vs[2]];
-                t.sort_unstable();
-                tris.contains_key(&t)
-            }
+            3 => tris.contains_key(&sorted3(vs)),
             _ => {
                 let axis = plane_axis(
                     cx.points[vs[0] as usize],
@@ -553,7 +554,7 @@ fn check(cx: &Complex3, faces: &[Face], rt: &Tetrahedralisation) -> Misses {
                 let polygon: Q = (1..vs.len() - 1)
                     .map(|k| abs(area2(cx, axis, [vs[0], vs[k], vs[k + 1]])))
                     .sum();
-                let covered: Q = fan(face, &tris)
+                let covered: Q = fan(&face.vertices, &tris)
                     .into_iter()
                     .map(|t| abs(area2(cx, axis, t)))
                     .sum();
@@ -570,42 +571,41 @@ fn check(cx: &Complex3, faces: &[Face], rt: &Tetrahedralisation) -> Misses {
     }
 }
 
-/// The exact point of a face of dimension 1 or 2 on its dual (the radical
-/// point on a segment; the power centre in a triangle's or polygon's
-/// plane), and its power to the face's vertices.
-pub fn face_centre(cx: &Complex3, w: &[f64], face: &Face) -> Option<([Q; 3], Q)> {
+/// The exact point of a face of dimension 1 or 2 (its vertices) on its
+/// dual (the radical point on a segment; the power centre in a triangle's
+/// or polygon's plane), and its power to the face's vertices.
+pub fn face_centre(cx: &Complex3, w: &[f64], vs: &[u32]) -> Option<([Q; 3], Q)> {
     let p = |v: u32| cx.points[v as usize].map(q);
-    let vs = &face.vertices;
     let (pi, wi) = (p(vs[0]), q(w[vs[0] as usize]));
-    let d = |v: u32| -> [Q; 3] {
-        let pv = p(v);
-        [0, 1, 2].map(|k| &pv[k] - &pi[k])
-    };
-    let dot = |a: &[Q; 3], b: &[Q; 3]| &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2];
+    let d = |v: u32| sub(&p(v), &pi);
     // c - p_i = alpha u + beta v with 2 (c - p_i).u = |u|^2 + w_i - w_j ...
-    let rhs = |v: u32, u: &[Q; 3]| dot(u, u) + &wi - q(w[v as usize]);
+    let half = |v: u32, u: &[Q; 3]| (norm2(u) + &wi - q(w[v as usize])) / Q::from(2);
     let x: [Q; 3] = match vs.len() {
         2 => {
             let u = d(vs[1]);
-            let lambda = rhs(vs[1], &u) / (Q::from(2) * dot(&u, &u));
+            let lambda = half(vs[1], &u) / norm2(&u);
             u.map(|c| c * &lambda)
         }
         3.. => {
             let (u, v) = (d(vs[1]), d(vs[2]));
-            let (uu, uv, vv) = (dot(&u, &u), dot(&u, &v), dot(&v, &v));
+            let (uu, uv, vv) = (norm2(&u), dot(&u, &v), norm2(&v));
             let det = &uu * &vv - &uv * &uv;
             if det == 0 {
                 return None;
             }
-            let (r1, r2) = (rhs(vs[1], &u) / Q::from(2), rhs(vs[2], &v) / Q::from(2));
+            let (r1, r2) = (half(vs[1], &u), half(vs[2], &v));
             let alpha = (&vv * &r1 - &uv * &r2) / &det;
             let beta = (&uu * &r2 - &uv * &r1) / &det;
-            [0, 1, 2].map(|k| &u[k] * &alpha + &v[k] * &beta)
+            along(
+                &along(&[Q::from(0), Q::from(0), Q::from(0)], &alpha, &u),
+                &beta,
+                &v,
+            )
         }
         _ => return None,
     };
-    let power = dot(&x, &x) - &wi;
-    Some(([0, 1, 2].map(|k| &pi[k] + &x[k]), power))
+    let power = norm2(&x) - &wi;
+    Some((std::array::from_fn(|k| &pi[k] + &x[k]), power))
 }
 
 /// Faces of dimension 1 or 2 whose dual they do not cross, exactly: the
@@ -622,7 +622,7 @@ pub fn sys3_failures(
     let links = rt.edge_links();
     let p = |v: u32| cx.points[v as usize].map(q);
     let crosses = |face: &Face| -> bool {
-        let Some((c, power)) = face_centre(cx, w, face) else {
+        let Some((c, power)) = face_centre(cx, w, &face.vertices) else {
             return false;
         };
         let vs = &face.vertices;
@@ -668,11 +668,9 @@ pub fn sys3_failures(
                 return false;
             }
             let fan_tris = if m == 3 {
-                let mut t = [vs[0], vs[1], vs[2]];
-                t.sort_unstable();
-                vec![t]
+                vec![sorted3(vs)]
             } else {
-                fan(face, &tris)
+                fan(&face.vertices, &tris)
             };
             fan_tris
                 .iter()

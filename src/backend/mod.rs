@@ -39,6 +39,8 @@ pub trait Backend3: Backend {
     /// Regular triangulation of weighted double points in 3D, exact
     /// predicates. Err when the points are coplanar (no tetrahedron).
     fn regular3(&self, points: &[[f64; 3]], weights: &[f64]) -> Result<Tetrahedralisation>;
+    /// Regular triangulation of exact rational weighted points in 3D.
+    fn regular3_exact(&self, points: &[[Q; 3]], weights: &[Q]) -> Result<Tetrahedralisation>;
 }
 
 /// Every backend with a 3D side compiled in.

@@ -100,6 +100,34 @@ impl Tetrahedralisation {
         out
     }
 
+    /// The tetrahedra around the edge (a, b) of tetrahedron t, in cyclic
+    /// order starting at t; None when the edge is on the hull.
+    pub fn ring(&self, t: u32, a: u32, b: u32) -> Option<Vec<u32>> {
+        let mut out = vec![t];
+        let v = self.tets[t as usize];
+        // leave t across the face opposite one of its other two vertices
+        let mut back = *v.iter().find(|&&x| x != a && x != b)?;
+        let mut cur = t;
+        loop {
+            let k = self.tets[cur as usize].iter().position(|&x| x == back)?;
+            let next = self.across(cur, k)?;
+            if next == t {
+                return Some(out);
+            }
+            let shared = self.tets[cur as usize];
+            back = *self.tets[next as usize]
+                .iter()
+                .find(|&&x| x != a && x != b && shared.contains(&x))?;
+            // the shared vertex other than a, b is the one we cross next from
+            // the far side: leave `next` across the face opposite it
+            out.push(next);
+            cur = next;
+            if out.len() > self.tets.len() {
+                return None;
+            }
+        }
+    }
+
     /// Hull faces, each seen counter-clockwise from inside.
     pub fn hull_faces(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
         (0..self.tets.len() as u32).flat_map(move |t| {

@@ -31,5 +31,6 @@ pub(super) mod bridge {
         fn constrained_delaunay_2(xy: &[f64], segments: &[u32]) -> Result<TriangulationOut>;
         fn regular_triangulation_2_exact(xyw: &str) -> Result<TriangulationOut>;
         fn regular_triangulation_3(xyzw: &[f64]) -> Result<TetrahedralisationOut>;
+        fn regular_triangulation_3_exact(xyzw: &str) -> Result<TetrahedralisationOut>;
     }
 }

@@ -66,12 +66,25 @@ impl Backend3 for Cgal {
             .zip(weights)
             .flat_map(|(p, w)| [p[0], p[1], p[2], *w])
             .collect();
-        let out = ffi::bridge::regular_triangulation_3(&xyzw)
-            .map_err(|e| Error::Backend(format!("CGAL: {}", e.what())))?;
-        Ok(Tetrahedralisation::from_parts(
-            &out.tets,
-            &out.neighbours,
-            out.hidden,
-        ))
+        convert3(ffi::bridge::regular_triangulation_3(&xyzw))
     }
+
+    fn regular3_exact(&self, points: &[[Q; 3]], weights: &[Q]) -> Result<Tetrahedralisation> {
+        let mut text = String::with_capacity(points.len() * 128);
+        for (p, w) in points.iter().zip(weights) {
+            let _ = writeln!(text, "{} {} {} {}", p[0], p[1], p[2], w);
+        }
+        convert3(ffi::bridge::regular_triangulation_3_exact(&text))
+    }
+}
+
+fn convert3(
+    out: std::result::Result<ffi::bridge::TetrahedralisationOut, cxx::Exception>,
+) -> Result<Tetrahedralisation> {
+    let out = out.map_err(|e| Error::Backend(format!("CGAL: {}", e.what())))?;
+    Ok(Tetrahedralisation::from_parts(
+        &out.tets,
+        &out.neighbours,
+        out.hidden,
+    ))
 }

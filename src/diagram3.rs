@@ -1,0 +1,457 @@
+//! The power diagram of the 3D sites and its exact certificate (issue 6;
+//! method.md section 7). The sites' regular triangulation is built from
+//! their exact rationals; every power vertex (the orthocentre of a site
+//! tetrahedron) is computed exactly, so that "this power vertex is input
+//! vertex p" and "this face has exactly these vertices" are decided
+//! without rounding. Positions are rounded only for output, and input
+//! vertices are written as the input's own doubles.
+
+use crate::backend::{Backend3, Tetrahedralisation};
+use crate::complex3::Complex3;
+use crate::error::{Error, Result};
+use crate::exact::{f, is_pos, norm2, q, sub, Q};
+use crate::sites3::Sites3;
+use crate::weights3::Weights3;
+use serde::Serialize;
+use std::collections::{HashMap, HashSet};
+
+/// A cell: its faces, each a cycle of power vertices counter-clockwise
+/// seen from outside, with the site across it.
+pub type Cell = Vec<(Vec<u32>, u32)>;
+
+/// Power diagram of the sites.
+#[derive(Debug, Clone)]
+pub struct Diagram3 {
+    /// Regular triangulation of the sites (exact).
+    pub rt: Tetrahedralisation,
+    /// Per site tetrahedron: its power vertex.
+    pub vertex_of: Vec<u32>,
+    /// Power vertices: input vertices exactly, the others rounded.
+    pub points: Vec<[f64; 3]>,
+    /// The input vertex a power vertex is, if any (decided exactly).
+    pub input_vertex: Vec<Option<u32>>,
+    /// Per site: whether its cell lies in the domain.
+    pub in_domain: Vec<bool>,
+    /// Per site in the domain: its cell's faces, each a cycle of power
+    /// vertices counter-clockwise seen from outside, with the site across.
+    pub cells: Vec<Option<Cell>>,
+}
+
+/// What the finished 3D mesh proves about itself.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct Certificate3 {
+    /// Triangles and whole polygons that are exactly one face of the
+    /// diagram (with exactly their vertices), of all.
+    pub faces_exact: usize,
+    pub faces: usize,
+    /// Dangling segments that are exactly one edge.
+    pub segments_exact: usize,
+    pub segments: usize,
+    /// Input vertices that are power vertices.
+    pub vertices_exact: usize,
+    pub vertices: usize,
+    /// Sites of domain cells strictly inside their own cell (exact), of all.
+    pub sites_inside: usize,
+    pub domain_sites: usize,
+    /// Sum of the domain cells' volumes and the volume the domain's
+    /// boundary faces enclose (doubles).
+    pub cells_volume: f64,
+    pub domain_volume: f64,
+    /// Largest |cos| between a face's in-plane directions and the segment
+    /// joining its two sites, on the output as written.
+    pub orthogonality_defect: f64,
+}
+
+impl Certificate3 {
+    /// Conformity holds (faces, segments, vertices exact; volumes agree).
+    pub fn conforms(&self) -> bool {
+        self.faces_exact == self.faces
+            && self.segments_exact == self.segments
+            && self.vertices_exact == self.vertices
+            && (self.cells_volume - self.domain_volume).abs()
+                <= 1e-9 * self.domain_volume.abs().max(1e-300)
+    }
+}
+
+/// The orthocentre of four weighted sites: 2 x.(p_b - p_a) = |p_b|^2 -
+/// w_b - |p_a|^2 + w_a for b, c, d, by Cramer's rule.
+fn orthocentre(s: &Sites3, t: [u32; 4]) -> [Q; 3] {
+    let [a, b, c, d] = t.map(|x| x as usize);
+    let lift = |x: usize| norm2(&s.p[x]) - &s.w[x];
+    let row = |x: usize| {
+        let e = sub(&s.p[x], &s.p[a]);
+        (e.map(|v| v * Q::from(2)), lift(x) - lift(a))
+    };
+    let (r0, r1, r2) = (row(b), row(c), row(d));
+    let m = [&r0.0, &r1.0, &r2.0];
+    let rhs = [&r0.1, &r1.1, &r2.1];
+    let det3 = |m: [[&Q; 3]; 3]| crate::exact::det3_q(m);
+    let cols = |k: usize| -> Q {
+        let pick = |r: usize, c: usize| if c == k { rhs[r] } else { &m[r][c] };
+        det3([0, 1, 2].map(|r| [0, 1, 2].map(|c| pick(r, c))))
+    };
+    let det = det3([0, 1, 2].map(|r| [0, 1, 2].map(|c| &m[r][c])));
+    [0, 1, 2].map(|k| cols(k) / &det)
+}
+
+impl Diagram3 {
+    /// Builds the site diagram and its domain (cells not separated by a
+    /// face from an unbounded cell or a hole point).
+    pub fn build<B: Backend3 + ?Sized>(backend: &B, cx: &Complex3, s: &Sites3) -> Result<Diagram3> {
+        let rt = backend.regular3_exact(&s.p, &s.w)?;
+        if !rt.hidden.is_empty() {
+            return Err(Error::Certificate(format!(
+                "{} sites are hidden in their own diagram",
+                rt.hidden.len()
+            )));
+        }
+        let exact_input: HashMap<[Q; 3], u32> = cx
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (p.map(q), i as u32))
+            .collect();
+        let mut ids: HashMap<[Q; 3], u32> = HashMap::new();
+        let mut points = vec![];
+        let mut input_vertex = vec![];
+        let vertex_of: Vec<u32> = rt
+            .tets
+            .iter()
+            .map(|&t| {
+                let c = orthocentre(s, t);
+                let next = ids.len() as u32;
+                *ids.entry(c.clone()).or_insert_with(|| {
+                    let input = exact_input.get(&c).copied();
+                    points.push(match input {
+                        Some(i) => cx.points[i as usize],
+                        None => c.clone().map(|x| f(&x)),
+                    });
+                    input_vertex.push(input);
+                    next
+                })
+            })
+            .collect();
+        // Each edge's face: the power vertices of the tetrahedra around it,
+        // repeats merged (None: unbounded).
+        let mut faces: HashMap<[u32; 2], Option<Vec<u32>>> = HashMap::new();
+        for (t, v) in rt.tets.iter().enumerate() {
+            for a in 0..4 {
+                for b in a + 1..4 {
+                    let e = [v[a].min(v[b]), v[a].max(v[b])];
+                    faces.entry(e).or_insert_with(|| {
+                        let ring = rt.ring(t as u32, e[0], e[1])?;
+                        let mut face: Vec<u32> =
+                            ring.iter().map(|&t| vertex_of[t as usize]).collect();
+                        face.dedup();
+                        while face.len() > 1 && face.first() == face.last() {
+                            face.pop();
+                        }
+                        Some(face)
+                    });
+                }
+            }
+        }
+        let in_domain = domain(cx, s, &rt, &faces)?;
+        let sp = s.approx();
+        let mut cells: Vec<Option<Cell>> = vec![None; s.p.len()];
+        for (&[a, b], face) in &faces {
+            for (me, other) in [(a, b), (b, a)] {
+                if !in_domain[me as usize] {
+                    continue;
+                }
+                let Some(face) = face else {
+                    return Err(Error::Certificate(format!(
+                        "a domain cell (site {me}) is unbounded"
+                    )));
+                };
+                if face.len() < 3 {
+                    continue;
+                }
+                // outward: the face's normal points towards the other site
+                let mut face = face.clone();
+                let d: [f64; 3] =
+                    std::array::from_fn(|k| sp[other as usize][k] - sp[me as usize][k]);
+                if dot_f(normal(&points, &face), d) < 0.0 {
+                    face.reverse();
+                }
+                cells[me as usize]
+                    .get_or_insert_with(Vec::new)
+                    .push((face, other));
+            }
+        }
+        Ok(Diagram3 {
+            rt,
+            vertex_of,
+            points,
+            input_vertex,
+            in_domain,
+            cells,
+        })
+    }
+
+    /// The exact certificate (see `Certificate3`).
+    pub fn certify(&self, cx: &Complex3, wt: &Weights3, s: &Sites3) -> Certificate3 {
+        let mut c = Certificate3::default();
+        let mut first: HashMap<[u32; 2], u32> = HashMap::new();
+        for (t, v) in self.rt.tets.iter().enumerate() {
+            for a in 0..4 {
+                for b in a + 1..4 {
+                    first
+                        .entry([v[a].min(v[b]), v[a].max(v[b])])
+                        .or_insert(t as u32);
+                }
+            }
+        }
+        let vertex_set = |a: u32, b: u32| -> Option<HashSet<u32>> {
+            let t = *first.get(&[a.min(b), a.max(b)])?;
+            let ring = self.rt.ring(t, a, b)?;
+            Some(ring.iter().map(|&t| self.vertex_of[t as usize]).collect())
+        };
+        // power vertex of each input vertex
+        let mut of_input: HashMap<u32, u32> = HashMap::new();
+        for (v, iv) in self.input_vertex.iter().enumerate() {
+            if let Some(i) = iv {
+                of_input.insert(*i, v as u32);
+            }
+        }
+        let mut edges: HashSet<[u32; 2]> = HashSet::new();
+        for (t, _, u, _) in self.rt.inner_faces() {
+            let (a, b) = (self.vertex_of[t as usize], self.vertex_of[u as usize]);
+            if a != b {
+                edges.insert([a.min(b), a.max(b)]);
+            }
+        }
+        let mut vertices: Vec<u32> = vec![];
+        for (fi, face) in wt.faces.iter().enumerate() {
+            vertices.extend(&face.vertices);
+            match face.dim() {
+                2 => {
+                    c.faces += 1;
+                    let Some([s1, s2]) = s.of_face[fi] else {
+                        continue;
+                    };
+                    let want: Option<HashSet<u32>> = face
+                        .vertices
+                        .iter()
+                        .map(|v| of_input.get(v).copied())
+                        .collect();
+                    if want.is_some() && vertex_set(s1, s2) == want {
+                        c.faces_exact += 1;
+                    }
+                }
+                1 => {
+                    c.segments += 1;
+                    let ends = [0, 1].map(|k| of_input.get(&face.vertices[k]).copied());
+                    if let [Some(a), Some(b)] = ends {
+                        if edges.contains(&[a.min(b), a.max(b)]) {
+                            c.segments_exact += 1;
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        vertices.sort_unstable();
+        vertices.dedup();
+        c.vertices = vertices.len();
+        c.vertices_exact = vertices.iter().filter(|v| of_input.contains_key(v)).count();
+        // sites strictly inside their cells: |p_s - p_t|^2 - w_t + w_s > 0
+        // for every neighbour t
+        let mut inside = vec![true; s.p.len()];
+        for [a, b] in first.keys().copied() {
+            let d = norm2(&sub(&s.p[a as usize], &s.p[b as usize]));
+            if !is_pos(&(&d - &s.w[b as usize] + &s.w[a as usize])) {
+                inside[a as usize] = false;
+            }
+            if !is_pos(&(&d - &s.w[a as usize] + &s.w[b as usize])) {
+                inside[b as usize] = false;
+            }
+        }
+        let domain: Vec<usize> = (0..s.p.len()).filter(|&x| self.in_domain[x]).collect();
+        c.domain_sites = domain.len();
+        c.sites_inside = domain.iter().filter(|&&x| inside[x]).count();
+        c.cells_volume = domain.iter().map(|&x| self.volume(x)).sum();
+        c.domain_volume = boundary_volume(cx, wt, s, &self.in_domain);
+        let sp = s.approx();
+        for &x in &domain {
+            for (face, other) in self.cells[x].iter().flatten() {
+                let d: [f64; 3] = std::array::from_fn(|k| sp[*other as usize][k] - sp[x][k]);
+                let p0 = self.points[face[0] as usize];
+                for &v in &face[1..] {
+                    let e: [f64; 3] = std::array::from_fn(|k| self.points[v as usize][k] - p0[k]);
+                    let cos = dot_f(e, d).abs() / (dot_f(e, e) * dot_f(d, d)).sqrt();
+                    if cos.is_finite() {
+                        c.orthogonality_defect = c.orthogonality_defect.max(cos);
+                    }
+                }
+            }
+        }
+        c
+    }
+
+    /// A cell's volume from its faces (divergence theorem, doubles).
+    pub fn volume(&self, site: usize) -> f64 {
+        let Some(faces) = &self.cells[site] else {
+            return 0.0;
+        };
+        let o = self.points[faces[0].0[0] as usize];
+        faces
+            .iter()
+            .map(|(face, _)| {
+                let p = |k: usize| -> [f64; 3] {
+                    let x = self.points[face[k] as usize];
+                    std::array::from_fn(|i| x[i] - o[i])
+                };
+                (1..face.len() - 1)
+                    .map(|k| det3_f(p(0), p(k), p(k + 1)) / 6.0)
+                    .sum::<f64>()
+            })
+            .sum()
+    }
+}
+
+/// Per site, whether its cell is in the domain: sites are joined across
+/// every diagram face of positive area except the constraint faces; a group with an
+/// unbounded cell (a site on the hull of the sites) or with the cell
+/// holding a volume hole point is outside.
+fn domain(
+    cx: &Complex3,
+    s: &Sites3,
+    rt: &Tetrahedralisation,
+    faces: &HashMap<[u32; 2], Option<Vec<u32>>>,
+) -> Result<Vec<bool>> {
+    let n = s.p.len();
+    let mut cut: HashSet<[u32; 2]> = HashSet::new();
+    for [a, b] in s.of_face.iter().flatten() {
+        cut.insert([*a.min(b), *a.max(b)]);
+    }
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
+        }
+        x
+    }
+    // Faces of no area (sites meeting at a power vertex or edge only) join
+    // nothing: they may cross a constraint face's boundary.
+    for (e, face) in faces {
+        if !cut.contains(e) && face.as_ref().is_none_or(|f| f.len() >= 3) {
+            let (a, b) = (find(&mut parent, e[0]), find(&mut parent, e[1]));
+            parent[a.max(b) as usize] = a.min(b);
+        }
+    }
+    let mut outside = HashSet::new();
+    for f in rt.hull_faces() {
+        for v in f {
+            outside.insert(find(&mut parent, v));
+        }
+    }
+    for h in &cx.holes {
+        let hq = h.map(q);
+        let power = |x: usize| norm2(&sub(&s.p[x], &hq)) - &s.w[x];
+        let best = (1..n).fold(0, |b, x| if power(x) < power(b) { x } else { b });
+        outside.insert(find(&mut parent, best as u32));
+    }
+    let inside: Vec<bool> = (0..n as u32)
+        .map(|x| !outside.contains(&find(&mut parent, x)))
+        .collect();
+    if !inside.iter().any(|&b| b) {
+        return Err(Error::Degenerate(
+            "the facets enclose no volume (every cell is unbounded or around a hole)".into(),
+        ));
+    }
+    Ok(inside)
+}
+
+/// The volume the constraint faces between domain and non-domain cells
+/// enclose: each such face oriented away from its domain site.
+fn boundary_volume(cx: &Complex3, wt: &Weights3, s: &Sites3, in_domain: &[bool]) -> f64 {
+    let sp = s.approx();
+    let o = cx.points[0];
+    let mut vol = 0.0;
+    for (fi, face) in wt.faces.iter().enumerate() {
+        let Some([a, b]) = s.of_face[fi] else {
+            continue;
+        };
+        let (ia, ib) = (in_domain[a as usize], in_domain[b as usize]);
+        if ia == ib {
+            continue;
+        }
+        let (inner, outer) = if ia { (a, b) } else { (b, a) };
+        let p = |v: u32| -> [f64; 3] {
+            let x = cx.points[v as usize];
+            std::array::from_fn(|i| x[i] - o[i])
+        };
+        let vs = &face.vertices;
+        let mut face_vol: f64 = (1..vs.len() - 1)
+            .map(|k| det3_f(p(vs[0]), p(vs[k]), p(vs[k + 1])) / 6.0)
+            .sum();
+        let d: [f64; 3] = std::array::from_fn(|k| sp[outer as usize][k] - sp[inner as usize][k]);
+        let pts: Vec<[f64; 3]> = vs.iter().map(|&v| cx.points[v as usize]).collect();
+        if dot_f(normal_of(&pts), d) < 0.0 {
+            face_vol = -face_vol;
+        }
+        vol += face_vol;
+    }
+    vol
+}
+
+fn dot_f(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn det3_f(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0])
+}
+
+/// Newell's normal of a polygon of power vertices.
+fn normal(points: &[[f64; 3]], face: &[u32]) -> [f64; 3] {
+    let pts: Vec<[f64; 3]> = face.iter().map(|&v| points[v as usize]).collect();
+    normal_of(&pts)
+}
+
+fn normal_of(pts: &[[f64; 3]]) -> [f64; 3] {
+    let edge = |k: usize| (pts[k], pts[(k + 1) % pts.len()]);
+    std::array::from_fn(|i| {
+        let (j, l) = ((i + 1) % 3, (i + 2) % 3);
+        (0..pts.len())
+            .map(|k| {
+                let (a, b) = edge(k);
+                (a[j] - b[j]) * (a[l] + b[l])
+            })
+            .sum()
+    })
+}
+
+#[cfg(all(test, feature = "cgal"))]
+mod tests {
+    use super::*;
+    use crate::backend::compiled3;
+
+    fn pipeline(cx: &Complex3) -> (Weights3, Sites3, Diagram3, Certificate3) {
+        let b = &compiled3()[0];
+        let sc = cx.triangulate(b.as_ref()).unwrap();
+        let wt = crate::weights3::solve(b.as_ref(), cx, &sc).unwrap();
+        let s = crate::sites3::place(cx, &wt).unwrap();
+        let d = Diagram3::build(b.as_ref(), cx, &s).unwrap();
+        let c = d.certify(cx, &wt, &s);
+        (wt, s, d, c)
+    }
+
+    #[test]
+    fn tetgen_example() {
+        let cx = crate::io::read_complex3(std::path::Path::new("tests/data/plc3d/example.poly"))
+            .unwrap();
+        let (wt, s, d, c) = pipeline(&cx);
+        eprintln!(
+            "faces {} sites {} cells {} {:?}",
+            wt.faces.len(),
+            s.p.len(),
+            d.cells.iter().flatten().count(),
+            c
+        );
+        assert!(c.conforms());
+    }
+}

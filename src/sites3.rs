@@ -1,0 +1,330 @@
+//! Sites of the conforming power diagram in 3D (paper section 4, Theorem 1;
+//! issue 6): two sites on the dual edge of each triangle or whole polygon,
+//! one on each side; three affinely independent sites in the dual polygon
+//! of each constraint edge and four in the power cell of each vertex,
+//! counting the sites already placed on faces that contain it and adding
+//! sites on the duals of other triangles of the regular triangulation
+//! where they fall short. A site s on the dual of an RT face F gets the
+//! weight pi(s; p_i, w_i), the same for every vertex i of F; everything is
+//! exact rationals, so each site lies exactly on its dual and its weight
+//! is exactly that power.
+
+use crate::complex3::Complex3;
+use crate::error::{Error, Result};
+use crate::exact::{along, cross, dot, f, is_pos, norm2, q, sub, Q};
+use crate::weights3::{face_centre, fan, sorted3, Weights3};
+use std::collections::{BTreeMap, HashMap};
+
+/// All sites, exactly.
+#[derive(Debug, Clone, Default)]
+pub struct Sites3 {
+    pub p: Vec<[Q; 3]>,
+    pub w: Vec<Q>,
+    /// Per site: the vertices of the RT face on whose dual it lies (sorted):
+    /// it lies in their power cells, with power w_i to each.
+    pub serves: Vec<Vec<u32>>,
+    /// Per face (`Weights3::faces`) of dimension 2: its two sites, behind
+    /// and in front of it along the normal of its first three vertices.
+    pub of_face: Vec<Option<[u32; 2]>>,
+}
+
+/// The dual line of a planar set of vertices with coplanar lifts: the
+/// centre c, the normal n, and the range (lo, hi) of t for which c + t n
+/// is in the power cells of these vertices only (None: unbounded).
+struct Dual {
+    c: [Q; 3],
+    n: [Q; 3],
+    lo: Option<Q>,
+    hi: Option<Q>,
+}
+
+impl Dual {
+    /// The dual of face `vs` (3 or more coplanar vertices) with the RT
+    /// vertices across its triangles.
+    fn of(cx: &Complex3, w: &[f64], vs: &[u32], apexes: &[u32]) -> Option<Dual> {
+        let (c, power) = face_centre(cx, w, vs)?;
+        let p = |v: u32| cx.points[v as usize].map(q);
+        let p0 = p(vs[0]);
+        let n = cross(&sub(&p(vs[1]), &p0), &sub(&p(vs[2]), &p0));
+        let (mut lo, mut hi): (Option<Q>, Option<Q>) = (None, None);
+        for &m in apexes {
+            let pm = p(m);
+            let denom = Q::from(2) * dot(&n, &sub(&pm, &p0));
+            if denom == 0 {
+                return None;
+            }
+            // pi(c + t n; m) = pi(c + t n; v0)
+            let t = (norm2(&sub(&c, &pm)) - q(w[m as usize]) - &power) / &denom;
+            if is_pos(&denom) {
+                hi = Some(hi.map_or(t.clone(), |h| if t < h { t.clone() } else { h }));
+            } else {
+                lo = Some(lo.map_or(t.clone(), |l| if t > l { t.clone() } else { l }));
+            }
+        }
+        match (&lo, &hi) {
+            (Some(l), Some(h)) if l >= h => None,
+            _ => Some(Dual { c, n, lo, hi }),
+        }
+    }
+
+    /// A step of t that moves about half the face's size: sqrt(L) / 2 / |n|.
+    fn scale(&self, cx: &Complex3, vs: &[u32]) -> Q {
+        let p = |v: u32| cx.points[v as usize];
+        let l = (0..vs.len())
+            .map(|k| {
+                let (a, b) = (p(vs[k]), p(vs[(k + 1) % vs.len()]));
+                (0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>()
+            })
+            .fold(0.0, f64::max);
+        let n = self.n.iter().map(|x| f(x).powi(2)).sum::<f64>().sqrt();
+        q(l.sqrt() / 2.0 / n)
+    }
+
+    /// Two values of t strictly inside (lo, hi): on both sides of the face
+    /// when the face crosses its dual (halfway to the ends), else at its
+    /// thirds; a step of `scale` stands in for a missing end.
+    fn two(&self, scale: &Q) -> [Q; 2] {
+        let zero = Q::from(0);
+        let (lo, hi) = (self.lo.clone(), self.hi.clone());
+        let crosses =
+            lo.as_ref().is_none_or(|l| l < &zero) && hi.as_ref().is_none_or(|h| h > &zero);
+        let pick = if crosses {
+            let below = lo.map_or(-scale.clone(), |l| l / Q::from(2));
+            let above = hi.map_or(scale.clone(), |h| h / Q::from(2));
+            [below, above]
+        } else {
+            let (l, h) = match (lo, hi) {
+                (Some(l), Some(h)) => (l, h),
+                (Some(l), None) => (l.clone(), l + Q::from(3) * scale),
+                (None, Some(h)) => (h.clone() - Q::from(3) * scale, h),
+                (None, None) => unreachable!("crosses"),
+            };
+            let third = (&h - &l) / Q::from(3);
+            [&l + &third, &h - &third]
+        };
+        pick.map(|t| self.snap(t))
+    }
+
+    /// One value of t inside (lo, hi): the middle, or a step beyond the
+    /// one end.
+    fn one(&self, scale: &Q) -> Q {
+        let t = match (&self.lo, &self.hi) {
+            (Some(l), Some(h)) => (l + h) / Q::from(2),
+            (Some(l), None) => l + scale,
+            (None, Some(h)) => h - scale,
+            (None, None) => Q::from(0),
+        };
+        self.snap(t)
+    }
+
+    /// The nearest double to t when it is still strictly inside (short
+    /// rationals keep the exact site diagram cheap), else t.
+    fn snap(&self, t: Q) -> Q {
+        let d = q(f(&t));
+        let inside =
+            self.lo.as_ref().is_none_or(|l| &d > l) && self.hi.as_ref().is_none_or(|h| &d < h);
+        if inside {
+            d
+        } else {
+            t
+        }
+    }
+}
+
+/// Places the sites (see the module's doc).
+pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
+    let w = &wt.w;
+    let tris = wt.rt.triangle_apexes();
+    let links = wt.rt.edge_links();
+    let mut s = Sites3 {
+        of_face: vec![None; wt.faces.len()],
+        ..Default::default()
+    };
+    // The RT triangles inside whole polygons share the polygon's dual.
+    let mut in_polygon: HashMap<[u32; 3], u32> = HashMap::new();
+    for (fi, face) in wt
+        .faces
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.vertices.len() > 3)
+    {
+        for t in fan(&face.vertices, &tris) {
+            in_polygon.insert(t, fi as u32);
+        }
+    }
+    let add = |s: &mut Sites3, dual: &Dual, t: &Q, serves: &[u32]| -> u32 {
+        let p = along(&dual.c, t, &dual.n);
+        let v0 = serves[0];
+        let weight = norm2(&sub(&p, &cx.points[v0 as usize].map(q))) - q(w[v0 as usize]);
+        let mut sv = serves.to_vec();
+        sv.sort_unstable();
+        s.p.push(p);
+        s.w.push(weight);
+        s.serves.push(sv);
+        (s.p.len() - 1) as u32
+    };
+    for (fi, face) in wt.faces.iter().enumerate().filter(|(_, f)| f.dim() == 2) {
+        let vs = &face.vertices;
+        let apexes: Vec<u32> = if vs.len() == 3 {
+            tris.get(&sorted3(vs)).cloned().unwrap_or_default()
+        } else {
+            fan(vs, &tris)
+                .iter()
+                .flat_map(|t| tris[t].iter().copied())
+                .filter(|a| !vs.contains(a))
+                .collect()
+        };
+        let dual = Dual::of(cx, w, vs, &apexes).ok_or_else(|| {
+            Error::Certificate(format!(
+                "the dual edge of a face of facet {} is empty",
+                face.facet.map_or(0, |f| f as i64 + 1)
+            ))
+        })?;
+        let [a, b] = dual.two(&dual.scale(cx, vs));
+        s.of_face[fi] = Some([add(&mut s, &dual, &a, vs), add(&mut s, &dual, &b, vs)]);
+    }
+    // Extra sites, at most one per RT triangle (shared by its vertices).
+    let mut extra: BTreeMap<[u32; 3], Option<u32>> = BTreeMap::new();
+    let mut extra_site = |s: &mut Sites3, t: [u32; 3]| -> Option<u32> {
+        if in_polygon.contains_key(&t) {
+            return None;
+        }
+        *extra.entry(t).or_insert_with(|| {
+            let dual = Dual::of(cx, w, &t, &tris[&t])?;
+            let scale = dual.scale(cx, &t);
+            let tt = dual.one(&scale);
+            Some(add(s, &dual, &tt, &t))
+        })
+    };
+    // Constraint edges: those of triangles and polygons, and segments.
+    let mut edges: Vec<[u32; 2]> = vec![];
+    for face in wt.faces.iter().filter(|f| f.dim() > 0) {
+        let vs = &face.vertices;
+        let m = vs.len();
+        for k in 0..if m == 2 { 1 } else { m } {
+            let (a, b) = (vs[k], vs[(k + 1) % m]);
+            edges.push([a.min(b), a.max(b)]);
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    let mut index = by_vertex(&s);
+    for e in &edges {
+        let have = |s: &Sites3, index: &HashMap<u32, Vec<u32>>| -> Vec<u32> {
+            index
+                .get(&e[0])
+                .into_iter()
+                .flatten()
+                .copied()
+                .filter(|&x| s.serves[x as usize].contains(&e[1]))
+                .collect()
+        };
+        let link = links.get(e).cloned().unwrap_or_default();
+        let mut candidates = link.iter().map(|&m| sorted3(&[e[0], e[1], m]));
+        while affine_rank(&s, &have(&s, &index)) < 2 {
+            let Some(t) = candidates.next() else {
+                return Err(short(cx, "edge", e));
+            };
+            if let Some(x) = extra_site(&mut s, t) {
+                for v in t {
+                    let list = index.entry(v).or_default();
+                    if !list.contains(&x) {
+                        list.push(x);
+                    }
+                }
+            }
+        }
+    }
+    let mut vertices: Vec<u32> = wt
+        .faces
+        .iter()
+        .flat_map(|f| f.vertices.iter().copied())
+        .collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    let mut around: HashMap<u32, Vec<[u32; 3]>> = HashMap::new();
+    for t in tris.keys() {
+        for &v in t {
+            around.entry(v).or_default().push(*t);
+        }
+    }
+    for v in vertices {
+        let mut candidates = around.get(&v).cloned().unwrap_or_default().into_iter();
+        loop {
+            let have = index.get(&v).cloned().unwrap_or_default();
+            if affine_rank(&s, &have) >= 3 {
+                break;
+            }
+            let Some(t) = candidates.next() else {
+                return Err(short(cx, "vertex", &[v]));
+            };
+            if let Some(x) = extra_site(&mut s, t) {
+                for u in t {
+                    let list = index.entry(u).or_default();
+                    if !list.contains(&x) {
+                        list.push(x);
+                    }
+                }
+            }
+        }
+    }
+    Ok(s)
+}
+
+fn short(cx: &Complex3, what: &str, vs: &[u32]) -> Error {
+    let ids: Vec<i64> = vs.iter().map(|&v| cx.vertex_ids[v as usize]).collect();
+    Error::Certificate(format!(
+        "the power cells around {what} {ids:?} have too few places for sites (Theorem 1)"
+    ))
+}
+
+/// Per input vertex, the sites serving it.
+fn by_vertex(s: &Sites3) -> HashMap<u32, Vec<u32>> {
+    let mut out: HashMap<u32, Vec<u32>> = HashMap::new();
+    for (x, sv) in s.serves.iter().enumerate() {
+        for &v in sv {
+            out.entry(v).or_default().push(x as u32);
+        }
+    }
+    out
+}
+
+/// The dimension of the affine hull of these sites (-1 for none), exactly.
+fn affine_rank(s: &Sites3, ids: &[u32]) -> i32 {
+    let Some((&first, rest)) = ids.split_first() else {
+        return -1;
+    };
+    let mut rows: Vec<[Q; 3]> = rest
+        .iter()
+        .map(|&x| sub(&s.p[x as usize], &s.p[first as usize]))
+        .collect();
+    let mut rank = 0;
+    for col in 0..3 {
+        let Some(piv) = (rank..rows.len()).find(|&r| rows[r][col] != 0) else {
+            continue;
+        };
+        rows.swap(rank, piv);
+        for r in rank + 1..rows.len() {
+            if rows[r][col] != 0 {
+                let factor = &rows[r][col] / &rows[rank][col];
+                let pivot = rows[rank].clone();
+                for k in col..3 {
+                    rows[r][k] -= &factor * &pivot[k];
+                }
+            }
+        }
+        rank += 1;
+    }
+    rank as i32
+}
+
+impl Sites3 {
+    /// Doubles nearest the sites and weights.
+    pub fn approx(&self) -> Vec<[f64; 4]> {
+        self.p
+            .iter()
+            .zip(&self.w)
+            .map(|(p, w)| [f(&p[0]), f(&p[1]), f(&p[2]), f(w)])
+            .collect()
+    }
+}
