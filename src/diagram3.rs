@@ -58,7 +58,7 @@ pub struct Certificate3 {
     pub cells_volume: f64,
     pub domain_volume: f64,
     /// Largest |cos| between a face's in-plane directions and the segment
-    /// joining its two sites, on the output as written.
+    /// joining its two sites, on the output as written (`conform3` fills it).
     pub orthogonality_defect: f64,
 }
 
@@ -255,10 +255,20 @@ impl Diagram3 {
         vertices.dedup();
         c.vertices = vertices.len();
         c.vertices_exact = vertices.iter().filter(|v| of_input.contains_key(v)).count();
-        // sites strictly inside their cells: |p_s - p_t|^2 - w_t + w_s > 0
-        // for every neighbour t
+        let inside = self.sites_inside(s);
+        let domain: Vec<usize> = (0..s.p.len()).filter(|&x| self.in_domain[x]).collect();
+        c.domain_sites = domain.len();
+        c.sites_inside = domain.iter().filter(|&&x| inside[x]).count();
+        c.cells_volume = domain.iter().map(|&x| self.volume(x)).sum();
+        c.domain_volume = boundary_volume(cx, wt, s, &self.in_domain);
+        c
+    }
+
+    /// Per site, whether it lies strictly inside its own cell, exactly:
+    /// |p_s - p_t|^2 - w_t + w_s > 0 for every neighbour t.
+    pub fn sites_inside(&self, s: &Sites3) -> Vec<bool> {
         let mut inside = vec![true; s.p.len()];
-        for [a, b] in first.keys().copied() {
+        for [a, b] in self.rt.edge_links().into_keys() {
             let d = norm2(&sub(&s.p[a as usize], &s.p[b as usize]));
             if !is_pos(&(&d - &s.w[b as usize] + &s.w[a as usize])) {
                 inside[a as usize] = false;
@@ -267,26 +277,7 @@ impl Diagram3 {
                 inside[b as usize] = false;
             }
         }
-        let domain: Vec<usize> = (0..s.p.len()).filter(|&x| self.in_domain[x]).collect();
-        c.domain_sites = domain.len();
-        c.sites_inside = domain.iter().filter(|&&x| inside[x]).count();
-        c.cells_volume = domain.iter().map(|&x| self.volume(x)).sum();
-        c.domain_volume = boundary_volume(cx, wt, s, &self.in_domain);
-        let sp = s.approx();
-        for &x in &domain {
-            for (face, other) in self.cells[x].iter().flatten() {
-                let d: [f64; 3] = std::array::from_fn(|k| sp[*other as usize][k] - sp[x][k]);
-                let p0 = self.points[face[0] as usize];
-                for &v in &face[1..] {
-                    let e: [f64; 3] = std::array::from_fn(|k| self.points[v as usize][k] - p0[k]);
-                    let cos = dot_f(e, d).abs() / (dot_f(e, e) * dot_f(d, d)).sqrt();
-                    if cos.is_finite() {
-                        c.orthogonality_defect = c.orthogonality_defect.max(cos);
-                    }
-                }
-            }
-        }
-        c
+        inside
     }
 
     /// A cell's volume from its faces (divergence theorem, doubles).
@@ -389,7 +380,7 @@ fn boundary_volume(cx: &Complex3, wt: &Weights3, s: &Sites3, in_domain: &[bool])
             .sum();
         let d: [f64; 3] = std::array::from_fn(|k| sp[outer as usize][k] - sp[inner as usize][k]);
         let pts: Vec<[f64; 3]> = vs.iter().map(|&v| cx.points[v as usize]).collect();
-        if dot_f(normal_of(&pts), d) < 0.0 {
+        if dot_f(newell(&pts), d) < 0.0 {
             face_vol = -face_vol;
         }
         vol += face_vol;
@@ -409,10 +400,12 @@ fn det3_f(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
 /// Newell's normal of a polygon of power vertices.
 fn normal(points: &[[f64; 3]], face: &[u32]) -> [f64; 3] {
     let pts: Vec<[f64; 3]> = face.iter().map(|&v| points[v as usize]).collect();
-    normal_of(&pts)
+    newell(&pts)
 }
 
-fn normal_of(pts: &[[f64; 3]]) -> [f64; 3] {
+/// Newell's normal of a planar polygon: twice its area times the unit
+/// normal (counter-clockwise seen from its tip).
+pub fn newell(pts: &[[f64; 3]]) -> [f64; 3] {
     let edge = |k: usize| (pts[k], pts[(k + 1) % pts.len()]);
     std::array::from_fn(|i| {
         let (j, l) = ((i + 1) % 3, (i + 2) % 3);

@@ -10,7 +10,6 @@ use crate::error::{Error, Result};
 use crate::hybrid::Hybrid;
 use crate::io::eclipse::CornerPointGrid;
 use crate::io::tough::{Connection, Element};
-use std::fmt::Write;
 
 /// The layered mesh: points (x, y, z up), and per cell its faces, each a
 /// list of point ids counter-clockwise seen from outside.
@@ -227,75 +226,52 @@ impl Layered {
     /// VTU with polyhedra (type 42), classic faces/faceoffsets layout; cell
     /// data region, ijk (1-based, -1 outside the grid), layer (1-based).
     pub fn vtu(&self, h: &Hybrid) -> String {
-        let mut s = String::new();
-        crate::io::vtu::begin(&mut s, &self.points, self.cells.len());
-        s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-        let mut offsets = vec![];
-        let mut n = 0;
-        for faces in &self.cells {
-            let mut ids: Vec<u32> = faces.iter().flatten().copied().collect();
-            ids.sort_unstable();
-            ids.dedup();
-            n += ids.len();
-            offsets.push(n);
-            let line: Vec<String> = ids.iter().map(u32::to_string).collect();
-            let _ = writeln!(s, "{}", line.join(" "));
-        }
-        s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-        for o in offsets {
-            let _ = writeln!(s, "{o}");
-        }
-        s.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-        for _ in &self.cells {
-            s.push_str("42\n");
-        }
-        s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"faces\" format=\"ascii\">\n");
-        let mut face_offsets = vec![];
-        let mut total = 0;
-        for faces in &self.cells {
-            let mut line = vec![faces.len().to_string()];
-            for f in faces {
-                line.push(f.len().to_string());
-                line.extend(f.iter().map(u32::to_string));
-            }
-            total += line.len();
-            face_offsets.push(total);
-            let _ = writeln!(s, "{}", line.join(" "));
-        }
-        s.push_str(
-            "</DataArray>\n<DataArray type=\"Int64\" Name=\"faceoffsets\" format=\"ascii\">\n",
-        );
-        for o in face_offsets {
-            let _ = writeln!(s, "{o}");
-        }
-        s.push_str("</DataArray>\n</Cells>\n<CellData Scalars=\"region\">\n");
-        s.push_str("<DataArray type=\"Float64\" Name=\"site\" NumberOfComponents=\"3\" format=\"ascii\">\n");
-        for p in &self.node {
-            let _ = writeln!(s, "{:e} {:e} {:e}", p[0], p[1], p[2]);
-        }
-        s.push_str("</DataArray>\n<DataArray type=\"Float64\" Name=\"weight\" format=\"ascii\">\n");
-        for &(c, _) in &self.origin {
-            let _ = writeln!(s, "{:e}", h.mesh.weights[c as usize]);
-        }
-        s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"region\" format=\"ascii\">\n");
-        for &(c, _) in &self.origin {
-            let _ = writeln!(s, "{}", h.region[c as usize] as i64);
-        }
-        s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"ijk\" NumberOfComponents=\"3\" format=\"ascii\">\n");
-        for &(c, k) in &self.origin {
-            match h.ijk[c as usize] {
-                Some([i, j, _]) => {
-                    let _ = writeln!(s, "{} {} {}", i + 1, j + 1, k + 1);
-                }
-                None => s.push_str("-1 -1 -1\n"),
-            }
-        }
-        s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"layer\" format=\"ascii\">\n");
-        for &(_, k) in &self.origin {
-            let _ = writeln!(s, "{}", k + 1);
-        }
-        s.push_str("</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
-        s
+        use crate::io::vtu::{polyhedra, FloatArray, IntArray};
+        let floats = [
+            FloatArray {
+                name: "site",
+                components: 3,
+                values: self.node.iter().flatten().copied().collect(),
+            },
+            FloatArray {
+                name: "weight",
+                components: 1,
+                values: self
+                    .origin
+                    .iter()
+                    .map(|&(c, _)| h.mesh.weights[c as usize])
+                    .collect(),
+            },
+        ];
+        let ints = [
+            IntArray {
+                name: "region",
+                components: 1,
+                values: self
+                    .origin
+                    .iter()
+                    .map(|&(c, _)| h.region[c as usize] as i64)
+                    .collect(),
+            },
+            IntArray {
+                name: "ijk",
+                components: 3,
+                values: self
+                    .origin
+                    .iter()
+                    .flat_map(|&(c, k)| match h.ijk[c as usize] {
+                        Some([i, j, _]) => [i as i64 + 1, j as i64 + 1, k as i64 + 1],
+                        None => [-1, -1, -1],
+                    })
+                    .collect(),
+            },
+            IntArray {
+                name: "layer",
+                components: 1,
+                values: self.origin.iter().map(|&(_, k)| k as i64 + 1).collect(),
+            },
+        ];
+        polyhedra(&self.points, &self.cells, &floats, &ints, "region")
     }
 
     /// TOUGH2 MESH: lateral connections from the 2D faces in each layer

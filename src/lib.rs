@@ -38,6 +38,7 @@ pub mod certify;
 pub mod complex;
 pub mod complex3;
 pub mod conform;
+pub mod conform3;
 pub mod diagram;
 pub mod diagram3;
 pub mod domain;

@@ -12,6 +12,92 @@ use nalgebra::Vector2;
 
 /// Edges shorter than this fraction of the mesh size are collapsed.
 pub const COLLAPSE: f64 = 1e-14;
+
+/// Points with those closer than COLLAPSE x their extent merged (an input
+/// vertex keeps its exact position; two input vertices never merge).
+pub struct Collapsed<const D: usize> {
+    pub points: Vec<[f64; D]>,
+    pub fixed: Vec<bool>,
+    /// Per given point, its merged point.
+    pub map: Vec<u32>,
+    pub collapsed: usize,
+    /// The points' extent (largest side of their box).
+    pub size: f64,
+}
+
+impl<const D: usize> Collapsed<D> {
+    pub fn of(pts: &[[f64; D]], fixed: &[bool]) -> Collapsed<D> {
+        let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
+        for p in pts {
+            for k in 0..D {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let size = (0..D).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+        let tol = COLLAPSE * size;
+        // Grid of cell size tol: close points are in neighbouring buckets.
+        let key = |p: [f64; D]| -> [i64; D] {
+            std::array::from_fn(|k| ((p[k] - lo[k]) / tol).floor() as i64)
+        };
+        let offsets: Vec<[i64; D]> = (0..3usize.pow(D as u32))
+            .map(|mut c| {
+                std::array::from_fn(|_| {
+                    let d = (c % 3) as i64 - 1;
+                    c /= 3;
+                    d
+                })
+            })
+            .collect();
+        let mut out = Collapsed {
+            points: vec![],
+            fixed: vec![],
+            map: Vec::with_capacity(pts.len()),
+            collapsed: 0,
+            size,
+        };
+        // Per grid cell the last point put there, chained to the previous ones.
+        let mut grid: FastMap<[i64; D], u32> = FastMap::default();
+        grid.reserve(pts.len());
+        let mut chain: Vec<u32> = Vec::with_capacity(pts.len());
+        for (&p, &is_fixed) in pts.iter().zip(fixed) {
+            let g = key(p);
+            let mut target = None;
+            'search: for o in &offsets {
+                let cell: [i64; D] = std::array::from_fn(|k| g[k] + o[k]);
+                let mut id = grid.get(&cell).copied().unwrap_or(u32::MAX);
+                while id != u32::MAX {
+                    let q = out.points[id as usize];
+                    let d2: f64 = (0..D).map(|k| (q[k] - p[k]).powi(2)).sum();
+                    if d2.sqrt() <= tol && !(is_fixed && out.fixed[id as usize]) {
+                        target = Some(id);
+                        break 'search;
+                    }
+                    id = chain[id as usize];
+                }
+            }
+            let id = match target {
+                Some(id) => {
+                    out.collapsed += 1;
+                    if is_fixed {
+                        out.points[id as usize] = p;
+                        out.fixed[id as usize] = true;
+                    }
+                    id
+                }
+                None => {
+                    let id = out.points.len() as u32;
+                    out.points.push(p);
+                    out.fixed.push(is_fixed);
+                    chain.push(grid.insert(g, id).unwrap_or(u32::MAX));
+                    id
+                }
+            };
+            out.map.push(id);
+        }
+        out
+    }
+}
 /// Edges shorter than this fraction are too short to measure a direction.
 const MEASURE: f64 = 1e-7;
 
@@ -74,64 +160,19 @@ impl Mesh {
             u
         };
         let pts: Vec<[f64; 2]> = used.iter().map(|&v| diagram.points[v as usize]).collect();
-        let (lo, hi) = bbox(&pts);
-        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-        let tol = COLLAPSE * size;
-        // Grid of cell size tol: close points are in neighbouring buckets.
-        let key = |p: [f64; 2]| {
-            [
-                ((p[0] - lo[0]) / tol).floor() as i64,
-                ((p[1] - lo[1]) / tol).floor() as i64,
-            ]
-        };
-        // Per grid cell the last point put there, chained to the previous ones.
-        let mut grid: FastMap<[i64; 2], u32> = FastMap::default();
-        grid.reserve(used.len());
-        let mut chain: Vec<u32> = Vec::with_capacity(used.len());
+        let fixed: Vec<bool> = used
+            .iter()
+            .map(|&v| diagram.input_vertex[v as usize].is_some())
+            .collect();
+        let merged = Collapsed::of(&pts, &fixed);
         let mut map = vec![u32::MAX; diagram.points.len()];
         for (k, &v) in used.iter().enumerate() {
-            let p = pts[k];
-            let is_fixed = diagram.input_vertex[v as usize].is_some();
-            let g = key(p);
-            let mut target = None;
-            'search: for dx in -1..=1 {
-                for dy in -1..=1 {
-                    let mut id = grid
-                        .get(&[g[0] + dx, g[1] + dy])
-                        .copied()
-                        .unwrap_or(u32::MAX);
-                    while id != u32::MAX {
-                        let q = m.points[id as usize];
-                        if (q[0] - p[0]).hypot(q[1] - p[1]) <= tol
-                            && !(is_fixed && m.fixed[id as usize])
-                        {
-                            target = Some(id);
-                            break 'search;
-                        }
-                        id = chain[id as usize];
-                    }
-                }
-            }
-            let id = match target {
-                Some(id) => {
-                    m.collapsed += 1;
-                    if is_fixed {
-                        // an input vertex keeps its exact position
-                        m.points[id as usize] = p;
-                        m.fixed[id as usize] = true;
-                    }
-                    id
-                }
-                None => {
-                    let id = m.points.len() as u32;
-                    m.points.push(p);
-                    m.fixed.push(is_fixed);
-                    chain.push(grid.insert(g, id).unwrap_or(u32::MAX));
-                    id
-                }
-            };
-            map[v as usize] = id;
+            map[v as usize] = merged.map[k];
         }
+        m.points = merged.points;
+        m.fixed = merged.fixed;
+        m.collapsed = merged.collapsed;
+        m.size = merged.size;
         for (s, cell) in diagram.cells.iter().enumerate() {
             if !diagram.in_domain[s] {
                 continue;
@@ -180,7 +221,6 @@ impl Mesh {
                 m.faces.push([from, to, ca, cb]);
             }
         }
-        m.size = size;
         Ok(m)
     }
 

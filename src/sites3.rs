@@ -26,6 +26,17 @@ pub struct Sites3 {
     /// Per face (`Weights3::faces`) of dimension 2: its two sites, behind
     /// and in front of it along the normal of its first three vertices.
     pub of_face: Vec<Option<[u32; 2]>>,
+    /// Per site of a face that crosses its dual: the line it may move on
+    /// towards the face (relocation).
+    pub line: Vec<Option<Line>>,
+}
+
+/// A site at c + t n on the dual line of a face that crosses it at c.
+#[derive(Debug, Clone)]
+pub struct Line {
+    pub c: [Q; 3],
+    pub n: [Q; 3],
+    pub t: Q,
 }
 
 /// The dual line of a planar set of vertices with coplanar lifts: the
@@ -78,6 +89,12 @@ impl Dual {
             .fold(0.0, f64::max);
         let n = self.n.iter().map(|x| f(x).powi(2)).sum::<f64>().sqrt();
         q(l.sqrt() / 2.0 / n)
+    }
+
+    /// Whether the face crosses its dual: t = 0 is strictly inside (lo, hi).
+    fn crosses(&self) -> bool {
+        let zero = Q::from(0);
+        self.lo.as_ref().is_none_or(|l| l < &zero) && self.hi.as_ref().is_none_or(|h| h > &zero)
     }
 
     /// Two values of t strictly inside (lo, hi): on both sides of the face
@@ -153,15 +170,19 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         }
     }
     let add = |s: &mut Sites3, dual: &Dual, t: &Q, serves: &[u32]| -> u32 {
-        let p = along(&dual.c, t, &dual.n);
-        let v0 = serves[0];
-        let weight = norm2(&sub(&p, &cx.points[v0 as usize].map(q))) - q(w[v0 as usize]);
         let mut sv = serves.to_vec();
         sv.sort_unstable();
-        s.p.push(p);
-        s.w.push(weight);
+        s.p.push(along(&dual.c, t, &dual.n));
+        s.w.push(Q::from(0));
         s.serves.push(sv);
-        (s.p.len() - 1) as u32
+        let x = s.p.len() - 1;
+        s.reweigh(x, cx, w);
+        s.line.push(dual.crosses().then(|| Line {
+            c: dual.c.clone(),
+            n: dual.n.clone(),
+            t: t.clone(),
+        }));
+        x as u32
     };
     for (fi, face) in wt.faces.iter().enumerate().filter(|(_, f)| f.dim() == 2) {
         let vs = &face.vertices;
@@ -319,6 +340,35 @@ fn affine_rank(s: &Sites3, ids: &[u32]) -> i32 {
 }
 
 impl Sites3 {
+    /// Gives site x the power w_v at the vertices v it serves.
+    fn reweigh(&mut self, x: usize, cx: &Complex3, w: &[f64]) {
+        let v0 = self.serves[x][0] as usize;
+        self.w[x] = norm2(&sub(&self.p[x], &cx.points[v0].map(q))) - q(w[v0]);
+    }
+
+    /// Moves a site on a line halfway to its face (rounded to a double
+    /// parameter when that stays strictly between); false when it has no
+    /// line.
+    pub fn halve(&mut self, x: usize, cx: &Complex3, w: &[f64]) -> bool {
+        let Some(line) = &mut self.line[x] else {
+            return false;
+        };
+        let half = &line.t / Q::from(2);
+        let d = q(f(&half));
+        let zero = Q::from(0);
+        let between = |v: &Q| {
+            if line.t > zero {
+                v > &zero && v < &line.t
+            } else {
+                v < &zero && v > &line.t
+            }
+        };
+        line.t = if between(&d) { d } else { half };
+        self.p[x] = along(&line.c, &line.t, &line.n);
+        self.reweigh(x, cx, w);
+        true
+    }
+
     /// Doubles nearest the sites and weights.
     pub fn approx(&self) -> Vec<[f64; 4]> {
         self.p

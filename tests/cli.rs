@@ -286,3 +286,98 @@ fn the_same_input_gives_byte_identical_mesh_and_report() {
     let [a, b] = twice(&dir, &args, &["h.vtu", "h.mesh", "h.json"]);
     assert!(a == b, "SPE9 hybrid: the two runs differ");
 }
+
+/// A 2 x 1 x 1 box in TetGen's .poly format, with `extra` facet lines.
+fn box_poly(extra_points: &str, extra_facets: &[&str]) -> String {
+    let n_extra = extra_points.lines().count();
+    let mut s = format!("{} 3 0 0\n", 8 + n_extra);
+    for (k, p) in [
+        "0 0 0", "2 0 0", "2 1 0", "0 1 0", "0 0 1", "2 0 1", "2 1 1", "0 1 1",
+    ]
+    .iter()
+    .enumerate()
+    {
+        s += &format!("{} {p}\n", k + 1);
+    }
+    s += extra_points;
+    s += &format!("{} 0\n", 6 + extra_facets.len());
+    for f in [
+        "1 2 3 4", "5 6 7 8", "1 2 6 5", "2 3 7 6", "3 4 8 7", "4 1 5 8",
+    ]
+    .iter()
+    .chain(extra_facets)
+    {
+        s += &format!("1\n{} {f}\n", f.split_whitespace().count());
+    }
+    s + "0\n0\n"
+}
+
+#[cfg(feature = "cgal")]
+#[test]
+fn conform_meshes_3d_files_and_rejects_bad_ones() {
+    let dir = scratch("3d");
+    let vtu = dir.join("box.vtu");
+    let tough = dir.join("box.mesh");
+    let report = dir.join("box.json");
+    let input = dir.join("box.poly");
+    std::fs::write(&input, box_poly("", &[])).unwrap();
+    let run = |input: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "conform",
+            input.to_str().unwrap(),
+            "-o",
+            vtu.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        orthomesh(&args)
+    };
+    let (code, err) = run(
+        &input,
+        &[
+            "--tough",
+            tough.to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("faces 6/6") && err.contains("sites-inside 6/6"),
+        "{err}"
+    );
+    let text = std::fs::read_to_string(&vtu).unwrap();
+    assert!(text.contains("Name=\"faces\"") && text.contains("\n42\n"));
+    assert!(std::fs::read_to_string(&tough)
+        .unwrap()
+        .starts_with("ELEME"));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(r["dimension"], 3);
+    assert_eq!(r["whole_polygons"], 6);
+    // Bad inputs: an error naming what is wrong, exit 1, nothing written.
+    for f in [&vtu, &tough, &report] {
+        std::fs::remove_file(f).unwrap();
+    }
+    let crossing = dir.join("crossing.poly");
+    // a square through the box's middle, sticking out of two sides
+    std::fs::write(
+        &crossing,
+        box_poly(
+            "9 1 -0.5 -0.5\n10 1 1.5 -0.5\n11 1 1.5 1.5\n12 1 -0.5 1.5\n",
+            &["9 10 11 12"],
+        ),
+    )
+    .unwrap();
+    let (code, err) = run(&crossing, &["--tough", tough.to_str().unwrap()]);
+    assert_ne!(code, 0);
+    assert!(err.contains("7"), "names facet 7: {err}");
+    let truncated = dir.join("cut.smesh");
+    std::fs::write(&truncated, "8 3 0 0\n1 0 0 0\n2 1 0 0\n").unwrap();
+    let (code, err) = run(&truncated, &[]);
+    assert_ne!(code, 0);
+    assert!(err.contains("cut.smesh"), "{err}");
+    let (code, err) = run(&input, &["--svg", dir.join("x.svg").to_str().unwrap()]);
+    assert_ne!(code, 0);
+    assert!(err.contains("2D"), "{err}");
+    assert!(!vtu.exists() && !tough.exists() && !report.exists());
+}

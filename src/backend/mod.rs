@@ -86,6 +86,18 @@ pub fn by_name(name: &str) -> Result<Box<dyn Backend>> {
     })
 }
 
+/// The backend of this name with a 3D side.
+pub fn by_name3(name: &str) -> Result<Box<dyn Backend3>> {
+    let all = compiled3();
+    let names: Vec<&str> = all.iter().map(|b| b.name()).collect();
+    let list = names.join(", ");
+    all.into_iter().find(|b| b.name() == name).ok_or_else(|| {
+        crate::error::Error::Usage(format!(
+            "backend {name:?} has no 3D side in this build (3D backends: {list})"
+        ))
+    })
+}
+
 /// A finite 2D triangulation as index triples, with its edge adjacency.
 #[derive(Debug, Clone, Default)]
 pub struct Triangulation {

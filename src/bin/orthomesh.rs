@@ -1,7 +1,9 @@
 //! The orthomesh command line.
 
 use clap::{Parser, Subcommand};
+use orthomesh::complex3::Complex3;
 use orthomesh::conform::{conform, Options, Outcome, Progress};
+use orthomesh::conform3::{conform3, Options3, Outcome3};
 use orthomesh::error::{Error, Result};
 use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
 use orthomesh::{
@@ -40,16 +42,23 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Mesh a 2D constraint complex (Triangle .poly with holes, or CGAL .edg).
+    /// Mesh a constraint complex: 2D (Triangle .poly with holes, CGAL .edg)
+    /// or 3D (TetGen .poly or .smesh); the file tells the dimension.
     ///
-    /// The domain is what Triangle's `p` switch meshes: the region bounded by
-    /// the segments minus the hole regions; with no enclosing segments, the
-    /// convex hull. Every input segment becomes exactly one mesh edge.
+    /// 2D: the domain is what Triangle's `p` switch meshes: the region
+    /// bounded by the segments minus the hole regions; with no enclosing
+    /// segments, the convex hull. Every input segment becomes exactly one
+    /// mesh edge. 3D: the domain is the region the facets enclose minus the
+    /// volume holes; every facet triangle (or rectangle kept whole) becomes
+    /// exactly one face of the polyhedral cells (VTU type 42).
     Conform {
-        /// Input file: .poly (vertices, segments, holes) or .edg (segments).
+        /// Input file: .poly (2D or 3D), .edg (2D segments), .smesh (3D).
         input: PathBuf,
         #[command(flatten)]
         out: Outputs,
+        /// 3D: also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
+        #[arg(long, value_name = "MESH")]
+        tough: Option<PathBuf>,
         /// Write the conforming mesh even when some sites cannot be inside
         /// their cells (the report counts them; the picture shows them red).
         #[arg(long)]
@@ -181,8 +190,39 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 },
             allow_sites_outside,
             split_segments,
+            tough,
         } => {
-            let cx = io::read_complex(&input)?;
+            let cx = match io::read_input(&input)? {
+                io::Input::Plane(cx) => cx,
+                io::Input::Space(cx) => {
+                    if svg.is_some() || split_segments {
+                        return Err(Error::Usage(
+                            "--svg and --split-segments are for 2D inputs".into(),
+                        ));
+                    }
+                    let backend = orthomesh::backend::by_name3(backend.name())?;
+                    let opts = Options3 {
+                        allow_sites_outside,
+                    };
+                    let mut out = conform3(&*backend, &cx, &opts)?;
+                    if reproducible {
+                        out.report.timing_ms = None;
+                    }
+                    return write_all3(
+                        &out,
+                        &cx,
+                        &input,
+                        &output,
+                        tough.as_deref(),
+                        report.as_deref(),
+                    );
+                }
+            };
+            if tough.is_some() {
+                return Err(Error::Usage(
+                    "--tough is for 3D inputs (and for `hybrid`)".into(),
+                ));
+            }
             let opts = Options {
                 allow_sites_outside,
                 split_segments,
@@ -437,13 +477,7 @@ fn write_all(
         ));
     }
     if let Some(p) = report {
-        let mut value =
-            serde_json::to_value(&out.report).map_err(|e| Error::Usage(e.to_string()))?;
-        value["input"] = serde_json::Value::String(input.display().to_string());
-        texts.push((
-            p.to_path_buf(),
-            serde_json::to_string_pretty(&value).unwrap_or_default() + "\n",
-        ));
+        texts.push((p.to_path_buf(), report_text(&out.report, input)?));
     }
     for (p, t) in &texts {
         io::write_atomic(p, t.as_bytes())?;
@@ -470,6 +504,69 @@ fn write_all(
     );
     for n in &r.notes {
         eprintln!("note: {n}");
+    }
+    for (p, _) in &texts {
+        eprintln!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+/// A report as pretty JSON, with the input's path.
+fn report_text<R: serde::Serialize>(report: &R, input: &Path) -> Result<String> {
+    let mut value = serde_json::to_value(report).map_err(|e| Error::Usage(e.to_string()))?;
+    value["input"] = serde_json::Value::String(input.display().to_string());
+    Ok(serde_json::to_string_pretty(&value).unwrap_or_default() + "\n")
+}
+
+fn write_all3(
+    out: &Outcome3,
+    cx: &Complex3,
+    input: &Path,
+    vtu: &Path,
+    tough: Option<&Path>,
+    report: Option<&Path>,
+) -> Result<()> {
+    let mut texts = vec![(vtu.to_path_buf(), out.mesh.vtu())];
+    if let Some(p) = tough {
+        texts.push((p.to_path_buf(), out.mesh.tough()?));
+    }
+    if let Some(p) = report {
+        texts.push((p.to_path_buf(), report_text(&out.report, input)?));
+    }
+    for (p, t) in &texts {
+        io::write_atomic(p, t.as_bytes())?;
+    }
+    let r = &out.report;
+    let c = &r.certificate;
+    eprintln!(
+        "{}: {} vertices, {} facets ({} triangles, {} polygons kept whole) -> {} cells ({} mesh vertices); \
+         weights: {}{}; sites outside their cells: {}",
+        input.display(),
+        cx.points.len(),
+        cx.facets.len(),
+        r.triangles,
+        r.whole_polygons,
+        r.cells,
+        r.mesh_vertices,
+        r.weights.method,
+        r.weights.margin.map(|m| format!(" (LP margin {m:.3e})")).unwrap_or_default(),
+        r.sites_outside
+    );
+    eprintln!(
+        "certificate: faces {}/{} vertices {}/{} segments {}/{} volume {:.6e} of {:.6e} sites-inside {}/{}",
+        c.faces_exact,
+        c.faces,
+        c.vertices_exact,
+        c.vertices,
+        c.segments_exact,
+        c.segments,
+        c.cells_volume,
+        c.domain_volume,
+        c.sites_inside,
+        c.domain_sites
+    );
+    if let Some(t) = r.timing_ms {
+        eprintln!("{t:.1} ms total");
     }
     for (p, _) in &texts {
         eprintln!("wrote {}", p.display());

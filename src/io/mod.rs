@@ -12,24 +12,52 @@ use crate::complex::Complex;
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
-/// Reads a constraint complex, choosing the reader by extension.
-pub fn read_complex(path: &Path) -> Result<Complex> {
+/// A constraint complex of either dimension.
+#[derive(Debug, Clone)]
+pub enum Input {
+    Plane(Complex),
+    Space(crate::complex3::Complex3),
+}
+
+/// Reads a constraint complex, the file telling the dimension: .edg is
+/// 2D, .smesh 3D, and a .poly says in its header (Triangle's 2D, TetGen's 3D).
+pub fn read_input(path: &Path) -> Result<Input> {
     let text = read_text(path)?;
-    match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase())
-        .as_deref()
-    {
-        Some("poly") => poly::parse(&text, path),
-        Some("edg") => edg::parse(&text, path),
-        Some("smesh") => Err(Error::Usage(format!(
-            "{}: a TetGen piecewise linear complex (3D), which `io::read_complex3` reads; \
-             the 3D pipeline that would mesh it is not built yet",
+    match extension(path).as_deref() {
+        Some("poly") if header_dimension(&text) == Some(3) => {
+            tetgen::parse(&text, path, tetgen::Format::Poly)
+                .map(Input::Space)
+                .map_err(|e| match e {
+                    Error::Parse {
+                        path,
+                        line,
+                        message,
+                    } => Error::Parse {
+                        path,
+                        line,
+                        message: format!(
+                            "{message} (read as TetGen's 3D .poly: its header says dimension 3)"
+                        ),
+                    },
+                    e => e,
+                })
+        }
+        Some("poly") => poly::parse(&text, path).map(Input::Plane),
+        Some("edg") => edg::parse(&text, path).map(Input::Plane),
+        Some("smesh") => tetgen::parse(&text, path, tetgen::Format::Smesh).map(Input::Space),
+        _ => Err(Error::Usage(format!(
+            "{}: unknown input format (expected .poly, .edg or .smesh)",
             path.display()
         ))),
-        _ => Err(Error::Usage(format!(
-            "{}: unknown input format (expected .poly or .edg)",
+    }
+}
+
+/// Reads a 2D constraint complex (Triangle .poly or CGAL .edg).
+pub fn read_complex(path: &Path) -> Result<Complex> {
+    match read_input(path)? {
+        Input::Plane(cx) => Ok(cx),
+        Input::Space(_) => Err(Error::Usage(format!(
+            "{}: a TetGen piecewise linear complex (dimension 3); `io::read_complex3` reads it",
             path.display()
         ))),
     }
@@ -39,12 +67,7 @@ pub fn read_complex(path: &Path) -> Result<Complex> {
 /// validated.
 pub fn read_complex3(path: &Path) -> Result<crate::complex3::Complex3> {
     let text = read_text(path)?;
-    let format = match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase())
-        .as_deref()
-    {
+    let format = match extension(path).as_deref() {
         Some("poly") => tetgen::Format::Poly,
         Some("smesh") => tetgen::Format::Smesh,
         _ => {
@@ -55,6 +78,23 @@ pub fn read_complex3(path: &Path) -> Result<crate::complex3::Complex3> {
         }
     };
     tetgen::parse(&text, path, format)
+}
+
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+}
+
+/// The second number of the first record (a .poly's dimension).
+fn header_dimension(text: &str) -> Option<usize> {
+    text.lines()
+        .map(|l| l.split('#').next().unwrap_or(""))
+        .find(|l| !l.trim().is_empty())?
+        .split_whitespace()
+        .nth(1)?
+        .parse()
+        .ok()
 }
 
 pub(crate) fn read_text(path: &Path) -> Result<String> {

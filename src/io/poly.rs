@@ -89,8 +89,7 @@ fn read_vertex_list(r: &mut Records, line: usize, head: &[&str], cx: &mut Comple
             line,
             format!(
                 "dimension {dim}: this reader takes 2D .poly files (a 3D one is TetGen's \
-                 piecewise linear complex, which `io::read_complex3` reads; the 3D \
-                 pipeline that would mesh it is not built yet)"
+                 piecewise linear complex, which `io::read_complex3` reads)"
             ),
         ));
     }

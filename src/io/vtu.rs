@@ -12,6 +12,99 @@ pub struct IntArray<'a> {
     pub values: Vec<i64>,
 }
 
+/// A cell array of doubles with 1 or more components per cell.
+pub struct FloatArray<'a> {
+    pub name: &'a str,
+    pub components: usize,
+    pub values: Vec<f64>,
+}
+
+/// The .vtu text of polyhedra (type 42), classic faces/faceoffsets
+/// layout: per cell its faces, each a list of point ids counter-clockwise
+/// seen from outside; with the given cell data (`scalars` names the
+/// active one).
+pub fn polyhedra(
+    points: &[[f64; 3]],
+    cells: &[Vec<Vec<u32>>],
+    floats: &[FloatArray],
+    ints: &[IntArray],
+    scalars: &str,
+) -> String {
+    let mut s = String::new();
+    begin(&mut s, points, cells.len());
+    s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+    let mut offsets = vec![];
+    let mut n = 0;
+    for faces in cells {
+        let mut ids: Vec<u32> = faces.iter().flatten().copied().collect();
+        ids.sort_unstable();
+        ids.dedup();
+        n += ids.len();
+        offsets.push(n);
+        let line: Vec<String> = ids.iter().map(u32::to_string).collect();
+        let _ = writeln!(s, "{}", line.join(" "));
+    }
+    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+    for o in offsets {
+        let _ = writeln!(s, "{o}");
+    }
+    s.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+    for _ in cells {
+        s.push_str("42\n");
+    }
+    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"faces\" format=\"ascii\">\n");
+    let mut face_offsets = vec![];
+    let mut total = 0;
+    for faces in cells {
+        let mut line = vec![faces.len().to_string()];
+        for f in faces {
+            line.push(f.len().to_string());
+            line.extend(f.iter().map(u32::to_string));
+        }
+        total += line.len();
+        face_offsets.push(total);
+        let _ = writeln!(s, "{}", line.join(" "));
+    }
+    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"faceoffsets\" format=\"ascii\">\n");
+    for o in face_offsets {
+        let _ = writeln!(s, "{o}");
+    }
+    let _ = write!(
+        s,
+        "</DataArray>\n</Cells>\n<CellData Scalars=\"{scalars}\">\n"
+    );
+    let floats = floats.iter().map(|a| {
+        let text = |x: &f64| format!("{x:e}");
+        (
+            "Float64",
+            a.name,
+            a.components,
+            a.values.iter().map(text).collect::<Vec<_>>(),
+        )
+    });
+    let ints = ints.iter().map(|a| {
+        let text = |x: &i64| x.to_string();
+        (
+            "Int64",
+            a.name,
+            a.components,
+            a.values.iter().map(text).collect::<Vec<_>>(),
+        )
+    });
+    for (ty, name, components, values) in floats.chain(ints) {
+        let _ = writeln!(
+            s,
+            "<DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{components}\" format=\"ascii\">"
+        );
+        for c in values.chunks(components) {
+            let _ = writeln!(s, "{}", c.join(" "));
+        }
+        s.push_str("</DataArray>\n");
+    }
+    s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+    s
+}
+
 /// The .vtu text of a 2D mesh, with cell data `site` (3 components),
 /// `weight` (power(x) = |x - site|^2 - weight) and `site_inside` (0/1).
 pub fn to_string(mesh: &Mesh, site_inside: &[bool]) -> String {

@@ -1,0 +1,364 @@
+//! The whole 3D pipeline (issue 6): validate and triangulate the facets,
+//! weights, sites, relocation, site diagram, certificate, mesh. Generic
+//! over the backend's 3D side.
+
+use crate::backend::Backend3;
+use crate::complex3::Complex3;
+use crate::diagram3::{newell, Certificate3, Diagram3};
+use crate::error::{Error, Result};
+use crate::sites3::{self, Sites3};
+use crate::weights::WeightsReport;
+use crate::weights3;
+use serde::Serialize;
+use std::time::Instant;
+
+/// Rounds of relocation (each builds the exact site diagram once).
+const RELOCATION_ROUNDS: usize = 24;
+
+/// Choices of the caller.
+#[derive(Debug, Clone, Default)]
+pub struct Options3 {
+    /// Write the conforming mesh even when some sites lie outside their cells.
+    pub allow_sites_outside: bool,
+}
+
+/// A polyhedral mesh: the domain's cells.
+#[derive(Debug, Clone, Default)]
+pub struct Mesh3 {
+    pub points: Vec<[f64; 3]>,
+    /// Per cell, its faces as point ids counter-clockwise seen from outside.
+    pub cells: Vec<Vec<Vec<u32>>>,
+    /// Per cell: its site (rounded), weight (rounded), volume, and whether
+    /// the site lies strictly inside (exact).
+    pub sites: Vec<[f64; 3]>,
+    pub weights: Vec<f64>,
+    pub volumes: Vec<f64>,
+    pub site_inside: Vec<bool>,
+    /// Faces between two cells, once each.
+    pub links: Vec<Link3>,
+    /// Power vertices merged into a neighbour closer than the output
+    /// precision (`mesh::COLLAPSE`).
+    pub collapsed: usize,
+}
+
+/// A face between two cells: its area and the distances from each site to
+/// its plane (two-point flux: transmissibility ~ area / (d0 + d1)).
+#[derive(Debug, Clone)]
+pub struct Link3 {
+    pub cells: [usize; 2],
+    /// The face's points.
+    pub face: Vec<u32>,
+    pub area: f64,
+    pub d: [f64; 2],
+    /// Unit normal from cell 0 to cell 1.
+    pub normal: [f64; 3],
+}
+
+/// The report written next to the mesh.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct Report3 {
+    pub backend: String,
+    pub dimension: usize,
+    pub vertices: usize,
+    pub facets: usize,
+    /// Faces of the complex: triangles (facets split in their planes),
+    /// polygons kept whole, dangling segments, isolated points.
+    pub triangles: usize,
+    pub whole_polygons: usize,
+    pub segments: usize,
+    pub points: usize,
+    pub weights: WeightsReport,
+    /// Faces (facet ids) that do not cross their dual edge: their sites
+    /// cannot be brought near them.
+    pub facets_missing_dual: Vec<i64>,
+    pub sites: usize,
+    pub extra_sites: usize,
+    pub relocation_rounds: usize,
+    pub sites_outside: usize,
+    pub cells: usize,
+    pub mesh_vertices: usize,
+    pub collapsed_vertices: usize,
+    pub certificate: Certificate3,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub timing_ms: Option<f64>,
+}
+
+/// A certified 3D mesh and how it was made.
+#[derive(Debug, Clone)]
+pub struct Outcome3 {
+    pub mesh: Mesh3,
+    pub report: Report3,
+}
+
+/// Meshes a 3D complex.
+pub fn conform3<B: Backend3 + ?Sized>(
+    backend: &B,
+    cx: &Complex3,
+    opts: &Options3,
+) -> Result<Outcome3> {
+    let start = Instant::now();
+    let sc = cx.triangulate(backend)?;
+    let wt = weights3::solve(backend, cx, &sc)?;
+    let mut s = sites3::place(cx, &wt)?;
+    let mut d = Diagram3::build(backend, cx, &s)?;
+    let mut rounds = 0;
+    while rounds < RELOCATION_ROUNDS {
+        // Sites of faces that cross their duals move halfway to the face:
+        // near it, a site's cell is its half of a region around the face.
+        let inside = d.sites_inside(&s);
+        let mut moved = false;
+        for (x, ok) in inside.into_iter().enumerate() {
+            if d.in_domain[x] && !ok {
+                moved |= s.halve(x, cx, &wt.w);
+            }
+        }
+        if !moved {
+            break;
+        }
+        rounds += 1;
+        d = Diagram3::build(backend, cx, &s)?;
+    }
+    let mut certificate = d.certify(cx, &wt, &s);
+    if !certificate.conforms() {
+        return Err(Error::Certificate(format!(
+            "the 3D mesh does not conform: {certificate:?}"
+        )));
+    }
+    let outside = certificate.domain_sites - certificate.sites_inside;
+    if outside > 0 && !opts.allow_sites_outside {
+        return Err(sites_outside(cx, &wt, &s, &d));
+    }
+    let mesh = mesh(&d, &s);
+    certificate.orthogonality_defect = mesh.orthogonality_defect();
+    let count = |k: usize| wt.faces.iter().filter(|f| f.vertices.len() == k).count();
+    let report = Report3 {
+        backend: backend.name().into(),
+        dimension: 3,
+        vertices: cx.points.len(),
+        facets: cx.facets.len(),
+        triangles: count(3),
+        whole_polygons: wt.whole_polygons,
+        segments: count(2),
+        points: count(1),
+        weights: wt.report.clone(),
+        facets_missing_dual: facet_ids(&wt, &wt.sys3_failed),
+        sites: s.p.len(),
+        extra_sites: s.p.len() - 2 * s.of_face.iter().flatten().count(),
+        relocation_rounds: rounds,
+        sites_outside: outside,
+        cells: mesh.cells.len(),
+        mesh_vertices: mesh.points.len(),
+        collapsed_vertices: mesh.collapsed,
+        certificate,
+        timing_ms: Some(start.elapsed().as_secs_f64() * 1e3),
+    };
+    Ok(Outcome3 { mesh, report })
+}
+
+fn facet_ids(wt: &weights3::Weights3, faces: &[u32]) -> Vec<i64> {
+    let mut ids: Vec<i64> = faces
+        .iter()
+        .filter_map(|&f| wt.faces[f as usize].facet)
+        .map(|f| f as i64 + 1)
+        .collect();
+    ids.sort_unstable();
+    ids.dedup();
+    ids
+}
+
+/// The error naming the sites left outside their cells.
+fn sites_outside(cx: &Complex3, wt: &weights3::Weights3, s: &Sites3, d: &Diagram3) -> Error {
+    let inside = d.sites_inside(s);
+    let mut sites = vec![];
+    let mut faces = vec![];
+    for x in (0..s.p.len()).filter(|&x| d.in_domain[x] && !inside[x]) {
+        let face = s
+            .of_face
+            .iter()
+            .position(|p| p.is_some_and(|p| p.contains(&(x as u32))));
+        let ids: Vec<i64> = s.serves[x]
+            .iter()
+            .map(|&v| cx.vertex_ids[v as usize])
+            .collect();
+        sites.push(match face {
+            Some(f) => {
+                faces.push(f as u32);
+                format!(
+                    "site {x} of a face of facet {} (vertices {ids:?})",
+                    wt.faces[f].facet.map_or(0, |f| f + 1)
+                )
+            }
+            None => format!("extra site {x} (vertices {ids:?})"),
+        });
+    }
+    Error::SitesOutsideCells {
+        sites,
+        crowding: facet_ids(wt, &faces),
+    }
+}
+
+/// The domain's cells as a mesh, with the faces between them.
+fn mesh(d: &Diagram3, s: &Sites3) -> Mesh3 {
+    let approx = s.approx();
+    let inside = d.sites_inside(s);
+    let domain: Vec<usize> = (0..s.p.len()).filter(|&x| d.in_domain[x]).collect();
+    let mut cell_of = vec![usize::MAX; s.p.len()];
+    for (c, &x) in domain.iter().enumerate() {
+        cell_of[x] = c;
+    }
+    // Power vertices of the domain's cells, those closer than the output
+    // precision merged (method.md section 4).
+    let mut used: Vec<u32> = domain
+        .iter()
+        .flat_map(|&x| {
+            d.cells[x]
+                .iter()
+                .flatten()
+                .flat_map(|(f, _)| f.iter().copied())
+        })
+        .collect();
+    used.sort_unstable();
+    used.dedup();
+    let pts: Vec<[f64; 3]> = used.iter().map(|&v| d.points[v as usize]).collect();
+    let fixed: Vec<bool> = used
+        .iter()
+        .map(|&v| d.input_vertex[v as usize].is_some())
+        .collect();
+    let merged = crate::mesh::Collapsed::of(&pts, &fixed);
+    let mut id = vec![u32::MAX; d.points.len()];
+    for (k, &v) in used.iter().enumerate() {
+        id[v as usize] = merged.map[k];
+    }
+    let points = merged.points;
+    let mut cells = vec![];
+    let mut links = vec![];
+    for &x in &domain {
+        let faces = d.cells[x].as_ref().expect("domain cells are bounded");
+        let mut out = vec![];
+        for (face, other) in faces {
+            let mut f: Vec<u32> = face.iter().map(|&v| id[v as usize]).collect();
+            f.dedup();
+            while f.len() > 1 && f.first() == f.last() {
+                f.pop();
+            }
+            if f.len() < 3 {
+                continue;
+            }
+            let o = *other as usize;
+            if d.in_domain[o] && x < o {
+                let pts: Vec<[f64; 3]> = f.iter().map(|&v| points[v as usize]).collect();
+                let n = newell(&pts);
+                let len = n.iter().map(|c| c * c).sum::<f64>().sqrt();
+                let unit = n.map(|c| c / len);
+                let dist = |site: usize| {
+                    let p = approx[site];
+                    (0..3)
+                        .map(|k| (pts[0][k] - p[k]) * unit[k])
+                        .sum::<f64>()
+                        .abs()
+                };
+                links.push(Link3 {
+                    cells: [cell_of[x], cell_of[o]],
+                    face: f.clone(),
+                    area: len / 2.0,
+                    d: [dist(x), dist(o)],
+                    normal: unit,
+                });
+            }
+            out.push(f);
+        }
+        cells.push(out);
+    }
+    Mesh3 {
+        points,
+        collapsed: merged.collapsed,
+        cells,
+        sites: domain
+            .iter()
+            .map(|&x| [approx[x][0], approx[x][1], approx[x][2]])
+            .collect(),
+        weights: domain.iter().map(|&x| approx[x][3]).collect(),
+        volumes: domain.iter().map(|&x| d.volume(x)).collect(),
+        site_inside: domain.iter().map(|&x| inside[x]).collect(),
+        links,
+    }
+}
+
+impl Mesh3 {
+    /// Largest |cos| between a face's in-plane directions and the segment
+    /// joining its two sites.
+    pub fn orthogonality_defect(&self) -> f64 {
+        let mut worst: f64 = 0.0;
+        for l in &self.links {
+            let (a, b) = (self.sites[l.cells[0]], self.sites[l.cells[1]]);
+            let d: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
+            let p0 = self.points[l.face[0] as usize];
+            for &v in &l.face[1..] {
+                let p = self.points[v as usize];
+                let e: [f64; 3] = std::array::from_fn(|k| p[k] - p0[k]);
+                let dot = |u: [f64; 3], w: [f64; 3]| u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+                let cos = dot(e, d).abs() / (dot(e, e) * dot(d, d)).sqrt();
+                if cos.is_finite() {
+                    worst = worst.max(cos);
+                }
+            }
+        }
+        worst
+    }
+
+    /// VTU polyhedra (type 42) with cell data site, weight, volume,
+    /// site_inside.
+    pub fn vtu(&self) -> String {
+        use crate::io::vtu::{polyhedra, FloatArray, IntArray};
+        let floats = [
+            FloatArray {
+                name: "site",
+                components: 3,
+                values: self.sites.iter().flatten().copied().collect(),
+            },
+            FloatArray {
+                name: "weight",
+                components: 1,
+                values: self.weights.clone(),
+            },
+            FloatArray {
+                name: "volume",
+                components: 1,
+                values: self.volumes.clone(),
+            },
+        ];
+        let ints = [IntArray {
+            name: "site_inside",
+            components: 1,
+            values: self.site_inside.iter().map(|&b| i64::from(b)).collect(),
+        }];
+        polyhedra(&self.points, &self.cells, &floats, &ints, "weight")
+    }
+
+    /// TOUGH2 MESH: an element per cell (node at its site), a connection
+    /// per face between cells (ISOT by the face normal's main axis; z up).
+    pub fn tough(&self) -> Result<String> {
+        use crate::io::tough::{Connection, Element};
+        let elements: Vec<Element> = self
+            .volumes
+            .iter()
+            .zip(&self.sites)
+            .map(|(&volume, &node)| Element { volume, node })
+            .collect();
+        let conns: Vec<Connection> = self
+            .links
+            .iter()
+            .map(|l| {
+                let axis = (0..3)
+                    .max_by(|&a, &b| l.normal[a].abs().total_cmp(&l.normal[b].abs()))
+                    .unwrap_or(0);
+                let (a, b) = (self.sites[l.cells[0]], self.sites[l.cells[1]]);
+                Connection {
+                    isot: axis as u8 + 1,
+                    ..Connection::lateral(l.cells, a, b, l.d, l.area)
+                }
+            })
+            .collect();
+        crate::io::tough::to_string(&elements, &conns, "ROCK1")
+    }
+}

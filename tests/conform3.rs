@@ -1,0 +1,170 @@
+//! The 3D pipeline (issue 6) on TetGen files: every facet triangle (or
+//! rectangle kept whole) exactly one face of the polyhedral cells, checked
+//! exactly; output read back by vtk (tests/readers.py: `conform3-*`).
+#![cfg(feature = "cgal")]
+
+use orthomesh::backend::compiled3;
+use orthomesh::complex3::{Complex3, Facet};
+use orthomesh::conform3::{conform3, Options3, Outcome3};
+use orthomesh::error::Error;
+use std::path::Path;
+
+fn write(stem: &str, out: &Outcome3) {
+    if let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") {
+        let dir = Path::new(&dir);
+        orthomesh::io::write_atomic(
+            &dir.join(format!("conform3-{stem}.vtu")),
+            out.mesh.vtu().as_bytes(),
+        )
+        .unwrap();
+        let tough = out.mesh.tough().unwrap();
+        orthomesh::io::write_atomic(
+            &dir.join(format!("conform3-{stem}.tough")),
+            tough.as_bytes(),
+        )
+        .unwrap();
+    }
+}
+
+/// Boxes stacked along z, sharing their horizontal rectangles: 4 (k + 1)
+/// corners of [0, 2] x [0, 1] x [0, k].
+fn stack(k: usize) -> Complex3 {
+    let mut points = vec![];
+    for z in 0..=k {
+        for (x, y) in [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)] {
+            points.push([x, y, z as f64]);
+        }
+    }
+    let facet = |p: [u32; 4]| Facet {
+        polygons: vec![p.to_vec()],
+        ..Default::default()
+    };
+    let mut facets = vec![];
+    for z in 0..=k as u32 {
+        facets.push(facet([4 * z, 4 * z + 1, 4 * z + 2, 4 * z + 3]));
+    }
+    for z in 0..k as u32 {
+        for s in 0..4 {
+            let (a, b) = (4 * z + s, 4 * z + (s + 1) % 4);
+            facets.push(facet([a, b, b + 4, a + 4]));
+        }
+    }
+    let n = points.len() as i64;
+    Complex3 {
+        points,
+        vertex_ids: (1..=n).collect(),
+        facets,
+        holes: vec![],
+    }
+}
+
+#[test]
+fn stacked_boxes_keep_their_rectangles_whole() {
+    for b in compiled3() {
+        for k in [1, 3] {
+            let cx = stack(k);
+            let out = conform3(&*b, &cx, &Options3::default()).unwrap();
+            let r = &out.report;
+            let c = &r.certificate;
+            assert!(c.conforms(), "{c:?}");
+            assert_eq!(r.whole_polygons, cx.facets.len());
+            assert_eq!(
+                (c.faces_exact, c.vertices_exact),
+                (cx.facets.len(), cx.points.len())
+            );
+            assert_eq!(c.sites_inside, c.domain_sites, "{r:?}");
+            assert!((c.cells_volume - 2.0 * k as f64).abs() < 1e-12, "{c:?}");
+            assert!(c.orthogonality_defect < 1e-12);
+            // every cell's faces are planar and outward: volumes positive
+            assert!(out.mesh.volumes.iter().all(|&v| v > 0.0));
+            // a cell per facet side inside: 2 per inner rectangle, 1 per outer
+            assert_eq!(r.cells, 2 * (cx.facets.len() - 2 - 4 * k) + 2 + 4 * k);
+            write(&format!("stack{k}"), &out);
+        }
+    }
+}
+
+#[test]
+fn tetgen_example_plc_conforms() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
+    let cx = orthomesh::io::read_complex3(&path).unwrap();
+    for b in compiled3() {
+        // Sites of the faces that do not cross their duals stay outside.
+        match conform3(&*b, &cx, &Options3::default()) {
+            Err(Error::SitesOutsideCells { sites, crowding }) => {
+                assert!(!sites.is_empty() && !crowding.is_empty())
+            }
+            other => panic!("expected sites outside, got {:?}", other.map(|o| o.report)),
+        }
+        let opts = Options3 {
+            allow_sites_outside: true,
+        };
+        let out = conform3(&*b, &cx, &opts).unwrap();
+        let r = &out.report;
+        let c = &r.certificate;
+        eprintln!("{}", serde_json::to_string_pretty(r).unwrap());
+        assert!(c.conforms());
+        assert_eq!((c.faces_exact, c.faces), (46, 46));
+        assert_eq!(c.vertices_exact, 28);
+        // the outer box (2 x 2 x 5) less the two inner boxes (volume holes)
+        assert_eq!(c.domain_volume, 20.0 - 1.5 * 1.25 * 0.5 - 1.5 * 1.5 * 0.5);
+        assert!((c.cells_volume - c.domain_volume).abs() < 1e-12);
+        assert_eq!(r.cells, c.domain_sites);
+        // relocation brought sites in (measured: 29 of 46)
+        assert!(c.sites_inside >= 29, "{c:?}");
+    }
+}
+
+#[test]
+fn no_regular_triangulation_is_an_error_naming_facets() {
+    // Schoenhardt's twisted prism: bases, and each side folded along the
+    // diagonal that is not a hull edge (for this twist: b_k - t_k+1).
+    let mut points = vec![];
+    for (z, a0) in [(0.0, 0.0), (2.0, 0.5f64)] {
+        for k in 0..3 {
+            let a = a0 + k as f64 * 2.0 * std::f64::consts::PI / 3.0;
+            points.push([a.cos(), a.sin(), z]);
+        }
+    }
+    let prism = |reflex: bool| {
+        let mut tris = vec![[0, 2, 1], [3, 4, 5]];
+        for k in 0..3u32 {
+            let (b0, b1, t0, t1) = (k, (k + 1) % 3, k + 3, (k + 1) % 3 + 3);
+            tris.extend(if reflex {
+                [[b0, b1, t1], [b0, t1, t0]]
+            } else {
+                [[b0, b1, t0], [b1, t1, t0]]
+            });
+        }
+        let facets: Vec<Facet> = tris
+            .iter()
+            .map(|t| Facet {
+                polygons: vec![t.to_vec()],
+                ..Default::default()
+            })
+            .collect();
+        Complex3 {
+            points: points.clone(),
+            vertex_ids: (1..=6).collect(),
+            facets,
+            holes: vec![],
+        }
+    };
+    for b in compiled3() {
+        let e = conform3(&*b, &prism(true), &Options3::default()).unwrap_err();
+        assert!(
+            matches!(e, Error::NoRegularConstrainedTetrahedralisation { .. }),
+            "{e}"
+        );
+        assert!(e.to_string().contains("facets involved"), "{e}");
+        // Folded the other way the prism is convex: meshed, and its
+        // symmetry gives exactly distinct power vertices 1e-16 apart on
+        // the axis, merged when written.
+        let out = conform3(&*b, &prism(false), &Options3::default()).unwrap();
+        let c = &out.report.certificate;
+        assert!(c.conforms() && c.sites_inside == c.domain_sites, "{c:?}");
+        assert!(out.report.collapsed_vertices > 0);
+        assert!(c.orthogonality_defect < 1e-9, "{c:?}");
+        write("prism", &out);
+    }
+}
