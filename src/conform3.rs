@@ -39,6 +39,23 @@ pub struct Mesh3 {
     /// Power vertices merged into a neighbour closer than the output
     /// precision (`mesh::COLLAPSE`).
     pub collapsed: usize,
+    /// Faces of the complex on the domain's boundary, with their cell.
+    pub facet_faces: Vec<FacetFace>,
+}
+
+/// A triangle or whole polygon of the complex with a domain cell on one
+/// side only: where the mesh meets what lies beyond (another mesh, a
+/// boundary condition).
+#[derive(Debug, Clone)]
+pub struct FacetFace {
+    /// Its facet (index into `Complex3::facets`).
+    pub facet: u32,
+    /// Its points (mesh ids), in the complex's order.
+    pub points: Vec<u32>,
+    pub cell: usize,
+    pub area: f64,
+    /// Distance from the cell's site to the face's plane.
+    pub d: f64,
 }
 
 /// A face between two cells: its area and the distances from each site to
@@ -128,7 +145,7 @@ pub fn conform3<B: Backend3 + ?Sized>(
     if outside > 0 && !opts.allow_sites_outside {
         return Err(sites_outside(cx, &wt, &s, &d));
     }
-    let mesh = mesh(&d, &s);
+    let mesh = mesh(&d, &s, &wt);
     certificate.orthogonality_defect = mesh.orthogonality_defect();
     let count = |k: usize| wt.faces.iter().filter(|f| f.vertices.len() == k).count();
     let report = Report3 {
@@ -198,7 +215,7 @@ fn sites_outside(cx: &Complex3, wt: &weights3::Weights3, s: &Sites3, d: &Diagram
 }
 
 /// The domain's cells as a mesh, with the faces between them.
-fn mesh(d: &Diagram3, s: &Sites3) -> Mesh3 {
+fn mesh(d: &Diagram3, s: &Sites3, wt: &weights3::Weights3) -> Mesh3 {
     let approx = s.approx();
     let inside = d.sites_inside(s);
     let domain: Vec<usize> = (0..s.p.len()).filter(|&x| d.in_domain[x]).collect();
@@ -269,8 +286,49 @@ fn mesh(d: &Diagram3, s: &Sites3) -> Mesh3 {
         }
         cells.push(out);
     }
+    let mut of_input = std::collections::HashMap::new();
+    for (v, iv) in d.input_vertex.iter().enumerate() {
+        if let Some(i) = iv {
+            of_input.insert(*i, id[v]);
+        }
+    }
+    let mut facet_faces = vec![];
+    for (fi, face) in wt.faces.iter().enumerate() {
+        let (Some([a, b]), Some(facet)) = (s.of_face[fi], face.facet) else {
+            continue;
+        };
+        let (a, b) = (a as usize, b as usize);
+        if d.in_domain[a] == d.in_domain[b] {
+            continue;
+        }
+        let x = if d.in_domain[a] { a } else { b };
+        let ids: Option<Vec<u32>> = face
+            .vertices
+            .iter()
+            .map(|v| of_input.get(v).copied())
+            .collect();
+        let Some(ids) = ids.filter(|ids| ids.iter().all(|&i| i != u32::MAX)) else {
+            continue;
+        };
+        let pts: Vec<[f64; 3]> = ids.iter().map(|&v| points[v as usize]).collect();
+        let n = newell(&pts);
+        let len = n.iter().map(|c| c * c).sum::<f64>().sqrt();
+        let p = approx[x];
+        let dist = (0..3)
+            .map(|k| (pts[0][k] - p[k]) * n[k] / len)
+            .sum::<f64>()
+            .abs();
+        facet_faces.push(FacetFace {
+            facet,
+            points: ids,
+            cell: cell_of[x],
+            area: len / 2.0,
+            d: dist,
+        });
+    }
     Mesh3 {
         points,
+        facet_faces,
         collapsed: merged.collapsed,
         cells,
         sites: domain

@@ -110,6 +110,21 @@ pub fn pressures(
     fixed: &[(BoundaryFace, f64)],
     source: &[f64],
 ) -> Result<Vec<f64>> {
+    let fixed: Vec<(u32, f64, f64)> = fixed
+        .iter()
+        .map(|(f, p)| (f.cell, f.area / f.d, *p))
+        .collect();
+    solve(n, conns, &fixed, source)
+}
+
+/// `pressures` with the fixed pressures given as (cell, transmissibility
+/// to the boundary, pressure): any dimension.
+pub fn solve(
+    n: usize,
+    conns: &[Connection],
+    fixed: &[(u32, f64, f64)],
+    source: &[f64],
+) -> Result<Vec<f64>> {
     let mut diag = vec![0.0; n];
     let mut rhs = source.to_vec();
     let mut off: Vec<(u32, u32, f64)> = vec![];
@@ -126,10 +141,9 @@ pub fn pressures(
         diag[b] += t;
         off.push((c.cells[0], c.cells[1], t));
     }
-    for (f, p) in fixed {
-        let t = f.area / f.d;
-        diag[f.cell as usize] += t;
-        rhs[f.cell as usize] += t * p;
+    for &(cell, t, p) in fixed {
+        diag[cell as usize] += t;
+        rhs[cell as usize] += t * p;
     }
     if diag.iter().any(|&d| d <= 0.0) {
         return Err(Error::Usage("a cell is not connected to anything".into()));

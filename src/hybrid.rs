@@ -452,7 +452,7 @@ fn fault_edges(g: &CornerPointGrid, k: usize, view: &MapView) -> Vec<FaultEdge> 
 const MAX_GROWTH: usize = 4;
 
 /// Radii r_0 = wellbore ... r_n = outer, in geometric progression.
-fn ring_radii(rw: f64, outer: f64, rings: usize) -> Vec<f64> {
+pub(crate) fn ring_radii(rw: f64, outer: f64, rings: usize) -> Vec<f64> {
     (0..=rings)
         .map(|k| rw * (outer / rw).powf(k as f64 / rings as f64))
         .collect()
@@ -460,7 +460,7 @@ fn ring_radii(rw: f64, outer: f64, rings: usize) -> Vec<f64> {
 
 /// Radii of the ring sites (ring q between radii r[q] and r[q + 1]) of a
 /// radial mesh with m sectors: see the assembly in `build`.
-fn site_radii(r: &[f64], m: usize) -> Vec<f64> {
+pub(crate) fn site_radii(r: &[f64], m: usize) -> Vec<f64> {
     let half = TAU / (2 * m) as f64;
     let alpha = r[1] / r[0];
     let beta = alpha * half.sin() * alpha.ln() / (half * (alpha - 1.0));

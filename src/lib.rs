@@ -47,6 +47,7 @@ pub mod exact;
 pub mod flow;
 pub mod generate;
 pub mod hybrid;
+pub mod hybrid3;
 pub mod io;
 pub mod layers;
 pub mod mesh;
