@@ -381,3 +381,96 @@ fn conform_meshes_3d_files_and_rejects_bad_ones() {
     assert!(err.contains("2D"), "{err}");
     assert!(!vtu.exists() && !tough.exists() && !report.exists());
 }
+
+/// A Cartesian block grid of n x n x nz cells of 10 x 10 x 4 as GRDECL.
+fn block_grdecl(n: usize, nz: usize) -> String {
+    let mut s = format!("SPECGRID\n {n} {n} {nz} 1 F /\nCOORD\n");
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (10 * i, 10 * j);
+            s += &format!(" {x} {y} 0 {x} {y} {}\n", 4 * nz);
+        }
+    }
+    s += "/\nZCORN\n";
+    for k in 0..nz {
+        for b in 0..2 {
+            s += &format!(" {}*{}\n", 4 * n * n, 4 * (k + b));
+        }
+    }
+    s + "/\n"
+}
+
+#[cfg(feature = "cgal")]
+#[test]
+fn hybrid_3d_from_options() {
+    let dir = scratch("hybrid3d");
+    let grid = dir.join("block.grdecl");
+    std::fs::write(&grid, block_grdecl(7, 2)).unwrap();
+    let vtu = dir.join("h.vtu");
+    let tough = dir.join("h.mesh");
+    let json = dir.join("h.json");
+    let run = |grid: &str, wells: &[&str]| {
+        // (the top and bottom annuli's obtuse triangles leave sites outside)
+        let mut args = vec![
+            "hybrid",
+            "--3d",
+            "--grid",
+            grid,
+            "--rings",
+            "4",
+            "--sectors",
+            "12",
+            "--allow-sites-outside",
+        ];
+        for w in wells {
+            args.extend(["--well", w]);
+        }
+        args.extend([
+            "-o",
+            vtu.to_str().unwrap(),
+            "--tough",
+            tough.to_str().unwrap(),
+        ]);
+        args.extend(["--report", json.to_str().unwrap()]);
+        orthomesh(&args)
+    };
+    let g = grid.to_str().unwrap();
+    let (code, err) = run(g, &["W:4:4:0.1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("0 non-orthogonal"), "{err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["cells"][2], 2 * 4 * 12);
+    assert!(std::fs::read_to_string(&vtu)
+        .unwrap()
+        .contains("Name=\"faceoffsets\""));
+    for f in [&vtu, &tough, &json] {
+        std::fs::remove_file(f).unwrap();
+    }
+    // Bad requests: exit 1, a message, nothing written.
+    let spe9 = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids/SPE9.GRDECL");
+    for (grid, wells, says) in [
+        (g, vec!["W:4:4:0.1", "V:3:3:0.1"], "exactly one --well"),
+        (g, vec!["W:1:4:0.1"], "column on every side"),
+        (g, vec!["W:4:4:0.1:80:0"], "leaves the cavity"),
+        (g, vec!["W:4:4"], ""),
+        (
+            spe9.to_str().unwrap(),
+            vec!["W:4:4:0.1"],
+            "Cartesian block grid",
+        ),
+    ] {
+        let (code, err) = run(grid, &wells);
+        if says.is_empty() {
+            // the default radius: fine
+            assert_eq!(code, 0, "{err}");
+            for f in [&vtu, &tough, &json] {
+                std::fs::remove_file(f).unwrap();
+            }
+            continue;
+        }
+        assert_ne!(code, 0, "{wells:?}");
+        assert!(err.contains(says), "{wells:?}: {err}");
+        assert!(!vtu.exists() && !tough.exists() && !json.exists());
+    }
+}

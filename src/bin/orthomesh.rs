@@ -6,6 +6,7 @@ use orthomesh::conform::{conform, Options, Outcome, Progress};
 use orthomesh::conform3::{conform3, Options3, Outcome3};
 use orthomesh::error::{Error, Result};
 use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
+use orthomesh::hybrid3::{self, Hybrid3Options, Well3};
 use orthomesh::{
     backend::{default_backend, Backend},
     io, Complex,
@@ -108,9 +109,17 @@ enum Command {
         /// Sectors of each radial mesh.
         #[arg(long, default_value_t = 32)]
         sectors: usize,
-        /// Outer radius of the radial meshes, in shortest sides of the well's cell.
-        #[arg(long, default_value_t = 1.9)]
-        outer: f64,
+        /// Outer radius of the radial meshes, in shortest sides of the well's
+        /// cell (default 1.9; with --3d, 1.0).
+        #[arg(long)]
+        outer: Option<f64>,
+        /// True 3D: one well (--well NAME:I:J[:RADIUS[:DIP:AZIMUTH]], dip from
+        /// vertical and azimuth clockwise from +y in degrees) through a
+        /// Cartesian block grid, its radial mesh over the grid's layers, and
+        /// a 3D transition mesh (polyhedra) in the cavity of the 3 x 3
+        /// columns around it.
+        #[arg(long = "3d")]
+        three_d: bool,
         /// Layers of cells added to each cavity around what the radial mesh reaches.
         #[arg(long, default_value_t = 0)]
         margin: usize,
@@ -272,6 +281,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
             margin,
             allow_sites_outside,
             tough,
+            three_d,
             out:
                 Outputs {
                     output,
@@ -281,6 +291,59 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 },
         } => {
             let g = io::eclipse::read_grid(&grid)?;
+            if three_d {
+                if deck.is_some()
+                    || !wells_xy.is_empty()
+                    || !faults.is_empty()
+                    || layers
+                    || margin > 0
+                {
+                    return Err(Error::Usage(
+                        "--3d takes one --well (no deck, --well-xy, faults, --layers or --margin yet)".into(),
+                    ));
+                }
+                let [spec] = wells.as_slice() else {
+                    return Err(Error::Usage("--3d takes exactly one --well".into()));
+                };
+                let w = well3_spec(spec)?;
+                let backend = orthomesh::backend::by_name3(backend.name())?;
+                let opts = Hybrid3Options {
+                    rings,
+                    sectors,
+                    outer: outer.unwrap_or(1.0),
+                    allow_sites_outside,
+                };
+                let mut h = hybrid3::build(&*backend, &g, &w, &opts)?;
+                if reproducible {
+                    h.report.transition.timing_ms = None;
+                }
+                let mut texts = vec![(output.clone(), h.vtu())];
+                if let Some(p) = tough {
+                    texts.push((p, h.mesh.tough()?));
+                }
+                if let Some(p) = &report {
+                    texts.push((p.clone(), report_text(&h.report, &grid)?));
+                }
+                if svg.is_some() {
+                    return Err(Error::Usage("--svg draws 2D meshes only".into()));
+                }
+                for (p, t) in &texts {
+                    io::write_atomic(p, t.as_bytes())?;
+                }
+                let r = &h.report;
+                let c = &r.transition.certificate;
+                eprintln!(
+                    "3D hybrid: {} reservoir, {} transition, {} well cells; {} connections, {} non-orthogonal; \
+                     certificate: faces {}/{} vertices {}/{} volume {:.6e} of {:.6e} sites-inside {}/{}",
+                    r.cells[0], r.cells[1], r.cells[2], r.connections, r.non_orthogonal,
+                    c.faces_exact, c.faces, c.vertices_exact, c.vertices, c.cells_volume, c.domain_volume,
+                    c.sites_inside, c.domain_sites
+                );
+                for (p, _) in &texts {
+                    eprintln!("wrote {}", p.display());
+                }
+                return Ok(());
+            }
             let mut list: Vec<WellInput> = vec![];
             if let Some(deck) = &deck {
                 let (found, missing) = io::eclipse::read_wells(deck)?;
@@ -324,7 +387,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 layer: layer - 1,
                 rings,
                 sectors,
-                outer,
+                outer: outer.unwrap_or(1.9),
                 margin,
                 // a progress bar when there are many wells and someone watches
                 fault_lines: faults.iter().map(|f| polyline(f)).collect::<Result<_>>()?,
@@ -611,6 +674,34 @@ fn well_spec(spec: &str) -> Result<(String, f64, f64, f64)> {
         None => DEFAULT_WELL_RADIUS,
     };
     Ok((parts[0].to_string(), num(parts[1])?, num(parts[2])?, r))
+}
+
+/// NAME:I:J[:RADIUS[:DIP:AZIMUTH]] (I, J 1-based; degrees).
+fn well3_spec(spec: &str) -> Result<Well3> {
+    let parts: Vec<&str> = spec.split(':').collect();
+    let bad = || {
+        Error::Usage(format!(
+            "well '{spec}': expected NAME:I:J[:RADIUS[:DIP:AZIMUTH]]"
+        ))
+    };
+    if ![3, 4, 6].contains(&parts.len()) || parts[0].is_empty() {
+        return Err(bad());
+    }
+    let num = |t: &str| {
+        t.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(bad)
+    };
+    let angle = |k: usize| parts.get(k).map_or(Ok(0.0), |t| num(t));
+    Ok(Well3 {
+        name: parts[0].to_string(),
+        i: one_based(num(parts[1])?, spec)?,
+        j: one_based(num(parts[2])?, spec)?,
+        radius: parts.get(3).map_or(Ok(DEFAULT_WELL_RADIUS), |t| num(t))?,
+        dip: angle(4)?,
+        azimuth: angle(5)?,
+    })
 }
 
 /// X1,Y1,X2,Y2[,...]
