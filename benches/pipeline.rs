@@ -168,6 +168,41 @@ fn regular_triangulation_3(c: &mut Criterion) {
     g.finish();
 }
 
+/// The 3D pipeline (issue 6) on stacked boxes and TetGen's example PLC,
+/// every backend with a 3D side, beside the raw regular triangulation of
+/// the same vertices (ids raw-BACKEND): exact rationals make it slow.
+fn conform3_pipeline(c: &mut Criterion) {
+    use orthomesh::conform3::{conform3, Options3};
+    let example =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
+    let inputs = [
+        ("stack1", orthomesh::generate::stacked_boxes(1)),
+        ("stack8", orthomesh::generate::stacked_boxes(8)),
+        (
+            "tetgen-example",
+            orthomesh::io::read_complex3(&example).unwrap(),
+        ),
+    ];
+    let opts = Options3 {
+        allow_sites_outside: true,
+    };
+    let mut g = c.benchmark_group("conform3");
+    g.sample_size(10).measurement_time(Duration::from_secs(5));
+    for (name, cx) in &inputs {
+        let zero = vec![0.0; cx.points.len()];
+        for b in orthomesh::backend::compiled3() {
+            g.bench_function(BenchmarkId::new(b.name(), name), |bench| {
+                bench.iter(|| conform3(&*b, cx, &opts).unwrap())
+            });
+            g.bench_function(
+                BenchmarkId::new(format!("raw-{}", b.name()), name),
+                |bench| bench.iter(|| b.regular3(&cx.points, &zero).unwrap()),
+            );
+        }
+    }
+    g.finish();
+}
+
 /// The whole pipeline on cavities around wells: zero weights, and, with the
 /// wells close to the cavity sides, the LP's local form.
 fn conform_pipeline(c: &mut Criterion) {
@@ -245,14 +280,17 @@ criterion_group!(
     benches,
     regular_triangulation,
     regular_triangulation_3,
+    conform3_pipeline,
     conform_pipeline,
     hybrid_pipeline
 );
 
 fn main() {
     // `cargo bench` passes --bench; `cargo test --benches` runs each
-    // benchmark once only, and skips the (slow) table.
-    if std::env::args().any(|a| a == "--bench") {
+    // benchmark once only, and skips the (slow) table, as does a run
+    // filtered to some groups (`cargo bench -- conform3`).
+    let filtered = std::env::args().skip(1).any(|a| !a.starts_with('-'));
+    if std::env::args().any(|a| a == "--bench") && !filtered {
         ratios();
     }
     benches();

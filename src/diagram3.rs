@@ -418,7 +418,7 @@ pub fn newell(pts: &[[f64; 3]]) -> [f64; 3] {
     })
 }
 
-#[cfg(all(test, feature = "cgal"))]
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::backend::compiled3;

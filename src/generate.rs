@@ -187,6 +187,39 @@ pub fn mixed(nx: usize, ny: usize, seed: u64) -> Complex {
     cx
 }
 
+/// Boxes stacked along z, sharing their horizontal rectangles: the 4 (k + 1)
+/// corners of [0, 2] x [0, 1] x [0, k] and their rectangles (a 3D complex
+/// whose faces are all kept whole).
+pub fn stacked_boxes(k: usize) -> crate::complex3::Complex3 {
+    let mut points = vec![];
+    for z in 0..=k {
+        for (x, y) in [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)] {
+            points.push([x, y, z as f64]);
+        }
+    }
+    let facet = |p: [u32; 4]| crate::complex3::Facet {
+        polygons: vec![p.to_vec()],
+        ..Default::default()
+    };
+    let mut facets = vec![];
+    for z in 0..=k as u32 {
+        facets.push(facet([4 * z, 4 * z + 1, 4 * z + 2, 4 * z + 3]));
+    }
+    for z in 0..k as u32 {
+        for s in 0..4 {
+            let (a, b) = (4 * z + s, 4 * z + (s + 1) % 4);
+            facets.push(facet([a, b, b + 4, a + 4]));
+        }
+    }
+    let n = points.len() as i64;
+    crate::complex3::Complex3 {
+        points,
+        vertex_ids: (1..=n).collect(),
+        facets,
+        holes: vec![],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -688,7 +688,7 @@ pub fn sys3_failures(
         .collect()
 }
 
-#[cfg(all(test, feature = "cgal"))]
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::backend::compiled3;

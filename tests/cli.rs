@@ -312,7 +312,6 @@ fn box_poly(extra_points: &str, extra_facets: &[&str]) -> String {
     s + "0\n0\n"
 }
 
-#[cfg(feature = "cgal")]
 #[test]
 fn conform_meshes_3d_files_and_rejects_bad_ones() {
     let dir = scratch("3d");
@@ -400,7 +399,6 @@ fn block_grdecl(n: usize, nz: usize) -> String {
     s + "/\n"
 }
 
-#[cfg(feature = "cgal")]
 #[test]
 fn hybrid_3d_from_options() {
     let dir = scratch("hybrid3d");

@@ -65,10 +65,15 @@ fn check(case: &Case, backend: &str, dir: &Path) -> Result<(), String> {
     let mut args = case.args.clone();
     let path = |k: usize| outputs[k].display().to_string();
     args.extend(["-o".into(), path(0)]);
+    // 3D inputs (named *_3d.*) get a TOUGH MESH where 2D ones get a picture
+    let three_d = args.iter().any(|a| a.contains("_3d."));
     if args[0] != "generate" {
-        args.extend(["--report".into(), path(1), "--svg".into(), path(2)]);
+        args.extend(["--report".into(), path(1)]);
+        if !three_d {
+            args.extend(["--svg".into(), path(2)]);
+        }
     }
-    if args[0] == "hybrid" {
+    if args[0] == "hybrid" || three_d {
         args.extend(["--tough".into(), path(3)]);
     }
     args.extend(["--backend".into(), backend.into()]);

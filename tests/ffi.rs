@@ -156,3 +156,24 @@ fn regular_triangulation_3_batch_and_throws() {
         other => panic!("expected a backend error, got {other:?}"),
     }
 }
+
+#[test]
+fn regular_triangulation_3_of_exact_rationals() {
+    use orthomesh::backend::Backend3;
+    use orthomesh::exact::{q, Q};
+    // A unit cube's corners and its centre at weight 1/3: 6 pyramids, 12
+    // tetrahedra. Halfway from the centre to the bottom face the lower hull
+    // of the lifts is at (3/4 - 1/3 + 1) / 2 = 17/24; a point there with
+    // weight -1/5 is lifted to 9/16 + 1/5 above it: hidden.
+    let mut points: Vec<[Q; 3]> = (0..8)
+        .map(|k| [k & 1, (k >> 1) & 1, (k >> 2) & 1].map(|c| Q::from(c as i64)))
+        .collect();
+    let mut weights: Vec<Q> = vec![Q::from(0); 8];
+    points.push([q(0.5), q(0.5), q(0.5)]);
+    weights.push(Q::from(1) / Q::from(3));
+    points.push([q(0.5), q(0.5), q(0.25)]);
+    weights.push(-Q::from(1) / Q::from(5));
+    let t = Cgal.regular3_exact(&points, &weights).unwrap();
+    assert_eq!(t.hidden, vec![9]);
+    assert_eq!(t.tets.len(), 12);
+}

@@ -1,7 +1,6 @@
 //! The 3D hybrid mesh (issue 6): a Cartesian block grid, a vertical or a
 //! deviated well with its radial mesh, a certified transition mesh in the
 //! cavity around it, and the flow check against Thiem's solution.
-#![cfg(feature = "cgal")]
 
 use orthomesh::backend::compiled3;
 use orthomesh::hybrid::Region;

@@ -313,7 +313,6 @@ fn tetgen_example_plc_reads_and_validates() {
 
 /// TetGen's example PLC: 3D weights whose regular triangulation has every
 /// facet (rectangles whole, other facets as triangles), checked exactly.
-#[cfg(feature = "cgal")]
 #[test]
 fn tetgen_example_plc_gets_weights() {
     let path =

@@ -5,6 +5,8 @@
 mod cgal;
 #[cfg(feature = "pure-rust")]
 pub mod pure;
+#[cfg(feature = "pure-rust")]
+mod pure3;
 #[cfg(feature = "cgal")]
 pub use cgal::Cgal;
 pub(crate) mod points;
@@ -33,8 +35,7 @@ pub trait Backend: Sync {
     fn regular_exact(&self, points: &[[Q; 2]], weights: &[Q]) -> Result<Triangulation>;
 }
 
-/// The 3D side of a backend (true 3D, issue 6): CGAL's so far; the
-/// pure-Rust engine has no 3D side yet.
+/// The 3D side of a backend (true 3D, issue 6).
 pub trait Backend3: Backend {
     /// Regular triangulation of weighted double points in 3D, exact
     /// predicates. Err when the points are coplanar (no tetrahedron).
@@ -48,6 +49,8 @@ pub fn compiled3() -> Vec<Box<dyn Backend3>> {
     vec![
         #[cfg(feature = "cgal")]
         Box::new(Cgal),
+        #[cfg(feature = "pure-rust")]
+        Box::new(pure::Pure),
     ]
 }
 

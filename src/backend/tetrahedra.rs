@@ -321,6 +321,44 @@ mod tests {
         }
     }
 
+    /// Every backend's 3D side gives the same tetrahedra on points in
+    /// general position, from doubles and from their exact rationals.
+    #[test]
+    fn backends_agree() {
+        let n = 400;
+        let r = rng(4 * n, 11);
+        let p: Vec<[f64; 3]> = (0..n)
+            .map(|i| [r[4 * i], r[4 * i + 1], r[4 * i + 2]])
+            .collect();
+        let w: Vec<f64> = (0..n).map(|i| 2e-3 * r[4 * i + 3]).collect();
+        let sorted = |t: &Tetrahedralisation| {
+            let mut v: Vec<[u32; 4]> = t
+                .tets
+                .iter()
+                .map(|x| {
+                    let mut y = *x;
+                    y.sort_unstable();
+                    y
+                })
+                .collect();
+            v.sort_unstable();
+            (v, t.hidden.clone())
+        };
+        let qp: Vec<[crate::exact::Q; 3]> = p.iter().map(|x| x.map(crate::exact::q)).collect();
+        let qw: Vec<crate::exact::Q> = w.iter().map(|&x| crate::exact::q(x)).collect();
+        let all: Vec<_> = compiled3()
+            .iter()
+            .flat_map(|b| {
+                let from_f64 = sorted(&b.regular3(&p, &w).unwrap());
+                let from_q = sorted(&b.regular3_exact(&qp, &qw).unwrap());
+                assert_eq!(from_f64, from_q, "{}", b.name());
+                [from_f64]
+            })
+            .collect();
+        assert!(all.windows(2).all(|x| x[0] == x[1]), "the backends differ");
+        assert!(!all[0].1.is_empty(), "some points hidden");
+    }
+
     #[test]
     fn a_cospherical_lattice() {
         for b in compiled3() {

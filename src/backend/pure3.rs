@@ -1,0 +1,471 @@
+//! The pure-Rust backend's 3D side: the regular triangulation of weighted
+//! points by Bowyer-Watson insertion (conflict region, star from the new
+//! point) over an infinite vertex, with exact predicates (intervals, then
+//! rationals) and ties broken by a symbolic perturbation of the weights
+//! (w_i + eps_i, eps_0 >> eps_1 >> ...: earlier points win), which makes
+//! every decision consistent with one regular triangulation.
+
+use super::points::{sign_q, F64Points3};
+use super::{Tetrahedralisation, NONE};
+use crate::error::{Error, Result};
+use crate::exact::{det3_q, det4_q, dot, norm2, q, sub, Q};
+use std::cmp::Ordering;
+use std::collections::HashMap;
+
+/// The infinite vertex.
+const INF: u32 = u32::MAX - 1;
+
+/// Exact predicates on weighted points in 3D.
+pub(crate) trait Predicates3 {
+    fn len(&self) -> usize;
+    /// Greater when d sees (a, b, c) counter-clockwise (`exact::orient3`).
+    fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering;
+    /// Greater when e conflicts with the positive tetrahedron t, Equal on
+    /// a tie (unperturbed).
+    fn power(&self, t: [u32; 4], e: u32) -> Ordering;
+    /// The exact point and weight.
+    fn exact(&self, v: u32) -> ([Q; 3], Q);
+}
+
+impl Predicates3 for F64Points3<'_> {
+    fn len(&self) -> usize {
+        self.p.len()
+    }
+    fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
+        F64Points3::orient(self, a, b, c, d)
+    }
+    fn power(&self, t: [u32; 4], e: u32) -> Ordering {
+        F64Points3::power(self, t, e)
+    }
+    fn exact(&self, v: u32) -> ([Q; 3], Q) {
+        (self.p[v as usize].map(q), q(self.w[v as usize]))
+    }
+}
+
+impl super::Backend3 for super::pure::Pure {
+    fn regular3(&self, points: &[[f64; 3]], weights: &[f64]) -> Result<Tetrahedralisation> {
+        if let Some(i) = points
+            .iter()
+            .flatten()
+            .chain(weights)
+            .position(|x| !x.is_finite())
+        {
+            return Err(Error::Backend(format!(
+                "regular triangulation input: value {i} is not finite"
+            )));
+        }
+        regular3(&F64Points3 {
+            p: points,
+            w: weights,
+        })
+    }
+
+    fn regular3_exact(&self, points: &[[Q; 3]], weights: &[Q]) -> Result<Tetrahedralisation> {
+        regular3(&QPoints3 {
+            p: points,
+            w: weights,
+        })
+    }
+}
+
+/// Rational weighted points.
+pub(crate) struct QPoints3<'a> {
+    pub p: &'a [[Q; 3]],
+    pub w: &'a [Q],
+}
+
+impl Predicates3 for QPoints3<'_> {
+    fn len(&self) -> usize {
+        self.p.len()
+    }
+    fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
+        let pd = &self.p[d as usize];
+        let r = [a, b, c].map(|x| sub(&self.p[x as usize], pd));
+        sign_q(&det3_q([0, 1, 2].map(|i| [&r[i][0], &r[i][1], &r[i][2]]))).reverse()
+    }
+    fn power(&self, t: [u32; 4], e: u32) -> Ordering {
+        sign_q(&det4_q(&lifted_rows(self, t, e))).reverse()
+    }
+    fn exact(&self, v: u32) -> ([Q; 3], Q) {
+        (self.p[v as usize].clone(), self.w[v as usize].clone())
+    }
+}
+
+/// Rows (p_i - p_e, |p_i - p_e|^2 - w_i + w_e) of the power test.
+fn lifted_rows<P: Predicates3 + ?Sized>(pts: &P, t: [u32; 4], e: u32) -> [[Q; 4]; 4] {
+    let (pe, we) = pts.exact(e);
+    t.map(|x| {
+        let (px, wx) = pts.exact(x);
+        let d = sub(&px, &pe);
+        let z = norm2(&d) - wx + &we;
+        [d[0].clone(), d[1].clone(), d[2].clone(), z]
+    })
+}
+
+/// Whether e conflicts with the positive tetrahedron t, ties broken by
+/// the perturbation: with D the lifted determinant (conflict iff D < 0)
+/// and weights w_i + eps_i, D gains sum_i (eps_e - eps_i) C_i (C_i the
+/// cofactor of row i's lift), so the first point in index order with a
+/// non-zero coefficient (-C_i for a vertex, sum C_i for e) decides.
+fn conflict<P: Predicates3 + ?Sized>(pts: &P, t: [u32; 4], e: u32) -> bool {
+    match pts.power(t, e) {
+        Ordering::Greater => return true,
+        Ordering::Less => return false,
+        Ordering::Equal => {}
+    }
+    let r = lifted_rows(pts, t, e);
+    let cof = |i: usize| {
+        let m: Vec<[&Q; 3]> = (0..4)
+            .filter(|&k| k != i)
+            .map(|k| [&r[k][0], &r[k][1], &r[k][2]])
+            .collect();
+        let d = det3_q([m[0], m[1], m[2]]);
+        if (i + 3) % 2 == 0 {
+            d
+        } else {
+            -d
+        }
+    };
+    let c: Vec<Q> = (0..4).map(cof).collect();
+    let mut order: Vec<(u32, Q)> = (0..4).map(|i| (t[i], -c[i].clone())).collect();
+    order.push((e, c.iter().sum()));
+    perturbed_sign(order) == Ordering::Less
+}
+
+/// The sign of a perturbed quantity whose coefficients of eps_i are
+/// given: that of the point earliest in index order with a non-zero one.
+fn perturbed_sign(mut order: Vec<(u32, Q)>) -> Ordering {
+    order.sort_by_key(|x| x.0);
+    order
+        .into_iter()
+        .map(|(_, coef)| sign_q(&coef))
+        .find(|s| *s != Ordering::Equal)
+        .unwrap_or(Ordering::Equal)
+}
+
+/// For p coplanar with the hull face (a, b, c): whether p is inside its
+/// power circle, perturbed alike. With p = a + s (b - a) + t (c - a) and
+/// heights z_x = |x - a|^2 - w_x + w_a, p conflicts iff E = s z_b + t z_c -
+/// z_p > 0; perturbed, E gains (s + t - 1) eps_a - s eps_b - t eps_c + eps_p.
+fn conflict_in_plane<P: Predicates3 + ?Sized>(pts: &P, [a, b, c]: [u32; 3], p: u32) -> bool {
+    let (pa, wa) = pts.exact(a);
+    let rel = |x: u32| {
+        let (px, wx) = pts.exact(x);
+        let d = sub(&px, &pa);
+        let z = norm2(&d) - wx + &wa;
+        (d, z)
+    };
+    let ((u, zb), (v, zc), (r, zp)) = (rel(b), rel(c), rel(p));
+    let (uu, uv, vv) = (norm2(&u), dot(&u, &v), norm2(&v));
+    let (ur, vr) = (dot(&u, &r), dot(&v, &r));
+    let det = &uu * &vv - &uv * &uv;
+    let s = (&vv * &ur - &uv * &vr) / &det;
+    let t = (&uu * &vr - &uv * &ur) / &det;
+    let e = &s * zb + &t * zc - zp;
+    match sign_q(&e) {
+        Ordering::Greater => return true,
+        Ordering::Less => return false,
+        Ordering::Equal => {}
+    }
+    let order = vec![(a, &s + &t - Q::from(1)), (b, -s), (c, -t), (p, Q::from(1))];
+    perturbed_sign(order) == Ordering::Greater
+}
+
+/// Even permutations of (k, a, b, c): vertex k sees face k
+/// counter-clockwise (as `Tetrahedralisation::face`).
+const FACES: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]];
+
+struct Builder<'a, P: Predicates3 + ?Sized> {
+    pts: &'a P,
+    tets: Vec<[u32; 4]>,
+    adj: Vec<[u32; 4]>,
+    alive: Vec<bool>,
+    /// A live tetrahedron to start walks from.
+    last: u32,
+    seed: u64,
+}
+
+impl<P: Predicates3 + ?Sized> Builder<'_, P> {
+    fn face(&self, t: u32, k: usize) -> [u32; 3] {
+        FACES[k].map(|i| self.tets[t as usize][i])
+    }
+
+    fn infinite(&self, t: u32) -> Option<usize> {
+        self.tets[t as usize].iter().position(|&v| v == INF)
+    }
+
+    /// Whether p conflicts with t (finite or infinite).
+    fn in_conflict(&self, t: u32, p: u32) -> bool {
+        match self.infinite(t) {
+            None => conflict(self.pts, self.tets[t as usize], p),
+            Some(k) => {
+                let f = self.face(t, k);
+                match self.pts.orient(f[0], f[1], f[2], p) {
+                    Ordering::Greater => true,
+                    Ordering::Less => false,
+                    Ordering::Equal => conflict_in_plane(self.pts, f, p),
+                }
+            }
+        }
+    }
+
+    fn random(&mut self) -> u64 {
+        self.seed ^= self.seed << 13;
+        self.seed ^= self.seed >> 7;
+        self.seed ^= self.seed << 17;
+        self.seed
+    }
+
+    /// A tetrahedron whose closure holds p (finite), or an infinite one
+    /// whose face p lies strictly beyond.
+    fn locate(&mut self, p: u32) -> u32 {
+        let mut t = self.last;
+        if let Some(k) = self.infinite(t) {
+            t = self.adj[t as usize][k];
+        }
+        let mut steps = 0usize;
+        'walk: loop {
+            steps += 1;
+            if steps > 4 * self.tets.len() + 16 {
+                // a visibility walk can cycle only in degenerate ways; a
+                // scan then finds the answer
+                return self.scan(p);
+            }
+            let start = (self.random() % 4) as usize;
+            for i in 0..4 {
+                let k = (start + i) % 4;
+                let f = self.face(t, k);
+                if self.pts.orient(f[0], f[1], f[2], p) == Ordering::Less {
+                    let u = self.adj[t as usize][k];
+                    if self.infinite(u).is_some() {
+                        return u;
+                    }
+                    t = u;
+                    continue 'walk;
+                }
+            }
+            return t;
+        }
+    }
+
+    fn scan(&self, p: u32) -> u32 {
+        (0..self.tets.len() as u32)
+            .filter(|&t| self.alive[t as usize])
+            .find(|&t| match self.infinite(t) {
+                None => (0..4).all(|k| {
+                    let f = self.face(t, k);
+                    self.pts.orient(f[0], f[1], f[2], p) != Ordering::Less
+                }),
+                Some(k) => {
+                    let f = self.face(t, k);
+                    self.pts.orient(f[0], f[1], f[2], p) == Ordering::Greater
+                }
+            })
+            .expect("a live tetrahedron holds every point")
+    }
+
+    /// Inserts p; false when p is hidden.
+    fn insert(&mut self, p: u32) -> bool {
+        let mut start = self.locate(p);
+        if !self.in_conflict(start, p) {
+            // p on a face of the tetrahedron found: the one across may be
+            // the one in conflict
+            let across = (0..4).filter_map(|k| {
+                let f = self.face(start, k);
+                (self.infinite(start).is_none()
+                    && self.pts.orient(f[0], f[1], f[2], p) == Ordering::Equal)
+                    .then(|| self.adj[start as usize][k])
+            });
+            match across
+                .collect::<Vec<_>>()
+                .into_iter()
+                .find(|&u| self.in_conflict(u, p))
+            {
+                Some(u) => start = u,
+                None => return false,
+            }
+        }
+        let mut region = vec![start];
+        let mut inside: HashMap<u32, ()> = HashMap::from([(start, ())]);
+        let mut i = 0;
+        while i < region.len() {
+            let t = region[i];
+            i += 1;
+            for k in 0..4 {
+                let u = self.adj[t as usize][k];
+                if !inside.contains_key(&u) && self.in_conflict(u, p) {
+                    inside.insert(u, ());
+                    region.push(u);
+                }
+            }
+        }
+        // Star the region's boundary from p.
+        let mut new_faces: HashMap<[u32; 3], (u32, usize)> = HashMap::new();
+        let mut created = vec![];
+        for &t in &region {
+            for k in 0..4 {
+                let u = self.adj[t as usize][k];
+                if inside.contains_key(&u) {
+                    continue;
+                }
+                let f = self.face(t, k);
+                let n = self.tets.len() as u32;
+                self.tets.push([f[0], f[1], f[2], p]);
+                self.adj.push([NONE, NONE, NONE, u]);
+                self.alive.push(true);
+                // u's face towards t now faces n
+                let back = (0..4)
+                    .find(|&l| self.adj[u as usize][l] == t)
+                    .expect("adjacency is symmetric");
+                self.adj[u as usize][back] = n;
+                created.push(n);
+                for l in 0..3 {
+                    let mut key = self.face(n, l);
+                    key.sort_unstable();
+                    match new_faces.remove(&key) {
+                        Some((m, ml)) => {
+                            self.adj[n as usize][l] = m;
+                            self.adj[m as usize][ml] = n;
+                        }
+                        None => {
+                            new_faces.insert(key, (n, l));
+                        }
+                    }
+                }
+            }
+        }
+        debug_assert!(new_faces.is_empty(), "the star closes up");
+        for &t in &region {
+            self.alive[t as usize] = false;
+        }
+        self.last = created
+            .iter()
+            .copied()
+            .find(|&t| self.infinite(t).is_none())
+            .unwrap_or(created[0]);
+        true
+    }
+}
+
+/// The regular triangulation of the points (see the module's doc).
+pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralisation> {
+    let n = pts.len() as u32;
+    let coplanar = || {
+        Error::Backend(
+            "the points are coplanar: their regular triangulation has no tetrahedron".into(),
+        )
+    };
+    // Four affinely independent points, the first of each kind in order.
+    let a = 0;
+    let same = |x: u32, y: u32| pts.exact(x).0 == pts.exact(y).0;
+    let b = (1..n).find(|&x| !same(a, x)).ok_or_else(coplanar)?;
+    let collinear = |x: u32| {
+        let (pa, pb, px) = (pts.exact(a).0, pts.exact(b).0, pts.exact(x).0);
+        let (u, v) = (sub(&pb, &pa), sub(&px, &pa));
+        crate::exact::cross(&u, &v).iter().all(|c| *c == 0)
+    };
+    let c = (1..n)
+        .find(|&x| x != b && !collinear(x))
+        .ok_or_else(coplanar)?;
+    let d = (1..n)
+        .find(|&x| x != b && x != c && pts.orient(a, b, c, x) != Ordering::Equal)
+        .ok_or_else(coplanar)?;
+    let first = if pts.orient(a, b, c, d) == Ordering::Greater {
+        [a, b, c, d]
+    } else {
+        [b, a, c, d]
+    };
+    let mut bld = Builder {
+        pts,
+        tets: vec![first],
+        adj: vec![[1, 2, 3, 4]],
+        alive: vec![true; 5],
+        last: 0,
+        seed: 0x9e37_79b9_7f4a_7c15,
+    };
+    for k in 0..4 {
+        let f = bld.face(0, k);
+        // seen from outside: reversed; the infinite vertex last
+        bld.tets.push([f[0], f[2], f[1], INF]);
+        bld.adj.push([NONE, NONE, NONE, 0]);
+    }
+    // the infinite tetrahedra meet across faces through INF
+    let mut faces: HashMap<[u32; 3], (u32, usize)> = HashMap::new();
+    for t in 1..5u32 {
+        for l in 0..3 {
+            let mut key = bld.face(t, l);
+            key.sort_unstable();
+            if let Some((m, ml)) = faces.remove(&key) {
+                bld.adj[t as usize][l] = m;
+                bld.adj[m as usize][ml] = t;
+            } else {
+                faces.insert(key, (t, l));
+            }
+        }
+    }
+    // The rest, in a spatial order for short walks.
+    let mut rest: Vec<u32> = (0..n).filter(|x| !first.contains(x)).collect();
+    let approx: Vec<[f64; 3]> = (0..n)
+        .map(|v| pts.exact(v).0.map(|x| crate::exact::f(&x)))
+        .collect();
+    let (lo, hi) = bounds(&approx);
+    rest.sort_by_cached_key(|&v| {
+        let p = approx[v as usize];
+        morton(std::array::from_fn(|k| {
+            if hi[k] > lo[k] {
+                (p[k] - lo[k]) / (hi[k] - lo[k])
+            } else {
+                0.0
+            }
+        }))
+    });
+    for p in rest {
+        bld.insert(p);
+    }
+    // Output: live finite tetrahedra renumbered, infinite neighbours NONE.
+    let mut id = vec![NONE; bld.tets.len()];
+    let mut flat = vec![];
+    for (t, tet) in bld.tets.iter().enumerate() {
+        if bld.alive[t] && !tet.contains(&INF) {
+            id[t] = (flat.len() / 4) as u32;
+            flat.extend_from_slice(tet);
+        }
+    }
+    let mut neighbours = vec![];
+    for t in 0..bld.tets.len() {
+        if id[t] != NONE {
+            neighbours.extend(bld.adj[t].map(|u| id[u as usize]));
+        }
+    }
+    let mut present = vec![false; n as usize];
+    for &v in &flat {
+        present[v as usize] = true;
+    }
+    let hidden = (0..n).filter(|&v| !present[v as usize]).collect();
+    Ok(Tetrahedralisation::from_parts(&flat, &neighbours, hidden))
+}
+
+fn bounds(p: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for x in p {
+        for k in 0..3 {
+            lo[k] = lo[k].min(x[k]);
+            hi[k] = hi[k].max(x[k]);
+        }
+    }
+    (lo, hi)
+}
+
+/// The Morton code of a point of the unit cube (21 bits per axis).
+fn morton(p: [f64; 3]) -> u64 {
+    let spread = |x: f64| {
+        let mut v = ((x.clamp(0.0, 1.0) * ((1u64 << 21) - 1) as f64) as u64) & 0x1f_ffff;
+        v = (v | v << 32) & 0x1f00000000ffff;
+        v = (v | v << 16) & 0x1f0000ff0000ff;
+        v = (v | v << 8) & 0x100f00f00f00f00f;
+        v = (v | v << 4) & 0x10c30c30c30c30c3;
+        (v | v << 2) & 0x1249249249249249
+    };
+    spread(p[0]) | spread(p[1]) << 1 | spread(p[2]) << 2
+}
