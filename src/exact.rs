@@ -132,6 +132,13 @@ impl Iv {
         Iv { lo: x, hi: x }
     }
 
+    /// An enclosure of a rational: its nearest double, widened by an ulp
+    /// each way.
+    pub fn of_q(x: &Q) -> Iv {
+        let m = f(x);
+        Iv::out(m.next_down(), m.next_up())
+    }
+
     fn out(lo: f64, hi: f64) -> Iv {
         if lo.is_nan() || hi.is_nan() {
             return Iv {

@@ -8,7 +8,7 @@
 use super::points::{sign_q, F64Points3};
 use super::{Tetrahedralisation, NONE};
 use crate::error::{Error, Result};
-use crate::exact::{det3_q, det4_q, dot, norm2, q, sub, Q};
+use crate::exact::{det3, det3_q, det4, det4_q, dot, norm2, q, sub, Iv, Q};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
@@ -61,17 +61,27 @@ impl super::Backend3 for super::pure::Pure {
     }
 
     fn regular3_exact(&self, points: &[[Q; 3]], weights: &[Q]) -> Result<Tetrahedralisation> {
-        regular3(&QPoints3 {
-            p: points,
-            w: weights,
-        })
+        regular3(&QPoints3::new(points, weights))
     }
 }
 
-/// Rational weighted points.
+/// Rational weighted points, with interval enclosures that decide most
+/// predicates before any rational arithmetic.
 pub(crate) struct QPoints3<'a> {
-    pub p: &'a [[Q; 3]],
-    pub w: &'a [Q],
+    p: &'a [[Q; 3]],
+    w: &'a [Q],
+    iv: Vec<([Iv; 3], Iv)>,
+}
+
+impl<'a> QPoints3<'a> {
+    pub fn new(p: &'a [[Q; 3]], w: &'a [Q]) -> Self {
+        let iv = p
+            .iter()
+            .zip(w)
+            .map(|(p, w)| (p.each_ref().map(Iv::of_q), Iv::of_q(w)))
+            .collect();
+        QPoints3 { p, w, iv }
+    }
 }
 
 impl Predicates3 for QPoints3<'_> {
@@ -79,11 +89,33 @@ impl Predicates3 for QPoints3<'_> {
         self.p.len()
     }
     fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
+        let id = self.iv[d as usize].0;
+        let ri = [a, b, c].map(|x| {
+            let ix = self.iv[x as usize].0;
+            [0, 1, 2].map(|k| ix[k] - id[k])
+        });
+        if let Some(s) = det3(ri).sign() {
+            return s.reverse();
+        }
         let pd = &self.p[d as usize];
         let r = [a, b, c].map(|x| sub(&self.p[x as usize], pd));
         sign_q(&det3_q([0, 1, 2].map(|i| [&r[i][0], &r[i][1], &r[i][2]]))).reverse()
     }
     fn power(&self, t: [u32; 4], e: u32) -> Ordering {
+        let (pe, we) = self.iv[e as usize];
+        let rows = t.map(|x| {
+            let (px, wx) = self.iv[x as usize];
+            let d = [0, 1, 2].map(|k| px[k] - pe[k]);
+            [
+                d[0],
+                d[1],
+                d[2],
+                d[0].sqr() + d[1].sqr() + d[2].sqr() - (wx - we),
+            ]
+        });
+        if let Some(s) = det4(rows).sign() {
+            return s.reverse();
+        }
         sign_q(&det4_q(&lifted_rows(self, t, e))).reverse()
     }
     fn exact(&self, v: u32) -> ([Q; 3], Q) {
