@@ -250,7 +250,10 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights3::Weights3) -> Mesh3 {
     let mut cells = vec![];
     let mut links = vec![];
     for &x in &domain {
-        let faces = d.cells[x].as_ref().expect("domain cells are bounded");
+        // domain sites have cells (`Diagram3::build`)
+        let Some(faces) = d.cells[x].as_ref() else {
+            continue;
+        };
         let mut out = vec![];
         for (face, other) in faces {
             let mut f: Vec<u32> = face.iter().map(|&v| id[v as usize]).collect();

@@ -179,6 +179,13 @@ impl Diagram3 {
                     .push((face, other));
             }
         }
+        // A site whose cell has no face of positive area (a vertex of the
+        // site triangulation whose cell is a point or a segment) has no
+        // volume: no mesh cell.
+        let mut in_domain = in_domain;
+        for (x, inside) in in_domain.iter_mut().enumerate() {
+            *inside &= cells[x].is_some();
+        }
         Ok(Diagram3 {
             rt,
             vertex_of,
