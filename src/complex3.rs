@@ -39,9 +39,19 @@ pub struct Complex3 {
 
 impl Complex3 {
     /// Checks what can be decided facet by facet: finite coordinates in
-    /// range, distinct points, cycles without a repeated vertex, and
-    /// facets that are planar and not all on one line (exactly).
+    /// range, distinct points, cycles without a repeated vertex, facets
+    /// that are planar and not all on one line, and each facet valid as a
+    /// 2D complex in its plane (exactly).
     pub fn validate(&self) -> Result<()> {
+        self.validate_in_space()?;
+        for f in 0..self.facets.len() {
+            self.checked_facet_2d(f)?;
+        }
+        Ok(())
+    }
+
+    /// `validate` less the checks in each facet's plane.
+    fn validate_in_space(&self) -> Result<()> {
         finite_in_range(&self.points, &self.vertex_ids)?;
         let holes = self
             .holes
@@ -97,15 +107,19 @@ impl Complex3 {
                 list.join(", ")
             )));
         }
-        for f in 0..self.facets.len() {
-            if let Some((cx, _)) = self.facet_2d(f) {
-                cx.validate().map_err(|e| Error::InFacet {
-                    facet: f as i64 + 1,
-                    error: Box::new(e),
-                })?;
-            }
-        }
         Ok(())
+    }
+
+    /// `facet_2d`, validated as a 2D complex (errors name the facet).
+    fn checked_facet_2d(&self, f: usize) -> Result<Option<(Complex, Vec<u32>)>> {
+        let flat = self.facet_2d(f);
+        if let Some((cx, _)) = &flat {
+            cx.validate().map_err(|e| Error::InFacet {
+                facet: f as i64 + 1,
+                error: Box::new(e),
+            })?;
+        }
+        Ok(flat)
     }
 
     /// Facet f as a 2D complex in a coordinate plane, with the index here
@@ -212,13 +226,13 @@ impl Complex3 {
     /// different facets meet only in a common face (exactly): else an
     /// error naming the facets.
     pub fn triangulate<B: Backend + ?Sized>(&self, backend: &B) -> Result<Simplices3> {
-        self.validate()?;
+        self.validate_in_space()?;
         let mut out = Simplices3::default();
         for (f, facet) in self.facets.iter().enumerate() {
             let mut on_triangle = std::collections::HashSet::new();
             let mut on_edge = std::collections::HashSet::new();
             let area = facet.polygons.iter().any(|p| p.len() >= 3);
-            if let Some((cx, global)) = self.facet_2d(f).filter(|_| area) {
+            if let Some((cx, global)) = self.checked_facet_2d(f)?.filter(|_| area) {
                 let dom = crate::domain::build(backend, &cx).map_err(|e| Error::InFacet {
                     facet: f as i64 + 1,
                     error: Box::new(e),
@@ -284,14 +298,9 @@ impl Complex3 {
                 .map(|(&p, &f)| (vec![p], f)),
         );
         let bbox = |vs: &[u32]| {
-            let mut b = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
-            for &v in vs {
-                for (k, &x) in self.points[v as usize].iter().enumerate() {
-                    b[0][k] = b[0][k].min(x);
-                    b[1][k] = b[1][k].max(x);
-                }
-            }
-            b
+            let pts: Vec<[f64; 3]> = vs.iter().map(|&v| self.points[v as usize]).collect();
+            let (lo, hi) = crate::mesh::bbox(&pts);
+            [lo, hi]
         };
         let boxes: Vec<[[f64; 3]; 2]> = items.iter().map(|(vs, _)| bbox(vs)).collect();
         let mut order: Vec<usize> = (0..items.len()).collect();

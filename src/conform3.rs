@@ -4,7 +4,7 @@
 
 use crate::backend::Backend3;
 use crate::complex3::Complex3;
-use crate::diagram3::{newell, Certificate3, Diagram3};
+use crate::diagram3::{Certificate3, Diagram3, Plane};
 use crate::error::{Error, Result};
 use crate::sites3::{self, Sites3};
 use crate::weights::WeightsReport;
@@ -122,10 +122,9 @@ pub fn conform3<B: Backend3 + ?Sized>(
     while rounds < RELOCATION_ROUNDS {
         // Sites of faces that cross their duals move halfway to the face:
         // near it, a site's cell is its half of a region around the face.
-        let inside = d.sites_inside(&s);
         let mut moved = false;
-        for (x, ok) in inside.into_iter().enumerate() {
-            if d.in_domain[x] && !ok {
+        for x in 0..s.p.len() {
+            if d.in_domain[x] && !d.site_inside[x] {
                 moved |= s.halve(x, cx, &wt.w);
             }
         }
@@ -185,10 +184,9 @@ fn facet_ids(wt: &weights3::Weights3, faces: &[u32]) -> Vec<i64> {
 
 /// The error naming the sites left outside their cells.
 fn sites_outside(cx: &Complex3, wt: &weights3::Weights3, s: &Sites3, d: &Diagram3) -> Error {
-    let inside = d.sites_inside(s);
     let mut sites = vec![];
     let mut faces = vec![];
-    for x in (0..s.p.len()).filter(|&x| d.in_domain[x] && !inside[x]) {
+    for x in (0..s.p.len()).filter(|&x| d.in_domain[x] && !d.site_inside[x]) {
         let face = s
             .of_face
             .iter()
@@ -216,8 +214,7 @@ fn sites_outside(cx: &Complex3, wt: &weights3::Weights3, s: &Sites3, d: &Diagram
 
 /// The domain's cells as a mesh, with the faces between them.
 fn mesh(d: &Diagram3, s: &Sites3, wt: &weights3::Weights3) -> Mesh3 {
-    let approx = s.approx();
-    let inside = d.sites_inside(s);
+    let approx = &d.approx;
     let domain: Vec<usize> = (0..s.p.len()).filter(|&x| d.in_domain[x]).collect();
     let mut cell_of = vec![usize::MAX; s.p.len()];
     for (c, &x) in domain.iter().enumerate() {
@@ -267,22 +264,14 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights3::Weights3) -> Mesh3 {
             let o = *other as usize;
             if d.in_domain[o] && x < o {
                 let pts: Vec<[f64; 3]> = f.iter().map(|&v| points[v as usize]).collect();
-                let n = newell(&pts);
-                let len = n.iter().map(|c| c * c).sum::<f64>().sqrt();
-                let unit = n.map(|c| c / len);
-                let dist = |site: usize| {
-                    let p = approx[site];
-                    (0..3)
-                        .map(|k| (pts[0][k] - p[k]) * unit[k])
-                        .sum::<f64>()
-                        .abs()
-                };
+                let plane = Plane::of(&pts);
+                let dist = |site: usize| plane.distance(xyz(approx[site]));
                 links.push(Link3 {
                     cells: [cell_of[x], cell_of[o]],
                     face: f.clone(),
-                    area: len / 2.0,
+                    area: plane.area,
                     d: [dist(x), dist(o)],
-                    normal: unit,
+                    normal: plane.unit,
                 });
             }
             out.push(f);
@@ -314,19 +303,13 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights3::Weights3) -> Mesh3 {
             continue;
         };
         let pts: Vec<[f64; 3]> = ids.iter().map(|&v| points[v as usize]).collect();
-        let n = newell(&pts);
-        let len = n.iter().map(|c| c * c).sum::<f64>().sqrt();
-        let p = approx[x];
-        let dist = (0..3)
-            .map(|k| (pts[0][k] - p[k]) * n[k] / len)
-            .sum::<f64>()
-            .abs();
+        let plane = Plane::of(&pts);
         facet_faces.push(FacetFace {
             facet,
             points: ids,
             cell: cell_of[x],
-            area: len / 2.0,
-            d: dist,
+            area: plane.area,
+            d: plane.distance(xyz(approx[x])),
         });
     }
     Mesh3 {
@@ -334,37 +317,47 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights3::Weights3) -> Mesh3 {
         facet_faces,
         collapsed: merged.collapsed,
         cells,
-        sites: domain
-            .iter()
-            .map(|&x| [approx[x][0], approx[x][1], approx[x][2]])
-            .collect(),
+        sites: domain.iter().map(|&x| xyz(approx[x])).collect(),
         weights: domain.iter().map(|&x| approx[x][3]).collect(),
         volumes: domain.iter().map(|&x| d.volume(x)).collect(),
-        site_inside: domain.iter().map(|&x| inside[x]).collect(),
+        site_inside: domain.iter().map(|&x| d.site_inside[x]).collect(),
         links,
     }
+}
+
+/// A site's position.
+fn xyz(p: [f64; 4]) -> [f64; 3] {
+    [p[0], p[1], p[2]]
 }
 
 impl Mesh3 {
     /// Largest |cos| between a face's in-plane directions and the segment
     /// joining its two sites.
     pub fn orthogonality_defect(&self) -> f64 {
-        let mut worst: f64 = 0.0;
-        for l in &self.links {
-            let (a, b) = (self.sites[l.cells[0]], self.sites[l.cells[1]]);
-            let d: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
-            let p0 = self.points[l.face[0] as usize];
-            for &v in &l.face[1..] {
+        self.links
+            .iter()
+            .map(|l| self.link_defect(l))
+            .fold(0.0, f64::max)
+    }
+
+    /// Largest |cos| between this link's face's in-plane directions and
+    /// the segment joining its two sites (0 for a link without a face).
+    pub fn link_defect(&self, l: &Link3) -> f64 {
+        let (a, b) = (self.sites[l.cells[0]], self.sites[l.cells[1]]);
+        let d: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
+        let dot = |u: [f64; 3], w: [f64; 3]| u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+        let Some((first, rest)) = l.face.split_first() else {
+            return 0.0;
+        };
+        let p0 = self.points[*first as usize];
+        rest.iter()
+            .map(|&v| {
                 let p = self.points[v as usize];
                 let e: [f64; 3] = std::array::from_fn(|k| p[k] - p0[k]);
-                let dot = |u: [f64; 3], w: [f64; 3]| u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
-                let cos = dot(e, d).abs() / (dot(e, e) * dot(d, d)).sqrt();
-                if cos.is_finite() {
-                    worst = worst.max(cos);
-                }
-            }
-        }
-        worst
+                dot(e, d).abs() / (dot(e, e) * dot(d, d)).sqrt()
+            })
+            .filter(|c| c.is_finite())
+            .fold(0.0, f64::max)
     }
 
     /// VTU polyhedra (type 42) with cell data site, weight, volume,

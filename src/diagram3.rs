@@ -35,6 +35,13 @@ pub struct Diagram3 {
     /// Per site in the domain: its cell's faces, each a cycle of power
     /// vertices counter-clockwise seen from outside, with the site across.
     pub cells: Vec<Option<Cell>>,
+    /// Per edge of `rt`: its dual face, the cycle of power vertices around
+    /// it with repeats merged (None: unbounded).
+    pub faces: HashMap<[u32; 2], Option<Vec<u32>>>,
+    /// Per site, whether it lies strictly inside its own cell (exact).
+    pub site_inside: Vec<bool>,
+    /// The sites and weights as doubles.
+    pub approx: Vec<[f64; 4]>,
 }
 
 /// What the finished 3D mesh proves about itself.
@@ -153,6 +160,7 @@ impl Diagram3 {
         }
         let in_domain = domain(cx, s, &rt, &faces)?;
         let sp = s.approx();
+        let site_inside = sites_inside(s, faces.keys());
         let mut cells: Vec<Option<Cell>> = vec![None; s.p.len()];
         for (&[a, b], face) in &faces {
             for (me, other) in [(a, b), (b, a)] {
@@ -171,7 +179,8 @@ impl Diagram3 {
                 let mut face = face.clone();
                 let d: [f64; 3] =
                     std::array::from_fn(|k| sp[other as usize][k] - sp[me as usize][k]);
-                if dot_f(normal(&points, &face), d) < 0.0 {
+                let pts: Vec<[f64; 3]> = face.iter().map(|&v| points[v as usize]).collect();
+                if dot_f(newell(&pts), d) < 0.0 {
                     face.reverse();
                 }
                 cells[me as usize]
@@ -193,26 +202,18 @@ impl Diagram3 {
             input_vertex,
             in_domain,
             cells,
+            faces,
+            site_inside,
+            approx: sp,
         })
     }
 
     /// The exact certificate (see `Certificate3`).
     pub fn certify(&self, cx: &Complex3, wt: &Weights3, s: &Sites3) -> Certificate3 {
         let mut c = Certificate3::default();
-        let mut first: HashMap<[u32; 2], u32> = HashMap::new();
-        for (t, v) in self.rt.tets.iter().enumerate() {
-            for a in 0..4 {
-                for b in a + 1..4 {
-                    first
-                        .entry([v[a].min(v[b]), v[a].max(v[b])])
-                        .or_insert(t as u32);
-                }
-            }
-        }
         let vertex_set = |a: u32, b: u32| -> Option<HashSet<u32>> {
-            let t = *first.get(&[a.min(b), a.max(b)])?;
-            let ring = self.rt.ring(t, a, b)?;
-            Some(ring.iter().map(|&t| self.vertex_of[t as usize]).collect())
+            let face = self.faces.get(&[a.min(b), a.max(b)])?.as_ref()?;
+            Some(face.iter().copied().collect())
         };
         // power vertex of each input vertex
         let mut of_input: HashMap<u32, u32> = HashMap::new();
@@ -262,29 +263,12 @@ impl Diagram3 {
         vertices.dedup();
         c.vertices = vertices.len();
         c.vertices_exact = vertices.iter().filter(|v| of_input.contains_key(v)).count();
-        let inside = self.sites_inside(s);
         let domain: Vec<usize> = (0..s.p.len()).filter(|&x| self.in_domain[x]).collect();
         c.domain_sites = domain.len();
-        c.sites_inside = domain.iter().filter(|&&x| inside[x]).count();
+        c.sites_inside = domain.iter().filter(|&&x| self.site_inside[x]).count();
         c.cells_volume = domain.iter().map(|&x| self.volume(x)).sum();
-        c.domain_volume = boundary_volume(cx, wt, s, &self.in_domain);
+        c.domain_volume = boundary_volume(cx, wt, s, self);
         c
-    }
-
-    /// Per site, whether it lies strictly inside its own cell, exactly:
-    /// |p_s - p_t|^2 - w_t + w_s > 0 for every neighbour t.
-    pub fn sites_inside(&self, s: &Sites3) -> Vec<bool> {
-        let mut inside = vec![true; s.p.len()];
-        for [a, b] in self.rt.edge_links().into_keys() {
-            let d = norm2(&sub(&s.p[a as usize], &s.p[b as usize]));
-            if !is_pos(&(&d - &s.w[b as usize] + &s.w[a as usize])) {
-                inside[a as usize] = false;
-            }
-            if !is_pos(&(&d - &s.w[a as usize] + &s.w[b as usize])) {
-                inside[b as usize] = false;
-            }
-        }
-        inside
     }
 
     /// A cell's volume from its faces (divergence theorem, doubles).
@@ -306,6 +290,23 @@ impl Diagram3 {
             })
             .sum()
     }
+}
+
+/// Per site, whether it lies strictly inside its own cell, exactly:
+/// |p_s - p_t|^2 - w_t + w_s > 0 for every neighbour t (`edges`: the
+/// edges of the sites' regular triangulation).
+fn sites_inside<'a>(s: &Sites3, edges: impl Iterator<Item = &'a [u32; 2]>) -> Vec<bool> {
+    let mut inside = vec![true; s.p.len()];
+    for &[a, b] in edges {
+        let d = norm2(&sub(&s.p[a as usize], &s.p[b as usize]));
+        if !is_pos(&(&d - &s.w[b as usize] + &s.w[a as usize])) {
+            inside[a as usize] = false;
+        }
+        if !is_pos(&(&d - &s.w[a as usize] + &s.w[b as usize])) {
+            inside[b as usize] = false;
+        }
+    }
+    inside
 }
 
 /// Per site, whether its cell is in the domain: sites are joined across
@@ -364,8 +365,8 @@ fn domain(
 
 /// The volume the constraint faces between domain and non-domain cells
 /// enclose: each such face oriented away from its domain site.
-fn boundary_volume(cx: &Complex3, wt: &Weights3, s: &Sites3, in_domain: &[bool]) -> f64 {
-    let sp = s.approx();
+fn boundary_volume(cx: &Complex3, wt: &Weights3, s: &Sites3, d: &Diagram3) -> f64 {
+    let (sp, in_domain) = (&d.approx, &d.in_domain);
     let o = cx.points[0];
     let mut vol = 0.0;
     for (fi, face) in wt.faces.iter().enumerate() {
@@ -404,10 +405,31 @@ fn det3_f(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
         + a[2] * (b[0] * c[1] - b[1] * c[0])
 }
 
-/// Newell's normal of a polygon of power vertices.
-fn normal(points: &[[f64; 3]], face: &[u32]) -> [f64; 3] {
-    let pts: Vec<[f64; 3]> = face.iter().map(|&v| points[v as usize]).collect();
-    newell(&pts)
+/// A planar polygon's plane, in doubles.
+#[derive(Debug, Clone, Copy)]
+pub struct Plane {
+    /// A point of the polygon.
+    pub origin: [f64; 3],
+    /// Unit normal (the polygon counter-clockwise seen from its tip).
+    pub unit: [f64; 3],
+    pub area: f64,
+}
+
+impl Plane {
+    pub fn of(pts: &[[f64; 3]]) -> Plane {
+        let n = newell(pts);
+        let len = dot_f(n, n).sqrt();
+        Plane {
+            origin: pts[0],
+            unit: n.map(|c| c / len),
+            area: len / 2.0,
+        }
+    }
+
+    /// The distance from x to the plane.
+    pub fn distance(&self, x: [f64; 3]) -> f64 {
+        dot_f(std::array::from_fn(|k| self.origin[k] - x[k]), self.unit).abs()
+    }
 }
 
 /// Newell's normal of a planar polygon: twice its area times the unit

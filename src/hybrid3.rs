@@ -11,6 +11,7 @@
 use crate::backend::Backend3;
 use crate::complex3::{Complex3, Facet};
 use crate::conform3::{conform3, Link3, Mesh3, Options3, Report3};
+use crate::diagram3::Plane;
 use crate::error::{Error, Result};
 use crate::hybrid::{ring_radii, site_radii, Region};
 use crate::io::eclipse::CornerPointGrid;
@@ -466,24 +467,18 @@ pub fn build<B: Backend3 + ?Sized>(
     for c in first_w..out.cells.len() {
         out.volumes[c] = volume(&out.cells[c], &out.points);
     }
-    let link = |out: &mut Mesh3, a: usize, b: usize, face: &[u32]| {
+    let plane = |out: &Mesh3, face: &[u32]| {
         let pts: Vec<[f64; 3]> = face.iter().map(|&v| out.points[v as usize]).collect();
-        let n = crate::diagram3::newell(&pts);
-        let len = n.iter().map(|c| c * c).sum::<f64>().sqrt();
-        let unit = n.map(|c| c / len);
-        let dd = |x: [f64; 3]| {
-            (0..3)
-                .map(|k| (pts[0][k] - x[k]) * unit[k])
-                .sum::<f64>()
-                .abs()
-        };
-        let d = [dd(out.sites[a]), dd(out.sites[b])];
+        Plane::of(&pts)
+    };
+    let link = |out: &mut Mesh3, a: usize, b: usize, face: &[u32]| {
+        let pl = plane(out, face);
         out.links.push(Link3 {
             cells: [a, b],
             face: face.to_vec(),
-            area: len / 2.0,
-            d,
-            normal: unit,
+            area: pl.area,
+            d: [pl.distance(out.sites[a]), pl.distance(out.sites[b])],
+            normal: pl.unit,
         });
     };
     for k in 0..g.nz {
@@ -522,20 +517,13 @@ pub fn build<B: Backend3 + ?Sized>(
             _ => None,
         };
         let Some(b) = b else { continue };
-        let pts: Vec<[f64; 3]> = face.iter().map(|&v| out.points[v as usize]).collect();
-        let n = crate::diagram3::newell(&pts);
-        let len = n.iter().map(|c| c * c).sum::<f64>().sqrt();
-        let unit = n.map(|c| c / len);
-        let db = (0..3)
-            .map(|k| (pts[0][k] - out.sites[b][k]) * unit[k])
-            .sum::<f64>()
-            .abs();
+        let pl = plane(&out, &face);
         out.links.push(Link3 {
             cells: [a, b],
             face,
             area: f.area,
-            d: [f.d, db],
-            normal: unit,
+            d: [f.d, pl.distance(out.sites[b])],
+            normal: pl.unit,
         });
     }
     // A deviated well's outer parallelogram is two transition faces: one
@@ -555,16 +543,7 @@ pub fn build<B: Backend3 + ?Sized>(
     let non_orthogonal = out
         .links
         .iter()
-        .filter(|l| !l.face.is_empty())
-        .filter(|l| {
-            let single = Mesh3 {
-                points: out.points.clone(),
-                sites: out.sites.clone(),
-                links: vec![(*l).clone()],
-                ..Default::default()
-            };
-            single.orthogonality_defect() > 1e-6
-        })
+        .filter(|l| out.link_defect(l) > 1e-6)
         .count();
     let report = Hybrid3Report {
         cells: [

@@ -132,11 +132,11 @@ pub(crate) fn shoelace(n: usize, at: impl Fn(usize) -> [f64; 2]) -> f64 {
 }
 
 /// Lower-left and upper-right corners of the points' bounding box.
-pub(crate) fn bbox(pts: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
-    let mut lo = [f64::INFINITY; 2];
-    let mut hi = [f64::NEG_INFINITY; 2];
+pub(crate) fn bbox<const D: usize>(pts: &[[f64; D]]) -> ([f64; D], [f64; D]) {
+    let mut lo = [f64::INFINITY; D];
+    let mut hi = [f64::NEG_INFINITY; D];
     for p in pts {
-        for k in 0..2 {
+        for k in 0..D {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);
         }

@@ -440,7 +440,7 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
     let approx: Vec<[f64; 3]> = (0..n)
         .map(|v| pts.exact(v).0.map(|x| crate::exact::f(&x)))
         .collect();
-    let (lo, hi) = bounds(&approx);
+    let (lo, hi) = crate::mesh::bbox(&approx);
     rest.sort_by_cached_key(|&v| {
         let p = approx[v as usize];
         morton(std::array::from_fn(|k| {
@@ -475,18 +475,6 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
     }
     let hidden = (0..n).filter(|&v| !present[v as usize]).collect();
     Ok(Tetrahedralisation::from_parts(&flat, &neighbours, hidden))
-}
-
-fn bounds(p: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for x in p {
-        for k in 0..3 {
-            lo[k] = lo[k].min(x[k]);
-            hi[k] = hi[k].max(x[k]);
-        }
-    }
-    (lo, hi)
 }
 
 /// The Morton code of a point of the unit cube (21 bits per axis).

@@ -327,21 +327,17 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 if svg.is_some() {
                     return Err(Error::Usage("--svg draws 2D meshes only".into()));
                 }
-                for (p, t) in &texts {
-                    io::write_atomic(p, t.as_bytes())?;
-                }
-                let r = &h.report;
-                let c = &r.transition.certificate;
-                eprintln!(
-                    "3D hybrid: {} reservoir, {} transition, {} well cells; {} connections, {} non-orthogonal; \
-                     certificate: faces {}/{} vertices {}/{} volume {:.6e} of {:.6e} sites-inside {}/{}",
-                    r.cells[0], r.cells[1], r.cells[2], r.connections, r.non_orthogonal,
-                    c.faces_exact, c.faces, c.vertices_exact, c.vertices, c.cells_volume, c.domain_volume,
-                    c.sites_inside, c.domain_sites
-                );
-                for (p, _) in &texts {
-                    eprintln!("wrote {}", p.display());
-                }
+                write_texts(&texts, || {
+                    let r = &h.report;
+                    let c = &r.transition.certificate;
+                    eprintln!(
+                        "3D hybrid: {} reservoir, {} transition, {} well cells; {} connections, {} non-orthogonal; \
+                         certificate: faces {}/{} vertices {}/{} volume {:.6e} of {:.6e} sites-inside {}/{}",
+                        r.cells[0], r.cells[1], r.cells[2], r.connections, r.non_orthogonal,
+                        c.faces_exact, c.faces, c.vertices_exact, c.vertices, c.cells_volume, c.domain_volume,
+                        c.sites_inside, c.domain_sites
+                    );
+                })?;
                 return Ok(());
             }
             let mut list: Vec<WellInput> = vec![];
@@ -430,17 +426,13 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     .map_err(|e| Error::Usage(e.to_string()))?;
                 texts.push((p, text + "\n"));
             }
-            for (p, t) in &texts {
-                io::write_atomic(p, t.as_bytes())?;
-            }
-            let r = &h.report;
-            summarise(&format!("{}, layer {layer}", grid.display()), &h);
-            for (pair, d) in &r.orthogonality_defect {
-                eprintln!("orthogonality defect {pair}: {d:.2e}");
-            }
-            for (p, _) in &texts {
-                eprintln!("wrote {}", p.display());
-            }
+            write_texts(&texts, || {
+                let r = &h.report;
+                summarise(&format!("{}, layer {layer}", grid.display()), &h);
+                for (pair, d) in &r.orthogonality_defect {
+                    eprintln!("orthogonality defect {pair}: {d:.2e}");
+                }
+            })?;
             Ok(())
         }
         Command::Generate { kind, n, output } => {
@@ -485,13 +477,9 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 (out_dir.join("demo.json"), report + "\n"),
                 (out_dir.join("demo.mesh"), h.tough()?),
             ];
-            for (p, t) in &texts {
-                io::write_atomic(p, t.as_bytes())?;
-            }
-            summarise("built-in grid (15 x 15 cells, a fault)", &h);
-            for (p, _) in &texts {
-                eprintln!("wrote {}", p.display());
-            }
+            write_texts(&texts, || {
+                summarise("built-in grid (15 x 15 cells, a fault)", &h);
+            })?;
             Ok(())
         }
     }
@@ -542,33 +530,42 @@ fn write_all(
     if let Some(p) = report {
         texts.push((p.to_path_buf(), report_text(&out.report, input)?));
     }
-    for (p, t) in &texts {
+    write_texts(&texts, || {
+        let r = &out.report;
+        let c = &r.certificate;
+        eprintln!(
+            "{}: {} vertices, {} segments -> {} cells ({} mesh vertices); weights: {}{}; sites outside their cells: {}",
+            input.display(),
+            cx.points.len(),
+            cx.segments.len(),
+            r.cells,
+            r.mesh_vertices,
+            r.weights.method,
+            r.weights.margin.map(|m| format!(" (LP margin {m:.3e})")).unwrap_or_default(),
+            c.sites_outside
+        );
+        eprintln!(
+            "certificate: vertices {} segments {} tiling {} sites-inside {}",
+            ok(c.vertices_are_mesh_vertices),
+            ok(c.segments_are_single_edges),
+            ok(c.cells_tile_domain),
+            ok(c.sites_inside_cells),
+        );
+        for n in &r.notes {
+            eprintln!("note: {n}");
+        }
+    })?;
+    Ok(())
+}
+
+/// Writes every text whole (temporary file, then rename), and only when
+/// all are written the summary and the paths.
+fn write_texts(texts: &[(PathBuf, String)], summary: impl FnOnce()) -> Result<()> {
+    for (p, t) in texts {
         io::write_atomic(p, t.as_bytes())?;
     }
-    let r = &out.report;
-    let c = &r.certificate;
-    eprintln!(
-        "{}: {} vertices, {} segments -> {} cells ({} mesh vertices); weights: {}{}; sites outside their cells: {}",
-        input.display(),
-        cx.points.len(),
-        cx.segments.len(),
-        r.cells,
-        r.mesh_vertices,
-        r.weights.method,
-        r.weights.margin.map(|m| format!(" (LP margin {m:.3e})")).unwrap_or_default(),
-        c.sites_outside
-    );
-    eprintln!(
-        "certificate: vertices {} segments {} tiling {} sites-inside {}",
-        ok(c.vertices_are_mesh_vertices),
-        ok(c.segments_are_single_edges),
-        ok(c.cells_tile_domain),
-        ok(c.sites_inside_cells),
-    );
-    for n in &r.notes {
-        eprintln!("note: {n}");
-    }
-    for (p, _) in &texts {
+    summary();
+    for (p, _) in texts {
         eprintln!("wrote {}", p.display());
     }
     Ok(())
@@ -596,44 +593,40 @@ fn write_all3(
     if let Some(p) = report {
         texts.push((p.to_path_buf(), report_text(&out.report, input)?));
     }
-    for (p, t) in &texts {
-        io::write_atomic(p, t.as_bytes())?;
-    }
-    let r = &out.report;
-    let c = &r.certificate;
-    eprintln!(
-        "{}: {} vertices, {} facets ({} triangles, {} polygons kept whole) -> {} cells ({} mesh vertices); \
-         weights: {}{}; sites outside their cells: {}",
-        input.display(),
-        cx.points.len(),
-        cx.facets.len(),
-        r.triangles,
-        r.whole_polygons,
-        r.cells,
-        r.mesh_vertices,
-        r.weights.method,
-        r.weights.margin.map(|m| format!(" (LP margin {m:.3e})")).unwrap_or_default(),
-        r.sites_outside
-    );
-    eprintln!(
-        "certificate: faces {}/{} vertices {}/{} segments {}/{} volume {:.6e} of {:.6e} sites-inside {}/{}",
-        c.faces_exact,
-        c.faces,
-        c.vertices_exact,
-        c.vertices,
-        c.segments_exact,
-        c.segments,
-        c.cells_volume,
-        c.domain_volume,
-        c.sites_inside,
-        c.domain_sites
-    );
-    if let Some(t) = r.timing_ms {
-        eprintln!("{t:.1} ms total");
-    }
-    for (p, _) in &texts {
-        eprintln!("wrote {}", p.display());
-    }
+    write_texts(&texts, || {
+        let r = &out.report;
+        let c = &r.certificate;
+        eprintln!(
+            "{}: {} vertices, {} facets ({} triangles, {} polygons kept whole) -> {} cells ({} mesh vertices); \
+             weights: {}{}; sites outside their cells: {}",
+            input.display(),
+            cx.points.len(),
+            cx.facets.len(),
+            r.triangles,
+            r.whole_polygons,
+            r.cells,
+            r.mesh_vertices,
+            r.weights.method,
+            r.weights.margin.map(|m| format!(" (LP margin {m:.3e})")).unwrap_or_default(),
+            r.sites_outside
+        );
+        eprintln!(
+            "certificate: faces {}/{} vertices {}/{} segments {}/{} volume {:.6e} of {:.6e} sites-inside {}/{}",
+            c.faces_exact,
+            c.faces,
+            c.vertices_exact,
+            c.vertices,
+            c.segments_exact,
+            c.segments,
+            c.cells_volume,
+            c.domain_volume,
+            c.sites_inside,
+            c.domain_sites
+        );
+        if let Some(t) = r.timing_ms {
+            eprintln!("{t:.1} ms total");
+        }
+    })?;
     Ok(())
 }
 

@@ -158,6 +158,57 @@ pub(crate) fn next_id(r: &Records, line: usize, t: &[&str], prev: Option<&i64>) 
     }
 }
 
+/// The vertices of a Triangle or TetGen file (records `id x y [z]`):
+/// after its header `count dimension ...` at `line`, or, when the count
+/// is 0, in the .node file next to `path`. `noun` names them in messages.
+pub(crate) fn read_nodes<const D: usize>(
+    r: &mut Records,
+    (line, head): (usize, &[&str]),
+    path: &Path,
+    noun: &str,
+    wrong_dimension: &dyn Fn(usize) -> String,
+) -> Result<(Vec<[f64; D]>, Vec<i64>)> {
+    if r.num::<usize>(line, head, 0, &format!("{noun} count"))? == 0 {
+        let node_path = path.with_extension("node");
+        let node_text = read_text(&node_path)?;
+        let mut nr = Records::new(&node_text, &node_path);
+        let (line, head) = nr.next_record(&format!("the {noun} header"))?;
+        return node_list(&mut nr, (line, &head), noun, wrong_dimension);
+    }
+    node_list(r, (line, head), noun, wrong_dimension)
+}
+
+fn node_list<const D: usize>(
+    r: &mut Records,
+    (line, head): (usize, &[&str]),
+    noun: &str,
+    wrong_dimension: &dyn Fn(usize) -> String,
+) -> Result<(Vec<[f64; D]>, Vec<i64>)> {
+    let n: usize = r.num(line, head, 0, &format!("{noun} count"))?;
+    let dim: usize = r.num(line, head, 1, "dimension").unwrap_or(D);
+    if dim != D {
+        return Err(r.error(line, wrong_dimension(dim)));
+    }
+    // No capacity from the header: a huge count must end at the missing
+    // records, not in the allocator.
+    let (mut points, mut ids) = (vec![], vec![]);
+    for k in 1..=n {
+        let (line, t) = r.next_record(&format!("{noun} {k} of {n}"))?;
+        ids.push(next_id(r, line, &t, ids.last())?);
+        let mut p = [0.0; D];
+        for (i, x) in p.iter_mut().enumerate() {
+            *x = r.num(
+                line,
+                &t,
+                i + 1,
+                &format!("{} coordinate", ["x", "y", "z"][i]),
+            )?;
+        }
+        points.push(p);
+    }
+    Ok((points, ids))
+}
+
 /// Non-blank, non-comment lines of a text file as (1-based line, tokens),
 /// with `#` starting a comment.
 pub(crate) struct Records<'a> {

@@ -32,16 +32,13 @@ pub fn parse(text: &str, path: &Path) -> Result<Complex> {
     let mut r = Records::new(text, path);
     let mut cx = Complex::default();
     let (line, head) = r.next_record("the vertex header 'count 2 attributes markers'")?;
-    let nv: usize = r.num(line, &head, 0, "vertex count")?;
-    if nv == 0 {
-        // Vertices live in the .node file next to the .poly.
-        let node_path = path.with_extension("node");
-        let node_text = super::read_text(&node_path)?;
-        let mut nr = Records::new(&node_text, &node_path);
-        read_vertices(&mut nr, &mut cx)?;
-    } else {
-        read_vertex_list(&mut r, line, &head, &mut cx)?;
-    }
+    (cx.points, cx.vertex_ids) =
+        super::read_nodes(&mut r, (line, &head), path, "vertex", &|dim| {
+            format!(
+                "dimension {dim}: this reader takes 2D .poly files (a 3D one is TetGen's \
+                 piecewise linear complex, which `io::read_complex3` reads)"
+            )
+        })?;
     let index = super::index_of(&cx.vertex_ids);
 
     let (line, head) = r.next_record("the segment header 'count markers'")?;
@@ -74,34 +71,6 @@ pub fn parse(text: &str, path: &Path) -> Result<Complex> {
             .push([r.num(line, &t, 1, "hole x")?, r.num(line, &t, 2, "hole y")?]);
     }
     Ok(cx)
-}
-
-fn read_vertices(r: &mut Records, cx: &mut Complex) -> Result<()> {
-    let (line, head) = r.next_record("the vertex header")?;
-    read_vertex_list(r, line, &head, cx)
-}
-
-fn read_vertex_list(r: &mut Records, line: usize, head: &[&str], cx: &mut Complex) -> Result<()> {
-    let nv: usize = r.num(line, head, 0, "vertex count")?;
-    let dim: usize = r.num(line, head, 1, "dimension").unwrap_or(2);
-    if dim != 2 {
-        return Err(r.error(
-            line,
-            format!(
-                "dimension {dim}: this reader takes 2D .poly files (a 3D one is TetGen's \
-                 piecewise linear complex, which `io::read_complex3` reads)"
-            ),
-        ));
-    }
-    for k in 0..nv {
-        let (line, t) = r.next_record(&format!("vertex {} of {nv}", k + 1))?;
-        let id = super::next_id(r, line, &t, cx.vertex_ids.last())?;
-        let x: f64 = r.num(line, &t, 1, "x coordinate")?;
-        let y: f64 = r.num(line, &t, 2, "y coordinate")?;
-        cx.points.push([x, y]);
-        cx.vertex_ids.push(id);
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -21,15 +21,9 @@ pub fn parse(text: &str, path: &Path, format: Format) -> Result<Complex3> {
     let mut r = Records::new(text, path);
     let mut cx = Complex3::default();
     let (line, head) = r.next_record("the point header 'count 3 attributes markers'")?;
-    if r.num::<usize>(line, &head, 0, "point count")? == 0 {
-        let node_path = path.with_extension("node");
-        let node_text = super::read_text(&node_path)?;
-        let mut nr = Records::new(&node_text, &node_path);
-        let (line, head) = nr.next_record("the point header")?;
-        read_points(&mut nr, line, &head, &mut cx)?;
-    } else {
-        read_points(&mut r, line, &head, &mut cx)?;
-    }
+    (cx.points, cx.vertex_ids) = super::read_nodes(&mut r, (line, &head), path, "point", &|dim| {
+        format!("dimension {dim}: a TetGen piecewise linear complex is 3D")
+    })?;
     let index = super::index_of(&cx.vertex_ids);
 
     let (line, head) = r.next_record("the facet header 'count markers'")?;
@@ -129,24 +123,6 @@ fn xyz(r: &Records, line: usize, t: &[&str]) -> Result<[f64; 3]> {
         r.num(line, t, 2, "y coordinate")?,
         r.num(line, t, 3, "z coordinate")?,
     ])
-}
-
-fn read_points(r: &mut Records, line: usize, head: &[&str], cx: &mut Complex3) -> Result<()> {
-    let n: usize = r.num(line, head, 0, "point count")?;
-    let dim: usize = r.num(line, head, 1, "dimension").unwrap_or(3);
-    if dim != 3 {
-        return Err(r.error(
-            line,
-            format!("dimension {dim}: a TetGen piecewise linear complex is 3D"),
-        ));
-    }
-    for k in 1..=n {
-        let (line, t) = r.next_record(&format!("point {k} of {n}"))?;
-        let id = super::next_id(r, line, &t, cx.vertex_ids.last())?;
-        cx.points.push(xyz(r, line, &t)?);
-        cx.vertex_ids.push(id);
-    }
-    Ok(())
 }
 
 #[cfg(test)]

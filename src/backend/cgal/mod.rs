@@ -14,10 +14,15 @@ use std::fmt::Write;
 #[derive(Debug, Default, Clone, Copy)]
 pub struct Cgal;
 
+/// A C++ exception from the shim as our error.
+fn thrown<T>(r: std::result::Result<T, cxx::Exception>) -> Result<T> {
+    r.map_err(|e| Error::Backend(format!("CGAL: {}", e.what())))
+}
+
 fn convert(
     r: std::result::Result<ffi::bridge::TriangulationOut, cxx::Exception>,
 ) -> Result<Triangulation> {
-    let out = r.map_err(|e| Error::Backend(format!("CGAL: {}", e.what())))?;
+    let out = thrown(r)?;
     Ok(Triangulation::from_parts(
         &out.triangles,
         &out.neighbours,
@@ -81,7 +86,7 @@ impl Backend3 for Cgal {
 fn convert3(
     out: std::result::Result<ffi::bridge::TetrahedralisationOut, cxx::Exception>,
 ) -> Result<Tetrahedralisation> {
-    let out = out.map_err(|e| Error::Backend(format!("CGAL: {}", e.what())))?;
+    let out = thrown(out)?;
     Ok(Tetrahedralisation::from_parts(
         &out.tets,
         &out.neighbours,
