@@ -408,7 +408,7 @@ fn hybrid_3d_from_options() {
     let tough = dir.join("h.mesh");
     let json = dir.join("h.json");
     let run = |grid: &str, wells: &[&str]| {
-        // (the top and bottom annuli's obtuse triangles leave sites outside)
+        // (triangles of the top and bottom annuli miss their duals: sites outside)
         let mut args = vec![
             "hybrid",
             "--3d",
