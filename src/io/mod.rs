@@ -195,18 +195,27 @@ fn node_list<const D: usize>(
     for k in 1..=n {
         let (line, t) = r.next_record(&format!("{noun} {k} of {n}"))?;
         ids.push(next_id(r, line, &t, ids.last())?);
-        let mut p = [0.0; D];
-        for (i, x) in p.iter_mut().enumerate() {
-            *x = r.num(
-                line,
-                &t,
-                i + 1,
-                &format!("{} coordinate", ["x", "y", "z"][i]),
-            )?;
-        }
-        points.push(p);
+        points.push(coordinates(r, line, &t)?);
     }
     Ok((points, ids))
+}
+
+/// Tokens 1..=D of a record `id x y [z]` as a point.
+pub(crate) fn coordinates<const D: usize>(
+    r: &Records,
+    line: usize,
+    t: &[&str],
+) -> Result<[f64; D]> {
+    let mut p = [0.0; D];
+    for (i, x) in p.iter_mut().enumerate() {
+        *x = r.num(
+            line,
+            t,
+            i + 1,
+            &format!("{} coordinate", ["x", "y", "z"][i]),
+        )?;
+    }
+    Ok(p)
 }
 
 /// Non-blank, non-comment lines of a text file as (1-based line, tokens),

@@ -58,7 +58,7 @@ pub fn parse(text: &str, path: &Path, format: Format) -> Result<Complex3> {
                 }
                 for k in 1..=nh {
                     let (line, t) = r.next_record(&format!("hole {k} of facet {f}"))?;
-                    facet.holes.push(xyz(&r, line, &t)?);
+                    facet.holes.push(super::coordinates(&r, line, &t)?);
                 }
                 facet
             }
@@ -86,7 +86,7 @@ pub fn parse(text: &str, path: &Path, format: Format) -> Result<Complex3> {
     let nh: usize = r.num(line, &head, 0, "hole count")?;
     for k in 1..=nh {
         let (line, t) = r.next_record(&format!("hole {k} of {nh}"))?;
-        cx.holes.push(xyz(&r, line, &t)?);
+        cx.holes.push(super::coordinates(&r, line, &t)?);
     }
     Ok(cx)
 }
@@ -114,15 +114,6 @@ fn polygon<'t>(
         })?);
     }
     Ok((poly, &t[n + 1..]))
-}
-
-/// A record `id x y z`.
-fn xyz(r: &Records, line: usize, t: &[&str]) -> Result<[f64; 3]> {
-    Ok([
-        r.num(line, t, 1, "x coordinate")?,
-        r.num(line, t, 2, "y coordinate")?,
-        r.num(line, t, 3, "z coordinate")?,
-    ])
 }
 
 #[cfg(test)]
