@@ -185,6 +185,7 @@ fn conform3_pipeline(c: &mut Criterion) {
     ];
     let opts = Options3 {
         allow_sites_outside: true,
+        ..Default::default()
     };
     let mut g = c.benchmark_group("conform3");
     g.sample_size(10).measurement_time(Duration::from_secs(5));

@@ -20,6 +20,9 @@ const RELOCATION_ROUNDS: usize = 24;
 pub struct Options3 {
     /// Write the conforming mesh even when some sites lie outside their cells.
     pub allow_sites_outside: bool,
+    /// How whole polygons stay whole (coplanar lifts unless the caller
+    /// needs their power centres at their circumcentres).
+    pub keep: weights3::Keep,
 }
 
 /// A polyhedral mesh: the domain's cells.
@@ -82,6 +85,8 @@ pub struct Report3 {
     /// polygons kept whole, dangling segments, isolated points.
     pub triangles: usize,
     pub whole_polygons: usize,
+    /// How they were kept: coplanar lifts, or shared weights.
+    pub whole_polygons_kept: weights3::Keep,
     pub segments: usize,
     pub points: usize,
     pub weights: WeightsReport,
@@ -115,7 +120,7 @@ pub fn conform3<B: Backend3 + ?Sized>(
 ) -> Result<Outcome3> {
     let start = Instant::now();
     let sc = cx.triangulate(backend)?;
-    let wt = weights3::solve(backend, cx, &sc)?;
+    let wt = weights3::solve(backend, cx, &sc, opts.keep)?;
     let mut s = sites3::place(cx, &wt)?;
     let mut d = Diagram3::build(backend, cx, &s)?;
     let mut rounds = 0;
@@ -154,6 +159,7 @@ pub fn conform3<B: Backend3 + ?Sized>(
         facets: cx.facets.len(),
         triangles: count(3),
         whole_polygons: wt.whole_polygons,
+        whole_polygons_kept: wt.keep,
         segments: count(2),
         points: count(1),
         weights: wt.report.clone(),

@@ -455,7 +455,7 @@ mod tests {
     fn pipeline(cx: &Complex3) -> (Weights3, Sites3, Diagram3, Certificate3) {
         let b = &compiled3()[0];
         let sc = cx.triangulate(b.as_ref()).unwrap();
-        let wt = crate::weights3::solve(b.as_ref(), cx, &sc).unwrap();
+        let wt = crate::weights3::solve(b.as_ref(), cx, &sc, Default::default()).unwrap();
         let s = crate::sites3::place(cx, &wt).unwrap();
         let d = Diagram3::build(b.as_ref(), cx, &s).unwrap();
         let c = d.certify(cx, &wt, &s);

@@ -315,6 +315,10 @@ pub fn build<B: Backend3 + ?Sized>(
         &cx,
         &Options3 {
             allow_sites_outside: opts.allow_sites_outside,
+            // The walls' and the well's rectangles face cells centred on
+            // them: orthogonal links need their power centres at their
+            // centres, hence equal weights.
+            keep: crate::weights3::Keep::Shared,
         },
     )?;
 

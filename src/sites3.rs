@@ -52,7 +52,7 @@ struct Dual {
 impl Dual {
     /// The dual of face `vs` (3 or more coplanar vertices) with the RT
     /// vertices across its triangles.
-    fn of(cx: &Complex3, w: &[f64], vs: &[u32], apexes: &[u32]) -> Option<Dual> {
+    fn of(cx: &Complex3, w: &[Q], vs: &[u32], apexes: &[u32]) -> Option<Dual> {
         let (c, power) = face_centre(cx, w, vs)?;
         let p = |v: u32| cx.points[v as usize].map(q);
         let p0 = p(vs[0]);
@@ -65,7 +65,7 @@ impl Dual {
                 return None;
             }
             // pi(c + t n; m) = pi(c + t n; v0)
-            let t = (norm2(&sub(&c, &pm)) - q(w[m as usize]) - &power) / &denom;
+            let t = (norm2(&sub(&c, &pm)) - &w[m as usize] - &power) / &denom;
             if is_pos(&denom) {
                 hi = Some(hi.map_or(t.clone(), |h| if t < h { t.clone() } else { h }));
             } else {
@@ -341,15 +341,15 @@ fn affine_rank(s: &Sites3, ids: &[u32]) -> i32 {
 
 impl Sites3 {
     /// Gives site x the power w_v at the vertices v it serves.
-    fn reweigh(&mut self, x: usize, cx: &Complex3, w: &[f64]) {
+    fn reweigh(&mut self, x: usize, cx: &Complex3, w: &[Q]) {
         let v0 = self.serves[x][0] as usize;
-        self.w[x] = norm2(&sub(&self.p[x], &cx.points[v0].map(q))) - q(w[v0]);
+        self.w[x] = norm2(&sub(&self.p[x], &cx.points[v0].map(q))) - &w[v0];
     }
 
     /// Moves a site on a line halfway to its face (rounded to a double
     /// parameter when that stays strictly between); false when it has no
     /// line.
-    pub fn halve(&mut self, x: usize, cx: &Complex3, w: &[f64]) -> bool {
+    pub fn halve(&mut self, x: usize, cx: &Complex3, w: &[Q]) -> bool {
         let Some(line) = &mut self.line[x] else {
             return false;
         };

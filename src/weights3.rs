@@ -10,13 +10,18 @@
 //! ones (`weights`).
 //!
 //! Planar convex polygons whose vertices are exactly cocircular
-//! (rectangles, regular polygons) are kept whole: their vertices share one
-//! weight, which makes their lifts exactly coplanar (method.md section 6
-//! asks for equality rows; a shared weight makes the equalities exact, not
-//! true within HiGHS' tolerances), so the polygon is one face of the
-//! regular subdivision and one face of the power diagram. Other polygons
-//! are triangulated. When shared weights leave no solution, every facet is
-//! triangulated and the LP tried again.
+//! (rectangles, regular polygons) are kept whole: their lifts are made
+//! exactly coplanar, so the polygon is one face of the regular subdivision
+//! and one face of the power diagram. By default (`Keep::Coplanar`) that is
+//! method.md section 6's equality rows, solved exactly: each polygon
+//! vertex beyond the first three has its weight fixed by the others
+//! (`Relations`), the LP sees only the free weights, and the dependent ones
+//! are recomputed as rationals from the LP's (the equalities hold
+//! exactly, not within HiGHS' tolerances). `Keep::Shared` gives all
+//! vertices of polygons joined at vertices one weight, which puts each
+//! polygon's power centre at its circumcentre (orthogonal links to cells
+//! centred on it, as the hybrid's walls need). When whole polygons leave no
+//! solution, fewer are kept and the LP tried again.
 
 use crate::backend::{Backend3, Tetrahedralisation};
 use crate::complex3::{drop_axis, plane_axis, Complex3, Simplices3};
@@ -55,28 +60,47 @@ impl Face {
 /// Verified weights, their regular triangulation and the faces it has.
 #[derive(Debug, Clone)]
 pub struct Weights3 {
-    pub w: Vec<f64>,
+    pub w: Vec<Q>,
     /// RT(w): has every face (polygons as unions of its triangles), hides
     /// no vertex (checked exactly).
     pub rt: Tetrahedralisation,
     pub faces: Vec<Face>,
     pub report: WeightsReport,
-    /// Polygons kept whole.
+    /// Polygons kept whole, and how (shared weights after a fallback).
     pub whole_polygons: usize,
+    pub keep: Keep,
     /// Faces (indices into `faces`) of dimension 1 or 2 that do not cross
     /// their dual (exact check).
     pub sys3_failed: Vec<u32>,
 }
 
-/// Finds weights for a validated, triangulated 3D complex.
+/// Finds weights for a validated, triangulated 3D complex, whole polygons
+/// kept as `keep` asks; coplanar lifts fall back to shared weights when
+/// HiGHS fails on them (shared weights are a special case, so the
+/// fallback never loses a solution the coplanar form had).
 pub fn solve<B: Backend3 + ?Sized>(
     backend: &B,
     cx: &Complex3,
     sc: &Simplices3,
+    keep: Keep,
+) -> Result<Weights3> {
+    let mut out = solve_kept(backend, cx, sc, keep);
+    if keep == Keep::Coplanar && matches!(out, Err(Error::Lp(_))) {
+        out = solve_kept(backend, cx, sc, Keep::Shared);
+    }
+    destroy_finished();
+    out
+}
+
+fn solve_kept<B: Backend3 + ?Sized>(
+    backend: &B,
+    cx: &Complex3,
+    sc: &Simplices3,
+    keep: Keep,
 ) -> Result<Weights3> {
     let mut whole = kept_whole(cx);
-    let mut out = global(backend, cx, faces(cx, sc, &whole));
-    // Shared weights fix the shape of the regular triangulation in every
+    let mut out = global(backend, cx, faces(cx, sc, &whole), keep);
+    // Whole polygons fix the shape of the regular triangulation in every
     // plane where their vertices lie (they are Delaunay there), which the
     // triangles of other facets may contradict: then only the whole
     // polygons whose vertices are on no triangle or segment, then none.
@@ -89,10 +113,9 @@ pub fn solve<B: Backend3 + ?Sized>(
         }
         if retry != whole {
             whole = retry;
-            out = global(backend, cx, faces(cx, sc, &whole));
+            out = global(backend, cx, faces(cx, sc, &whole), keep);
         }
     }
-    destroy_finished();
     out
 }
 
@@ -224,6 +247,163 @@ fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<Face> {
     out
 }
 
+/// How whole polygons keep their lifts coplanar.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Keep {
+    /// Each polygon's vertices beyond its first three get the weights that
+    /// put their lifts on the plane through the first three lifts (the
+    /// equality rows of method.md section 6, made exact): the most freedom.
+    #[default]
+    Coplanar,
+    /// The vertices of whole polygons joined through common vertices share
+    /// one weight: every polygon's power centre is its circumcentre, which
+    /// an orthogonal interface with a neighbour cell centred on it needs
+    /// (the hybrid's walls).
+    Shared,
+}
+
+impl std::fmt::Display for Keep {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(match self {
+            Keep::Coplanar => "coplanar",
+            Keep::Shared => "shared-weight",
+        })
+    }
+}
+
+/// Exact linear relations between weights, solved for some of them (the
+/// dependent ones) in terms of the others (free): the LP sees only the
+/// free weights, and the dependent ones are recomputed exactly from the
+/// LP's, so that every whole polygon's lift is exactly planar.
+struct Relations {
+    /// (dependent weight, its combination of free weights).
+    dependent: Vec<(usize, Vec<(usize, Q)>)>,
+    /// Per weight, its index in `dependent`.
+    of: Vec<Option<usize>>,
+}
+
+impl Relations {
+    fn new(n: usize, dependent: Vec<(usize, Vec<(usize, Q)>)>) -> Relations {
+        let mut of = vec![None; n];
+        for (k, (d, _)) in dependent.iter().enumerate() {
+            of[*d] = Some(k);
+        }
+        Relations { dependent, of }
+    }
+
+    fn shared(n: usize, faces: &[Face]) -> Relations {
+        let tie = ties(n, faces);
+        let dependent = (0..n)
+            .filter(|&v| tie[v] as usize != v)
+            .map(|v| (v, vec![(tie[v] as usize, Q::from(1))]))
+            .collect();
+        Relations::new(n, dependent)
+    }
+
+    /// Polygon vertex d with affine coordinates (r, s, t) over the first
+    /// three a, b, c lifts onto their plane when w_d = r w_a + s w_b + t w_c
+    /// (the squared norms agree because the vertices are cocircular). The
+    /// relations of all polygons, reduced by exact Gauss-Jordan elimination.
+    fn coplanar(cx: &Complex3, faces: &[Face]) -> Relations {
+        type Sparse = std::collections::BTreeMap<usize, Q>;
+        // a += x b, zeros dropped
+        let axpy = |a: &mut Sparse, x: &Q, b: &Sparse| {
+            for (c, y) in b {
+                *a.entry(*c).or_insert_with(|| Q::from(0)) += x * y;
+            }
+            a.retain(|_, v| *v != 0);
+        };
+        let mut pivots: Vec<(usize, Sparse)> = vec![];
+        for f in faces.iter().filter(|f| f.vertices.len() > 3) {
+            let vs = &f.vertices;
+            let p = |v: u32| cx.points[v as usize];
+            let axis = plane_axis(p(vs[0]), p(vs[1]), p(vs[2])).expect("polygons span a plane");
+            let fl = |v: u32| drop_axis(axis, p(v)).map(q);
+            let det = |x: &[Q; 2], y: &[Q; 2], o: &[Q; 2]| {
+                (&x[0] - &o[0]) * (&y[1] - &o[1]) - (&x[1] - &o[1]) * (&y[0] - &o[0])
+            };
+            let (a, b, c) = (fl(vs[0]), fl(vs[1]), fl(vs[2]));
+            let big = det(&b, &c, &a);
+            for &d in &vs[3..] {
+                let fd = fl(d);
+                let s = det(&fd, &c, &a) / &big;
+                let t = det(&b, &fd, &a) / &big;
+                let r = Q::from(1) - &s - &t;
+                let mut row = Sparse::new();
+                for (v, x) in [(d, Q::from(1)), (vs[0], -r), (vs[1], -s), (vs[2], -t)] {
+                    axpy(&mut row, &x, &Sparse::from([(v as usize, Q::from(1))]));
+                }
+                for (pc, prow) in &pivots {
+                    if let Some(x) = row.get(pc).cloned() {
+                        axpy(&mut row, &-x, prow);
+                    }
+                }
+                // pivot on the last weight of the row
+                let Some((&pc, pv)) = row.iter().next_back() else {
+                    continue; // implied by the others
+                };
+                let pv = pv.clone();
+                row.values_mut().for_each(|x| *x /= &pv);
+                for (_, prow) in pivots.iter_mut() {
+                    if let Some(x) = prow.get(&pc).cloned() {
+                        axpy(prow, &-x, &row);
+                    }
+                }
+                pivots.push((pc, row));
+            }
+        }
+        let dependent = pivots
+            .into_iter()
+            .map(|(pc, row)| {
+                let combo = row
+                    .into_iter()
+                    .filter(|(c, _)| *c != pc)
+                    .map(|(c, x)| (c, -x))
+                    .collect();
+                (pc, combo)
+            })
+            .collect();
+        Relations::new(cx.points.len(), dependent)
+    }
+
+    fn free(&self) -> Vec<bool> {
+        self.of.iter().map(Option::is_none).collect()
+    }
+
+    /// Rows over free weights only (dependent ones replaced by their
+    /// combinations, in doubles: the LP's answer is checked exactly).
+    fn substitute(&self, rows: &mut [Row]) {
+        for r in rows {
+            let mut merged: Vec<(usize, f64)> = vec![];
+            let mut add = |c: usize, x: f64| match merged.iter_mut().find(|t| t.0 == c) {
+                Some(t) => t.1 += x,
+                None => merged.push((c, x)),
+            };
+            for &(c, x) in &r.terms {
+                match self.of.get(c).copied().flatten() {
+                    Some(k) => {
+                        for (f, y) in &self.dependent[k].1 {
+                            add(*f, x * crate::exact::f(y));
+                        }
+                    }
+                    None => add(c, x),
+                }
+            }
+            r.terms = merged;
+        }
+    }
+
+    /// The LP's weights as exact rationals, the dependent ones recomputed.
+    fn exact(&self, w: &[f64]) -> Vec<Q> {
+        let mut out: Vec<Q> = w.iter().map(|&x| q(x)).collect();
+        for (d, combo) in &self.dependent {
+            out[*d] = combo.iter().map(|(c, x)| x * &out[*c]).sum();
+        }
+        out
+    }
+}
+
 /// Per vertex, the vertex whose weight it shares (the smallest of the
 /// whole polygons joined to it; itself when on none).
 fn ties(n: usize, faces: &[Face]) -> Vec<u32> {
@@ -298,22 +478,6 @@ fn centre_rows(p: &[[f64; 3]], f: u32, verts: &[u32], others: &[u32]) -> Vec<Row
     rows
 }
 
-/// Rows over shared weights: every weight column replaced by its
-/// representative's, repeated columns merged.
-fn tie_rows(rows: &mut [Row], n: usize, tie: &[u32]) {
-    for r in rows {
-        let mut merged: Vec<(usize, f64)> = vec![];
-        for &(c, x) in &r.terms {
-            let c = if c < n { tie[c] as usize } else { c };
-            match merged.iter_mut().find(|t| t.0 == c) {
-                Some(t) => t.1 += x,
-                None => merged.push((c, x)),
-            }
-        }
-        r.terms = merged;
-    }
-}
-
 /// What the exact check of RT(w) finds wrong.
 #[derive(Default)]
 struct Misses {
@@ -324,15 +488,25 @@ struct Misses {
 }
 
 /// The lazy global form (see the module's doc).
-fn global<B: Backend3 + ?Sized>(backend: &B, cx: &Complex3, faces: Vec<Face>) -> Result<Weights3> {
+fn global<B: Backend3 + ?Sized>(
+    backend: &B,
+    cx: &Complex3,
+    faces: Vec<Face>,
+    keep: Keep,
+) -> Result<Weights3> {
     let n = cx.points.len();
     let dt = backend.regular3(&cx.points, &vec![0.0; n])?;
     let dt_nb = dt.neighbours(n);
     let units = Units::new(&cx.points, dt.edge_links().into_keys().map(|[a, b]| (a, b)));
     let p = &units.points;
-    let tie = ties(n, &faces);
+    let pts_q: Vec<[Q; 3]> = cx.points.iter().map(|p| p.map(q)).collect();
+    let relations = match keep {
+        Keep::Coplanar => Relations::coplanar(cx, &faces),
+        Keep::Shared => Relations::shared(n, &faces),
+    };
     let whole_polygons = faces.iter().filter(|f| f.vertices.len() > 3).count();
     let mut report = WeightsReport::started("global");
+    report.free_weights = n - relations.dependent.len();
     let ring = |vs: &[u32], nbs: &[&Vec<Vec<u32>>]| -> BTreeSet<u32> {
         let mut out = BTreeSet::new();
         for &v in vs {
@@ -360,7 +534,7 @@ fn global<B: Backend3 + ?Sized>(backend: &B, cx: &Complex3, faces: Vec<Face>) ->
         report.global_rounds = round;
         let mut sys = System {
             n,
-            free: (0..n).map(|v| tie[v] == v as u32).collect(),
+            free: relations.free(),
             verdict: true,
             unit2: units.unit2,
             l2: units.l2.clone(),
@@ -383,15 +557,15 @@ fn global<B: Backend3 + ?Sized>(backend: &B, cx: &Complex3, faces: Vec<Face>) ->
                 _ => {}
             }
         }
-        tie_rows(&mut sys.rows, n, &tie);
-        tie_rows(&mut sys.eqs, n, &tie);
+        relations.substitute(&mut sys.rows);
+        relations.substitute(&mut sys.eqs);
         let (w, lp_sys3) = match solve_rows(&sys, true, &mut report)? {
             Answer::Weights(w, lp_sys3) => (w, lp_sys3),
             Answer::Sys1Infeasible => return Err(infeasible(cx, &faces, &last)),
             Answer::Sys3Infeasible => unreachable!("the global form goes elastic"),
         };
-        let w: Vec<f64> = (0..n).map(|v| w[tie[v] as usize]).collect();
-        let rt = backend.regular3(&cx.points, &w)?;
+        let w = relations.exact(&w);
+        let rt = backend.regular3_exact(&pts_q, &w)?;
         let misses = check(cx, &faces, &rt);
         let mut bad: BTreeSet<usize> = misses.faces.iter().map(|&f| f as usize).collect();
         for h in &misses.hidden {
@@ -400,7 +574,14 @@ fn global<B: Backend3 + ?Sized>(backend: &B, cx: &Complex3, faces: Vec<Face>) ->
         if bad.is_empty() {
             let sys3_failed = sys3_failures(cx, &faces, &w, &rt);
             if sys3_failed.is_empty() || !lp_sys3 {
-                return Ok(finish(w, rt, faces, report, whole_polygons, sys3_failed));
+                return Ok(finish(
+                    w,
+                    rt,
+                    faces,
+                    report,
+                    (whole_polygons, keep),
+                    sys3_failed,
+                ));
             }
             bad.extend(sys3_failed.iter().map(|&f| f as usize));
             found = Some(finish(
@@ -408,7 +589,7 @@ fn global<B: Backend3 + ?Sized>(backend: &B, cx: &Complex3, faces: Vec<Face>) ->
                 rt.clone(),
                 faces.clone(),
                 report.clone(),
-                whole_polygons,
+                (whole_polygons, keep),
                 sys3_failed,
             ));
         }
@@ -450,22 +631,22 @@ fn global<B: Backend3 + ?Sized>(backend: &B, cx: &Complex3, faces: Vec<Face>) ->
 }
 
 fn finish(
-    w: Vec<f64>,
+    w: Vec<Q>,
     rt: Tetrahedralisation,
     faces: Vec<Face>,
     mut report: WeightsReport,
-    whole_polygons: usize,
+    (whole_polygons, keep): (usize, Keep),
     sys3_failed: Vec<u32>,
 ) -> Weights3 {
-    report.max_abs_weight = w.iter().fold(0.0, |m, x| m.max(x.abs()));
+    report.max_abs_weight = w.iter().fold(0.0, |m, x| m.max(crate::exact::f(x).abs()));
     report.system3_feasible = sys3_failed.is_empty();
-    report.free_weights = w.len();
     Weights3 {
         w,
         rt,
         faces,
         report,
         whole_polygons,
+        keep,
         sys3_failed,
     }
 }
@@ -574,12 +755,12 @@ fn check(cx: &Complex3, faces: &[Face], rt: &Tetrahedralisation) -> Misses {
 /// The exact point of a face of dimension 1 or 2 (its vertices) on its
 /// dual (the radical point on a segment; the power centre in a triangle's
 /// or polygon's plane), and its power to the face's vertices.
-pub fn face_centre(cx: &Complex3, w: &[f64], vs: &[u32]) -> Option<([Q; 3], Q)> {
+pub fn face_centre(cx: &Complex3, w: &[Q], vs: &[u32]) -> Option<([Q; 3], Q)> {
     let p = |v: u32| cx.points[v as usize].map(q);
-    let (pi, wi) = (p(vs[0]), q(w[vs[0] as usize]));
+    let (pi, wi) = (p(vs[0]), w[vs[0] as usize].clone());
     let d = |v: u32| sub(&p(v), &pi);
     // c - p_i = alpha u + beta v with 2 (c - p_i).u = |u|^2 + w_i - w_j ...
-    let half = |v: u32, u: &[Q; 3]| (norm2(u) + &wi - q(w[v as usize])) / Q::from(2);
+    let half = |v: u32, u: &[Q; 3]| (norm2(u) + &wi - &w[v as usize]) / Q::from(2);
     let x: [Q; 3] = match vs.len() {
         2 => {
             let u = d(vs[1]);
@@ -612,12 +793,7 @@ pub fn face_centre(cx: &Complex3, w: &[f64], vs: &[u32]) -> Option<([Q; 3], Q)> 
 /// centre must lie strictly inside the face and have a smaller power to
 /// the face's vertices than to every vertex of RT next to the face (those
 /// across its triangles; around a segment, its link).
-pub fn sys3_failures(
-    cx: &Complex3,
-    faces: &[Face],
-    w: &[f64],
-    rt: &Tetrahedralisation,
-) -> Vec<u32> {
+pub fn sys3_failures(cx: &Complex3, faces: &[Face], w: &[Q], rt: &Tetrahedralisation) -> Vec<u32> {
     let tris = rt.triangle_apexes();
     let links = rt.edge_links();
     let p = |v: u32| cx.points[v as usize].map(q);
@@ -629,7 +805,7 @@ pub fn sys3_failures(
         let power_to = |m: u32| {
             let pm = p(m);
             let d: Q = (0..3).map(|k| (&c[k] - &pm[k]) * (&c[k] - &pm[k])).sum();
-            d - q(w[m as usize])
+            d - &w[m as usize]
         };
         let near: Vec<u32> = if vs.len() == 2 {
             let pi = p(vs[0]);
@@ -728,22 +904,64 @@ mod tests {
         }
     }
 
-    fn run(cx: &Complex3) -> Result<Weights3> {
+    fn run_kept(cx: &Complex3, keep: Keep) -> Result<Weights3> {
         let b = &compiled3()[0];
         let sc = cx.triangulate(b.as_ref())?;
-        solve(b.as_ref(), cx, &sc)
+        solve(b.as_ref(), cx, &sc, keep)
+    }
+
+    fn run(cx: &Complex3) -> Result<Weights3> {
+        run_kept(cx, Keep::Coplanar)
+    }
+
+    /// Whether the lifts (p, |p|^2 - w) of a whole polygon's vertices lie
+    /// exactly on one plane.
+    fn lifts_coplanar(cx: &Complex3, w: &[Q], vs: &[u32]) -> bool {
+        let lift = |v: u32| {
+            let p = cx.points[v as usize].map(q);
+            let h = norm2(&p) - &w[v as usize];
+            [p[0].clone(), p[1].clone(), p[2].clone(), h]
+        };
+        let l0 = lift(vs[0]);
+        let rel = |v: u32| -> Vec<Q> { (0..4).map(|k| &lift(v)[k] - &l0[k]).collect() };
+        let (a, b) = (rel(vs[1]), rel(vs[2]));
+        // the 3x3 minors of [a; b; d] all vanish for every other vertex d
+        vs[3..].iter().all(|&d| {
+            let d = rel(d);
+            let m = |i: usize, j: usize, k: usize| {
+                let det2 = |x: usize, y: usize| Q::from(&b[x] * &d[y]) - Q::from(&b[y] * &d[x]);
+                Q::from(&a[i] * &det2(j, k)) - Q::from(&a[j] * &det2(i, k))
+                    + Q::from(&a[k] * &det2(i, j))
+            };
+            [(0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)]
+                .iter()
+                .all(|&(i, j, k)| m(i, j, k) == 0)
+        })
     }
 
     #[test]
     fn a_box_keeps_its_rectangles_whole() {
         let cx = boxed(vec![[3.0, 0.2, 0.3], [-1.0, 0.6, 0.4], [1.0, 0.5, 1.2]]);
-        let out = run(&cx).unwrap();
-        assert_eq!(out.whole_polygons, 6);
-        assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
-        // the eight corners share a weight
-        assert!(out.w[..8].iter().all(|&x| x == out.w[0]));
-        assert!(out.sys3_failed.is_empty(), "{:?}", out.sys3_failed);
-        assert_eq!(out.faces.len(), 6 + 3);
+        for keep in [Keep::Coplanar, Keep::Shared] {
+            let out = run_kept(&cx, keep).unwrap();
+            assert_eq!((out.whole_polygons, out.keep), (6, keep));
+            assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+            for f in out.faces.iter().filter(|f| f.vertices.len() > 3) {
+                assert!(lifts_coplanar(&cx, &out.w, &f.vertices), "{keep:?} {f:?}");
+            }
+            // shared: the eight corners have one weight; coplanar: the
+            // 6 x 1 relations leave 4 of the 8 corners free
+            let free = out.report.free_weights;
+            match keep {
+                Keep::Shared => {
+                    assert!(out.w[..8].iter().all(|x| *x == out.w[0]));
+                    assert_eq!(free, 1 + 3);
+                }
+                Keep::Coplanar => assert_eq!(free, 4 + 3),
+            }
+            assert!(out.sys3_failed.is_empty(), "{:?}", out.sys3_failed);
+            assert_eq!(out.faces.len(), 6 + 3);
+        }
     }
 
     #[test]
@@ -780,8 +998,12 @@ mod tests {
             holes: vec![],
         };
         assert_eq!(kept_whole(&cx), vec![true, true]);
-        let out = run(&cx).unwrap();
+        let out = run_kept(&cx, Keep::Shared).unwrap();
         assert_eq!(out.whole_polygons, 0);
+        assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+        // Coplanar lifts give B its own plane: both stay whole.
+        let out = run(&cx).unwrap();
+        assert_eq!(out.whole_polygons, 2);
         assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
     }
 

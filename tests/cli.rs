@@ -94,6 +94,18 @@ fn bad_files_name_the_line_and_exit_non_zero() {
     let (code, err) = conform("missing.poly");
     assert_ne!(code, 0);
     assert!(err.contains("missing.poly"), "{err}");
+    let square = dir.join("square.edg");
+    std::fs::write(&square, "1\n0 0 1 0\n").unwrap();
+    let (code, err) = orthomesh(&[
+        "conform",
+        square.to_str().unwrap(),
+        "-o",
+        vtu.to_str().unwrap(),
+        "--shared-weights",
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--shared-weights is for 3D"), "{err}");
+    assert!(!vtu.exists());
 }
 
 #[test]
@@ -353,6 +365,16 @@ fn conform_meshes_3d_files_and_rejects_bad_ones() {
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(r["dimension"], 3);
     assert_eq!(r["whole_polygons"], 6);
+    assert_eq!(r["whole_polygons_kept"], "coplanar");
+    let (code, err) = run(
+        &input,
+        &["--shared-weights", "--report", report.to_str().unwrap()],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("shared-weight lifts"), "{err}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(r["whole_polygons_kept"], "shared");
     // Bad inputs: an error naming what is wrong, exit 1, nothing written.
     for f in [&vtu, &tough, &report] {
         std::fs::remove_file(f).unwrap();

@@ -70,6 +70,12 @@ enum Command {
         /// (listed in the report) instead of single edges.
         #[arg(long)]
         split_segments: bool,
+        /// 3D: keep whole polygons by one shared weight per group of
+        /// polygons joined at vertices, so that each polygon's power centre
+        /// is its circumcentre (orthogonal links to cells centred on it).
+        /// Default: coplanar lifts, more freedom for sites inside cells.
+        #[arg(long)]
+        shared_weights: bool,
     },
     /// Hybrid reservoir mesh of one layer of a corner-point grid: reservoir
     /// cells, radial meshes around vertical wells, and conforming orthogonal
@@ -199,6 +205,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 },
             allow_sites_outside,
             split_segments,
+            shared_weights,
             tough,
         } => {
             let cx = match io::read_input(&input)? {
@@ -209,9 +216,15 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                             "--svg and --split-segments are for 2D inputs".into(),
                         ));
                     }
+                    let keep = if shared_weights {
+                        orthomesh::weights3::Keep::Shared
+                    } else {
+                        orthomesh::weights3::Keep::Coplanar
+                    };
                     let backend = orthomesh::backend::by_name3(backend.name())?;
                     let opts = Options3 {
                         allow_sites_outside,
+                        keep,
                     };
                     let mut out = conform3(&*backend, &cx, &opts)?;
                     if reproducible {
@@ -231,6 +244,9 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 return Err(Error::Usage(
                     "--tough is for 3D inputs (and for `hybrid`)".into(),
                 ));
+            }
+            if shared_weights {
+                return Err(Error::Usage("--shared-weights is for 3D inputs".into()));
             }
             let opts = Options {
                 allow_sites_outside,
@@ -597,13 +613,14 @@ fn write_all3(
         let r = &out.report;
         let c = &r.certificate;
         eprintln!(
-            "{}: {} vertices, {} facets ({} triangles, {} polygons kept whole) -> {} cells ({} mesh vertices); \
+            "{}: {} vertices, {} facets ({} triangles, {} polygons kept whole by {} lifts) -> {} cells ({} mesh vertices); \
              weights: {}{}; sites outside their cells: {}",
             input.display(),
             cx.points.len(),
             cx.facets.len(),
             r.triangles,
             r.whole_polygons,
+            r.whole_polygons_kept,
             r.cells,
             r.mesh_vertices,
             r.weights.method,
