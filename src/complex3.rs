@@ -195,6 +195,39 @@ enum Plane {
     Beyond(u32),
 }
 
+impl Complex3 {
+    /// A point strictly inside triangle `t` of facet `f`, exactly in the
+    /// facet's plane (its centroid, the coordinate along the plane's main
+    /// axis recomputed from the plane); None when doubles have none there.
+    pub fn steiner_in(&self, f: usize, t: [u32; 3], near: [f64; 3]) -> Option<[f64; 3]> {
+        let [a, b, c] = t.map(|v| self.points[v as usize]);
+        let axis = plane_axis(a, b, c)?;
+        let mut x = near;
+        // the plane n.(x - a) = 0 solved for x[axis]
+        let (u, w) = (
+            [0, 1, 2].map(|k| b[k] - a[k]),
+            [0, 1, 2].map(|k| c[k] - a[k]),
+        );
+        let n: [f64; 3] = std::array::from_fn(|k| {
+            let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+            u[i] * w[j] - u[j] * w[i]
+        });
+        let off: f64 = (0..3)
+            .filter(|&k| k != axis)
+            .map(|k| n[k] * (x[k] - a[k]))
+            .sum();
+        x[axis] = a[axis] - off / n[axis];
+        let flat = |p: [f64; 3]| drop_axis(axis, p);
+        let side = orient(flat(a), flat(b), flat(c));
+        let inside = [(a, b), (b, c), (c, a)]
+            .iter()
+            .all(|&(p, r)| orient(flat(p), flat(r), flat(x)) == side);
+        let spans = self.spanning(&self.facets[f].polygons.concat())?;
+        let [p, r, s] = spans.map(|v| self.points[v as usize]);
+        (inside && orient3(p, r, s, x) == Ordering::Equal && !self.points.contains(&x)).then_some(x)
+    }
+}
+
 /// Whether three double points lie on one line (exactly: the cross
 /// product of b - a and c - a in rationals is zero).
 fn collinear(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> bool {

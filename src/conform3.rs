@@ -3,7 +3,7 @@
 //! over the backend's 3D side.
 
 use crate::backend::Backend3;
-use crate::complex3::Complex3;
+use crate::complex3::{Complex3, Simplices3};
 use crate::diagram3::{Certificate3, Diagram3, Plane};
 use crate::error::{Error, Result};
 use crate::sites3::{self, Sites3};
@@ -15,6 +15,12 @@ use std::time::Instant;
 /// Rounds of relocation (each builds the exact site diagram once).
 const RELOCATION_ROUNDS: usize = 24;
 
+/// Steiner points `split_facets` may add in all.
+const MAX_STEINER: usize = 10_000;
+
+/// Rounds of `split_facets` (each solves the LP again).
+const SPLIT_ROUNDS: usize = 4;
+
 /// Choices of the caller.
 #[derive(Debug, Clone, Default)]
 pub struct Options3 {
@@ -23,6 +29,10 @@ pub struct Options3 {
     /// How whole polygons stay whole (coplanar lifts unless the caller
     /// needs their power centres at their circumcentres).
     pub keep: weights3::Keep,
+    /// Where faces miss their duals (system 3 infeasible), add Steiner
+    /// points inside them to their facets, round by round, until none
+    /// misses or no point can be added.
+    pub split_facets: bool,
 }
 
 /// A polyhedral mesh: the domain's cells.
@@ -87,6 +97,8 @@ pub struct Report3 {
     pub whole_polygons: usize,
     /// How they were kept: coplanar lifts, or shared weights.
     pub whole_polygons_kept: weights3::Keep,
+    /// Points added inside faces that missed their duals (`split_facets`).
+    pub steiner_points: Vec<[f64; 3]>,
     pub segments: usize,
     pub points: usize,
     pub weights: WeightsReport,
@@ -119,26 +131,41 @@ pub fn conform3<B: Backend3 + ?Sized>(
     opts: &Options3,
 ) -> Result<Outcome3> {
     let start = Instant::now();
-    let sc = cx.triangulate(backend)?;
-    let wt = weights3::solve(backend, cx, &sc, opts.keep)?;
-    let mut s = sites3::place(cx, &wt)?;
-    let mut d = Diagram3::build(backend, cx, &s)?;
-    let mut rounds = 0;
-    while rounds < RELOCATION_ROUNDS {
-        // Sites of faces that cross their duals move halfway to the face:
-        // near it, a site's cell is its half of a region around the face.
-        let mut moved = false;
-        for x in 0..s.p.len() {
-            if d.in_domain[x] && !d.site_inside[x] {
-                moved |= s.halve(x, cx, &wt.w);
-            }
-        }
-        if !moved {
+    let mut best = Attempt::run(backend, cx.clone(), opts.keep)?;
+    // Refinement rounds, each kept only when it leaves fewer sites
+    // outside (measured: a round that does not tends to start a cascade of
+    // new failing faces); a round that fails ends the refinement.
+    for _ in 0..SPLIT_ROUNDS {
+        if !opts.split_facets || best.outside == 0 {
             break;
         }
-        rounds += 1;
-        d = Diagram3::build(backend, cx, &s)?;
+        let add = steiner_points(&best.cx, &best.sc, &best.wt);
+        if add.is_empty() || best.cx.points.len() + add.len() > cx.points.len() + MAX_STEINER {
+            break;
+        }
+        let mut next = best.cx.clone();
+        let mut id = next.vertex_ids.iter().max().copied().unwrap_or(0);
+        for (f, p) in add {
+            next.facets[f].polygons.push(vec![next.points.len() as u32]);
+            next.points.push(p);
+            id += 1;
+            next.vertex_ids.push(id);
+        }
+        match Attempt::run(backend, next, opts.keep) {
+            Ok(next) if next.outside < best.outside => best = next,
+            _ => break,
+        }
     }
+    let Attempt {
+        cx: split,
+        wt,
+        s,
+        d,
+        rounds,
+        ..
+    } = best;
+    let steiner = split.points[cx.points.len()..].to_vec();
+    let cx = &split;
     let mut certificate = d.certify(cx, &wt, &s);
     if !certificate.conforms() {
         return Err(Error::Certificate(format!(
@@ -160,6 +187,7 @@ pub fn conform3<B: Backend3 + ?Sized>(
         triangles: count(3),
         whole_polygons: wt.whole_polygons,
         whole_polygons_kept: wt.keep,
+        steiner_points: steiner,
         segments: count(2),
         points: count(1),
         weights: wt.report.clone(),
@@ -175,6 +203,103 @@ pub fn conform3<B: Backend3 + ?Sized>(
         timing_ms: Some(start.elapsed().as_secs_f64() * 1e3),
     };
     Ok(Outcome3 { mesh, report })
+}
+
+/// The pipeline from a complex to its relocated site diagram.
+#[derive(Clone)]
+struct Attempt {
+    cx: Complex3,
+    sc: Simplices3,
+    wt: weights3::Weights3,
+    s: Sites3,
+    d: Diagram3,
+    /// Relocation rounds, and the domain's sites left outside their cells.
+    rounds: usize,
+    outside: usize,
+}
+
+impl Attempt {
+    fn run<B: Backend3 + ?Sized>(
+        backend: &B,
+        cx: Complex3,
+        keep: weights3::Keep,
+    ) -> Result<Attempt> {
+        let sc = cx.triangulate(backend)?;
+        let wt = weights3::solve(backend, &cx, &sc, keep)?;
+        let mut s = sites3::place(&cx, &wt)?;
+        let mut d = Diagram3::build(backend, &cx, &s)?;
+        let mut rounds = 0;
+        while rounds < RELOCATION_ROUNDS {
+            // Sites of faces that cross their duals move halfway to the
+            // face: near it, a site's cell is its half of a region around
+            // the face.
+            let mut moved = false;
+            for x in 0..s.p.len() {
+                if d.in_domain[x] && !d.site_inside[x] {
+                    moved |= s.halve(x, &cx, &wt.w);
+                }
+            }
+            if !moved {
+                break;
+            }
+            rounds += 1;
+            d = Diagram3::build(backend, &cx, &s)?;
+        }
+        let outside = (0..s.p.len())
+            .filter(|&x| d.in_domain[x] && !d.site_inside[x])
+            .count();
+        Ok(Attempt {
+            cx,
+            sc,
+            wt,
+            s,
+            d,
+            rounds,
+            outside,
+        })
+    }
+}
+
+/// Chew's refinement with weights: the power centre of each triangle
+/// that misses its dual, as a new point of its facet inside the facet's
+/// triangle that holds it (exactly in the plane; none when doubles have
+/// no such point).
+fn steiner_points(
+    cx: &Complex3,
+    sc: &Simplices3,
+    wt: &weights3::Weights3,
+) -> Vec<(usize, [f64; 3])> {
+    let mut add: Vec<(usize, [f64; 3])> = vec![];
+    for face in wt.sys3_failed.iter().map(|&f| &wt.faces[f as usize]) {
+        let (Some(f), 3) = (face.facet, face.vertices.len()) else {
+            continue;
+        };
+        let Some((c, _)) = weights3::face_centre(cx, &wt.w, &face.vertices) else {
+            continue;
+        };
+        let c = c.map(|x| crate::exact::f(&x));
+        let g: [f64; 3] = std::array::from_fn(|k| {
+            face.vertices
+                .iter()
+                .map(|&v| cx.points[v as usize][k])
+                .sum::<f64>()
+                / 3.0
+        });
+        // the power centre, or the first point towards it from the
+        // centroid that stays in the facet (outside it, e.g. in a hole)
+        let found = [1.0, 0.5, 0.25, 0.125].iter().find_map(|&t| {
+            let x: [f64; 3] = std::array::from_fn(|k| g[k] + t * (c[k] - g[k]));
+            sc.triangles
+                .iter()
+                .zip(&sc.triangle_facet)
+                .filter(|(_, &h)| h == f)
+                .find_map(|(tri, _)| cx.steiner_in(f as usize, *tri, x))
+        });
+        if let Some(x) = found.filter(|x| !add.iter().any(|(_, y)| y == x)) {
+            add.push((f as usize, x));
+        }
+    }
+    add
 }
 
 fn facet_ids(wt: &weights3::Weights3, faces: &[u32]) -> Vec<i64> {

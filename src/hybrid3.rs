@@ -44,6 +44,9 @@ pub struct Hybrid3Options {
     /// not at them.
     pub outer: f64,
     pub allow_sites_outside: bool,
+    /// Steiner points in the top and bottom annuli where their triangles
+    /// miss their duals (`Options3::split_facets`).
+    pub split_facets: bool,
 }
 
 impl Default for Hybrid3Options {
@@ -53,6 +56,7 @@ impl Default for Hybrid3Options {
             sectors: 16,
             outer: 1.0,
             allow_sites_outside: false,
+            split_facets: false,
         }
     }
 }
@@ -319,6 +323,7 @@ pub fn build<B: Backend3 + ?Sized>(
             // them: orthogonal links need their power centres at their
             // centres, hence equal weights.
             keep: crate::weights3::Keep::Shared,
+            split_facets: opts.split_facets,
         },
     )?;
 

@@ -104,7 +104,17 @@ fn bad_files_name_the_line_and_exit_non_zero() {
         "--shared-weights",
     ]);
     assert_ne!(code, 0);
-    assert!(err.contains("--shared-weights is for 3D"), "{err}");
+    assert!(err.contains("are for 3D inputs"), "{err}");
+    assert!(!vtu.exists());
+    let (code, err) = orthomesh(&[
+        "conform",
+        square.to_str().unwrap(),
+        "-o",
+        vtu.to_str().unwrap(),
+        "--split-facets",
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--split-facets are for 3D"), "{err}");
     assert!(!vtu.exists());
 }
 

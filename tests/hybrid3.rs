@@ -72,6 +72,36 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
     }
 }
 
+/// 12 sectors on a two-layer block: 8 triangles of each annulus (at the
+/// cavity's corners) miss their duals with the walls' shared weight, and
+/// their power centres, added as Steiner points, bring every site in.
+#[test]
+fn steiner_points_bring_the_annuli_sites_in() {
+    let g = CornerPointGrid::cartesian([7, 7, 2], [10.0, 10.0, 4.0]);
+    let b = &compiled3()[0];
+    let opts = Hybrid3Options {
+        rings: 4,
+        sectors: 12,
+        split_facets: true,
+        ..Default::default()
+    };
+    let h = build(&**b, &g, &well(0.0), &opts).unwrap();
+    let t = &h.report.transition;
+    println!(
+        "3D hybrid, 12 sectors: {} Steiner points, sites inside {} of {}",
+        t.steiner_points.len(),
+        t.certificate.sites_inside,
+        t.certificate.domain_sites
+    );
+    assert!(t.certificate.conforms());
+    assert_eq!(t.certificate.sites_inside, t.certificate.domain_sites);
+    assert!(t.facets_missing_dual.is_empty());
+    // on the top and bottom planes only
+    assert!(!t.steiner_points.is_empty());
+    assert!(t.steiner_points.iter().all(|p| p[2] == 0.0 || p[2] == -8.0));
+    assert_eq!(h.report.non_orthogonal, 0);
+}
+
 /// Two-point flux on the 3D hybrid mesh of a homogeneous block with a
 /// vertical well through it: fixed rate at the well, fixed pressure on the
 /// block's sides, against Thiem's radial solution. Prints what it measures.

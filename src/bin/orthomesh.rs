@@ -76,6 +76,12 @@ enum Command {
         /// Default: coplanar lifts, more freedom for sites inside cells.
         #[arg(long)]
         shared_weights: bool,
+        /// 3D: where facet triangles miss their dual edges (so that a site
+        /// stays outside its cell), add Steiner points inside the facets at
+        /// the triangles' power centres, round by round while fewer sites
+        /// stay outside; the points are listed in the report.
+        #[arg(long)]
+        split_facets: bool,
     },
     /// Hybrid reservoir mesh of one layer of a corner-point grid: reservoir
     /// cells, radial meshes around vertical wells, and conforming orthogonal
@@ -133,6 +139,12 @@ enum Command {
         /// their cells once the cavities have grown as far as they can.
         #[arg(long)]
         allow_sites_outside: bool,
+        /// 3D: where facet triangles miss their dual edges (so that a site
+        /// stays outside its cell), add Steiner points inside the facets at
+        /// the triangles' power centres, round by round while fewer sites
+        /// stay outside; the points are listed in the report.
+        #[arg(long)]
+        split_facets: bool,
         /// Also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
         #[arg(long, value_name = "MESH")]
         tough: Option<PathBuf>,
@@ -206,6 +218,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
             allow_sites_outside,
             split_segments,
             shared_weights,
+            split_facets,
             tough,
         } => {
             let cx = match io::read_input(&input)? {
@@ -213,7 +226,8 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 io::Input::Space(cx) => {
                     if svg.is_some() || split_segments {
                         return Err(Error::Usage(
-                            "--svg and --split-segments are for 2D inputs".into(),
+                            "--svg and --split-segments are for 2D inputs (--split-facets in 3D)"
+                                .into(),
                         ));
                     }
                     let keep = if shared_weights {
@@ -225,6 +239,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     let opts = Options3 {
                         allow_sites_outside,
                         keep,
+                        split_facets,
                     };
                     let mut out = conform3(&*backend, &cx, &opts)?;
                     if reproducible {
@@ -245,8 +260,10 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     "--tough is for 3D inputs (and for `hybrid`)".into(),
                 ));
             }
-            if shared_weights {
-                return Err(Error::Usage("--shared-weights is for 3D inputs".into()));
+            if shared_weights || split_facets {
+                return Err(Error::Usage(
+                    "--shared-weights and --split-facets are for 3D inputs".into(),
+                ));
             }
             let opts = Options {
                 allow_sites_outside,
@@ -296,6 +313,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
             outer,
             margin,
             allow_sites_outside,
+            split_facets,
             tough,
             three_d,
             out:
@@ -307,6 +325,9 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 },
         } => {
             let g = io::eclipse::read_grid(&grid)?;
+            if split_facets && !three_d {
+                return Err(Error::Usage("--split-facets is for --3d".into()));
+            }
             if three_d {
                 if deck.is_some()
                     || !wells_xy.is_empty()
@@ -328,6 +349,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     sectors,
                     outer: outer.unwrap_or(1.0),
                     allow_sites_outside,
+                    split_facets,
                 };
                 let mut h = hybrid3::build(&*backend, &g, &w, &opts)?;
                 if reproducible {
