@@ -75,36 +75,39 @@ pub struct Weights3 {
 }
 
 /// Finds weights for a validated, triangulated 3D complex, whole polygons
-/// kept as `keep` asks; coplanar lifts fall back to shared weights when
-/// HiGHS fails on them (shared weights are a special case, so the
-/// fallback never loses a solution the coplanar form had).
+/// kept as `keep` asks: each way in turn (`Keep::ways`) while the LP finds
+/// no solution or fails.
 pub fn solve<B: Backend3 + ?Sized>(
     backend: &B,
     cx: &Complex3,
     sc: &Simplices3,
     keep: Keep,
 ) -> Result<Weights3> {
-    let mut out = solve_kept(backend, cx, sc, keep);
-    if keep == Keep::Coplanar && matches!(out, Err(Error::Lp(_))) {
-        out = solve_kept(backend, cx, sc, Keep::Shared);
+    let mut out = Err(Error::Lp("no attempt".into()));
+    for &way in keep.ways() {
+        out = solve_kept(backend, cx, sc, way);
+        if !no_solution(&out) {
+            break;
+        }
     }
     destroy_finished();
     out
 }
 
+/// Whole polygons fix the shape of the regular triangulation in every
+/// plane where their vertices lie (they are Delaunay there), which the
+/// triangles of other facets may contradict: then only the whole polygons
+/// whose vertices are on no triangle or segment are kept whole, then none.
 fn solve_kept<B: Backend3 + ?Sized>(
     backend: &B,
     cx: &Complex3,
     sc: &Simplices3,
-    keep: Keep,
+    way: Keep,
 ) -> Result<Weights3> {
-    let mut whole = kept_whole(cx);
-    let mut out = global(backend, cx, faces(cx, sc, &whole), keep);
-    // Whole polygons fix the shape of the regular triangulation in every
-    // plane where their vertices lie (they are Delaunay there), which the
-    // triangles of other facets may contradict: then only the whole
-    // polygons whose vertices are on no triangle or segment, then none.
-    for retry in [untouched(cx, sc, &whole), vec![false; whole.len()]] {
+    let all = kept_whole(cx);
+    let mut out = global(backend, cx, faces(cx, sc, &all), way);
+    let mut whole = all.clone();
+    for retry in [untouched(cx, sc, &all), vec![false; all.len()]] {
         if !matches!(
             out,
             Err(Error::NoRegularConstrainedTetrahedralisation { .. })
@@ -113,10 +116,18 @@ fn solve_kept<B: Backend3 + ?Sized>(
         }
         if retry != whole {
             whole = retry;
-            out = global(backend, cx, faces(cx, sc, &whole), keep);
+            out = global(backend, cx, faces(cx, sc, &whole), way);
         }
     }
     out
+}
+
+/// Whether an attempt ended without weights in a way another may mend.
+fn no_solution(out: &Result<Weights3>) -> bool {
+    matches!(
+        out,
+        Err(Error::NoRegularConstrainedTetrahedralisation { .. } | Error::Lp(_))
+    )
 }
 
 /// The whole polygons whose shared-weight class (polygons joined through
@@ -251,10 +262,15 @@ fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<Face> {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Keep {
+    /// Shared weights, and coplanar lifts where shared weights leave no
+    /// solution even with every facet triangulated, or HiGHS fails on them
+    /// (measured on TetGen's example: shared weights bring more sites
+    /// inside, see README).
+    #[default]
+    Auto,
     /// Each polygon's vertices beyond its first three get the weights that
     /// put their lifts on the plane through the first three lifts (the
     /// equality rows of method.md section 6, made exact): the most freedom.
-    #[default]
     Coplanar,
     /// The vertices of whole polygons joined through common vertices share
     /// one weight: every polygon's power centre is its circumcentre, which
@@ -263,9 +279,24 @@ pub enum Keep {
     Shared,
 }
 
+impl Keep {
+    /// The ways tried in turn (shared weights are a special case of
+    /// coplanar lifts, so coplanar lifts after them can only add
+    /// solutions; shared weights after coplanar lifts are there for HiGHS
+    /// failures).
+    fn ways(self) -> &'static [Keep] {
+        match self {
+            Keep::Auto => &[Keep::Shared, Keep::Coplanar],
+            Keep::Coplanar => &[Keep::Coplanar, Keep::Shared],
+            Keep::Shared => &[Keep::Shared],
+        }
+    }
+}
+
 impl std::fmt::Display for Keep {
     fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
         f.write_str(match self {
+            Keep::Auto => "auto",
             Keep::Coplanar => "coplanar",
             Keep::Shared => "shared-weight",
         })
@@ -501,8 +532,8 @@ fn global<B: Backend3 + ?Sized>(
     let p = &units.points;
     let pts_q: Vec<[Q; 3]> = cx.points.iter().map(|p| p.map(q)).collect();
     let relations = match keep {
-        Keep::Coplanar => Relations::coplanar(cx, &faces),
         Keep::Shared => Relations::shared(n, &faces),
+        _ => Relations::coplanar(cx, &faces),
     };
     let whole_polygons = faces.iter().filter(|f| f.vertices.len() > 3).count();
     let mut report = WeightsReport::started("global");
@@ -911,7 +942,7 @@ mod tests {
     }
 
     fn run(cx: &Complex3) -> Result<Weights3> {
-        run_kept(cx, Keep::Coplanar)
+        run_kept(cx, Keep::Auto)
     }
 
     /// Whether the lifts (p, |p|^2 - w) of a whole polygon's vertices lie
@@ -957,7 +988,7 @@ mod tests {
                     assert!(out.w[..8].iter().all(|x| *x == out.w[0]));
                     assert_eq!(free, 1 + 3);
                 }
-                Keep::Coplanar => assert_eq!(free, 4 + 3),
+                _ => assert_eq!(free, 4 + 3),
             }
             assert!(out.sys3_failed.is_empty(), "{:?}", out.sys3_failed);
             assert_eq!(out.faces.len(), 6 + 3);
@@ -1002,8 +1033,8 @@ mod tests {
         assert_eq!(out.whole_polygons, 0);
         assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
         // Coplanar lifts give B its own plane: both stay whole.
-        let out = run(&cx).unwrap();
-        assert_eq!(out.whole_polygons, 2);
+        let out = run_kept(&cx, Keep::Coplanar).unwrap();
+        assert_eq!((out.whole_polygons, out.keep), (2, Keep::Coplanar));
         assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
     }
 

@@ -101,7 +101,8 @@ fn bad_files_name_the_line_and_exit_non_zero() {
         square.to_str().unwrap(),
         "-o",
         vtu.to_str().unwrap(),
-        "--shared-weights",
+        "--whole-polygons",
+        "shared",
     ]);
     assert_ne!(code, 0);
     assert!(err.contains("are for 3D inputs"), "{err}");
@@ -375,16 +376,21 @@ fn conform_meshes_3d_files_and_rejects_bad_ones() {
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(r["dimension"], 3);
     assert_eq!(r["whole_polygons"], 6);
-    assert_eq!(r["whole_polygons_kept"], "coplanar");
+    assert_eq!(r["whole_polygons_kept"], "shared");
     let (code, err) = run(
         &input,
-        &["--shared-weights", "--report", report.to_str().unwrap()],
+        &[
+            "--whole-polygons",
+            "coplanar",
+            "--report",
+            report.to_str().unwrap(),
+        ],
     );
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains("shared-weight lifts"), "{err}");
+    assert!(err.contains("by coplanar lifts"), "{err}");
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
-    assert_eq!(r["whole_polygons_kept"], "shared");
+    assert_eq!(r["whole_polygons_kept"], "coplanar");
     // Bad inputs: an error naming what is wrong, exit 1, nothing written.
     for f in [&vtu, &tough, &report] {
         std::fs::remove_file(f).unwrap();

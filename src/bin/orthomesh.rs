@@ -70,12 +70,15 @@ enum Command {
         /// (listed in the report) instead of single edges.
         #[arg(long)]
         split_segments: bool,
-        /// 3D: keep whole polygons by one shared weight per group of
-        /// polygons joined at vertices, so that each polygon's power centre
-        /// is its circumcentre (orthogonal links to cells centred on it).
-        /// Default: coplanar lifts, more freedom for sites inside cells.
-        #[arg(long)]
-        shared_weights: bool,
+        /// 3D: how polygons kept whole keep their lifts coplanar: shared
+        /// (one weight per group of polygons joined at vertices, so that
+        /// each polygon's power centre is its circumcentre: orthogonal links
+        /// to cells centred on it), coplanar (method.md's equality rows,
+        /// exact: more freedom), or auto (shared, then coplanar where
+        /// shared weights leave no solution).
+        #[arg(long, value_name = "WAY", default_value = "auto",
+              value_parser = ["auto", "shared", "coplanar"])]
+        whole_polygons: String,
         /// 3D: where facet triangles miss their dual edges (so that a site
         /// stays outside its cell), add Steiner points inside the facets at
         /// the triangles' power centres, round by round while fewer sites
@@ -217,7 +220,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 },
             allow_sites_outside,
             split_segments,
-            shared_weights,
+            whole_polygons,
             split_facets,
             tough,
         } => {
@@ -230,10 +233,10 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                                 .into(),
                         ));
                     }
-                    let keep = if shared_weights {
-                        orthomesh::weights3::Keep::Shared
-                    } else {
-                        orthomesh::weights3::Keep::Coplanar
+                    let keep = match whole_polygons.as_str() {
+                        "shared" => orthomesh::weights3::Keep::Shared,
+                        "coplanar" => orthomesh::weights3::Keep::Coplanar,
+                        _ => orthomesh::weights3::Keep::Auto,
                     };
                     let backend = orthomesh::backend::by_name3(backend.name())?;
                     let opts = Options3 {
@@ -260,9 +263,9 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     "--tough is for 3D inputs (and for `hybrid`)".into(),
                 ));
             }
-            if shared_weights || split_facets {
+            if whole_polygons != "auto" || split_facets {
                 return Err(Error::Usage(
-                    "--shared-weights and --split-facets are for 3D inputs".into(),
+                    "--whole-polygons and --split-facets are for 3D inputs".into(),
                 ));
             }
             let opts = Options {
