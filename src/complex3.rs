@@ -196,9 +196,10 @@ enum Plane {
 }
 
 impl Complex3 {
-    /// A point strictly inside triangle `t` of facet `f`, exactly in the
-    /// facet's plane (its centroid, the coordinate along the plane's main
-    /// axis recomputed from the plane); None when doubles have none there.
+    /// The point `near` moved onto the plane of triangle `t` of facet `f`
+    /// (its coordinate along the plane's main axis recomputed from the
+    /// plane), when it then lies strictly inside `t`, exactly in the facet's
+    /// plane, and on no point of the complex; None otherwise.
     pub fn steiner_in(&self, f: usize, t: [u32; 3], near: [f64; 3]) -> Option<[f64; 3]> {
         let [a, b, c] = t.map(|v| self.points[v as usize]);
         let axis = plane_axis(a, b, c)?;
@@ -222,9 +223,12 @@ impl Complex3 {
         let inside = [(a, b), (b, c), (c, a)]
             .iter()
             .all(|&(p, r)| orient(flat(p), flat(r), flat(x)) == side);
+        if !inside {
+            return None;
+        }
         let spans = self.spanning(&self.facets[f].polygons.concat())?;
         let [p, r, s] = spans.map(|v| self.points[v as usize]);
-        (inside && orient3(p, r, s, x) == Ordering::Equal && !self.points.contains(&x)).then_some(x)
+        (orient3(p, r, s, x) == Ordering::Equal && !self.points.contains(&x)).then_some(x)
     }
 }
 

@@ -26,8 +26,8 @@ const SPLIT_ROUNDS: usize = 4;
 pub struct Options3 {
     /// Write the conforming mesh even when some sites lie outside their cells.
     pub allow_sites_outside: bool,
-    /// How whole polygons stay whole (coplanar lifts unless the caller
-    /// needs their power centres at their circumcentres).
+    /// How whole polygons stay whole (`Keep::Auto` unless the caller asks
+    /// for shared weights or coplanar lifts).
     pub keep: weights3::Keep,
     /// Where faces miss their duals (system 3 infeasible), add Steiner
     /// points inside them to their facets, round by round, until none

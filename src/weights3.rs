@@ -536,6 +536,7 @@ fn global<B: Backend3 + ?Sized>(
         _ => Relations::coplanar(cx, &faces),
     };
     let whole_polygons = faces.iter().filter(|f| f.vertices.len() > 3).count();
+    let free = relations.free();
     let mut report = WeightsReport::started("global");
     report.free_weights = n - relations.dependent.len();
     let ring = |vs: &[u32], nbs: &[&Vec<Vec<u32>>]| -> BTreeSet<u32> {
@@ -565,7 +566,7 @@ fn global<B: Backend3 + ?Sized>(
         report.global_rounds = round;
         let mut sys = System {
             n,
-            free: relations.free(),
+            free: free.clone(),
             verdict: true,
             unit2: units.unit2,
             l2: units.l2.clone(),

@@ -96,27 +96,20 @@ fn bad_files_name_the_line_and_exit_non_zero() {
     assert!(err.contains("missing.poly"), "{err}");
     let square = dir.join("square.edg");
     std::fs::write(&square, "1\n0 0 1 0\n").unwrap();
-    let (code, err) = orthomesh(&[
-        "conform",
-        square.to_str().unwrap(),
-        "-o",
-        vtu.to_str().unwrap(),
-        "--whole-polygons",
-        "shared",
-    ]);
-    assert_ne!(code, 0);
-    assert!(err.contains("are for 3D inputs"), "{err}");
-    assert!(!vtu.exists());
-    let (code, err) = orthomesh(&[
-        "conform",
-        square.to_str().unwrap(),
-        "-o",
-        vtu.to_str().unwrap(),
-        "--split-facets",
-    ]);
-    assert_ne!(code, 0);
-    assert!(err.contains("--split-facets are for 3D"), "{err}");
-    assert!(!vtu.exists());
+    let error = "--whole-polygons and --split-facets are for 3D inputs";
+    for flags in [&["--whole-polygons", "shared"][..], &["--split-facets"]] {
+        let mut args = vec![
+            "conform",
+            square.to_str().unwrap(),
+            "-o",
+            vtu.to_str().unwrap(),
+        ];
+        args.extend(flags);
+        let (code, err) = orthomesh(&args);
+        assert_ne!(code, 0);
+        assert!(err.contains(error), "{err}");
+        assert!(!vtu.exists());
+    }
 }
 
 #[test]
