@@ -186,10 +186,11 @@ fn hybrid_from_a_deck_and_from_options() {
     ]);
     assert_eq!(code, 0, "{err}");
     for bad in [
-        ["--well", "A:0:5"],
-        ["--well", "A:5"],
-        ["--well", "A:x:5"],
-        ["--layer", "16"],
+        &["--well", "A:0:5"][..],
+        &["--well", "A:5"],
+        &["--well", "A:x:5"],
+        &["--layer", "16"],
+        &["--split-facets"],
     ] {
         let vtu3 = dir.join("bad.vtu");
         let mut args = vec![
@@ -205,6 +206,9 @@ fn hybrid_from_a_deck_and_from_options() {
         let (code, err) = orthomesh(&args);
         assert_eq!(code, 1, "{bad:?}: {err}");
         assert!(err.contains("error"), "{err}");
+        if bad == ["--split-facets"] {
+            assert!(err.contains("--split-facets is for --3d"), "{err}");
+        }
         assert!(!vtu3.exists());
     }
 }

@@ -100,6 +100,7 @@ fn steiner_points_bring_the_annuli_sites_in() {
     assert!(!t.steiner_points.is_empty());
     assert!(t.steiner_points.iter().all(|p| p[2] == 0.0 || p[2] == -8.0));
     assert_eq!(h.report.non_orthogonal, 0);
+    write("steiner", &h);
 }
 
 /// Two-point flux on the 3D hybrid mesh of a homogeneous block with a

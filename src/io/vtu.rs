@@ -22,7 +22,8 @@ pub struct FloatArray<'a> {
 /// The .vtu text of polyhedra (type 42), classic faces/faceoffsets
 /// layout: per cell its faces, each a list of point ids counter-clockwise
 /// seen from outside; with the given cell data (`scalars` names the
-/// active one).
+/// active one). A vertex where a face runs straight on is left out of that
+/// face (see `corners`).
 pub fn polyhedra(
     points: &[[f64; 3]],
     cells: &[Vec<Vec<u32>>],
@@ -30,12 +31,16 @@ pub fn polyhedra(
     ints: &[IntArray],
     scalars: &str,
 ) -> String {
+    let cells: Vec<Vec<Vec<u32>>> = cells
+        .iter()
+        .map(|faces| faces.iter().map(|f| corners(points, f)).collect())
+        .collect();
     let mut s = String::new();
     begin(&mut s, points, cells.len());
     s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
     let mut offsets = vec![];
     let mut n = 0;
-    for faces in cells {
+    for faces in &cells {
         let mut ids: Vec<u32> = faces.iter().flatten().copied().collect();
         ids.sort_unstable();
         ids.dedup();
@@ -49,13 +54,13 @@ pub fn polyhedra(
         let _ = writeln!(s, "{o}");
     }
     s.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for _ in cells {
+    for _ in &cells {
         s.push_str("42\n");
     }
     s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"faces\" format=\"ascii\">\n");
     let mut face_offsets = vec![];
     let mut total = 0;
-    for faces in cells {
+    for faces in &cells {
         let mut line = vec![faces.len().to_string()];
         for f in faces {
             line.push(f.len().to_string());
@@ -183,6 +188,29 @@ pub fn to_string_with(mesh: &Mesh, arrays: &[IntArray]) -> String {
     s
 }
 
+/// A face without the vertices where it runs straight on (to 1e-10 in
+/// angle): a power vertex of a neighbouring cell in the middle of this
+/// cell's edge is exactly on that edge, but rounded to doubles it makes the
+/// face slightly non-convex, and vtk's convexity test has no tolerance
+/// (vtkCellValidator then flags the cell, state 32). The neighbour keeps
+/// it as its corner.
+fn corners(points: &[[f64; 3]], face: &[u32]) -> Vec<u32> {
+    let n = face.len();
+    let p = |k: usize| nalgebra::Vector3::from(points[face[k % n] as usize]);
+    let kept: Vec<u32> = (0..n)
+        .filter(|&k| {
+            let (a, b) = (p(k + n) - p(k + n - 1), p(k + 1) - p(k));
+            a.cross(&b).norm() > 1e-10 * a.norm() * b.norm() || a.dot(&b) < 0.0
+        })
+        .map(|k| face[k])
+        .collect();
+    if kept.len() < 3 {
+        face.to_vec()
+    } else {
+        kept
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -209,5 +237,23 @@ mod tests {
         assert_eq!(v[0], x);
         assert_eq!(v[1], 1e-300);
         assert!(text.contains("<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n7\n"));
+    }
+
+    #[test]
+    fn straight_vertices_leave_faces() {
+        // the unit square with a point on its bottom edge, off by rounding
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, 1e-17, 0.0],
+        ];
+        assert_eq!(corners(&pts, &[0, 4, 1, 2, 3]), vec![0, 1, 2, 3]);
+        assert_eq!(corners(&pts, &[4, 1, 2, 3, 0]), vec![1, 2, 3, 0]);
+        // a real corner stays
+        let mut bent = pts;
+        bent[4][1] = -0.1;
+        assert_eq!(corners(&bent, &[0, 4, 1, 2, 3]), vec![0, 4, 1, 2, 3]);
     }
 }
