@@ -21,6 +21,10 @@ const MAX_STEINER: usize = 10_000;
 /// Rounds of `split_facets` (each solves the LP again).
 const SPLIT_ROUNDS: usize = 4;
 
+/// When a round's whole batch of Steiner points is rejected, its first
+/// points are tried one at a time (each a whole pipeline run).
+const SINGLE_TRIES: usize = 4;
+
 /// Choices of the caller.
 #[derive(Debug, Clone, Default)]
 pub struct Options3 {
@@ -134,7 +138,9 @@ pub fn conform3<B: Backend3 + ?Sized>(
     let mut best = Attempt::run(backend, cx.clone(), opts.keep)?;
     // Refinement rounds, each kept only when it leaves fewer sites
     // outside (measured: a round that does not tends to start a cascade of
-    // new failing faces); a round that fails ends the refinement.
+    // new failing faces); when the whole batch does not, a single point
+    // may (TetGen's example: 17 -> 13 with one point, 17 -> 18 with all),
+    // and a round where nothing helps ends the refinement.
     for _ in 0..SPLIT_ROUNDS {
         if !opts.split_facets || best.outside == 0 {
             break;
@@ -143,17 +149,18 @@ pub fn conform3<B: Backend3 + ?Sized>(
         if add.is_empty() || best.cx.points.len() + add.len() > cx.points.len() + MAX_STEINER {
             break;
         }
-        let mut next = best.cx.clone();
-        let mut id = next.vertex_ids.iter().max().copied().unwrap_or(0);
-        for (f, p) in add {
-            next.facets[f].polygons.push(vec![next.points.len() as u32]);
-            next.points.push(p);
-            id += 1;
-            next.vertex_ids.push(id);
-        }
-        match Attempt::run(backend, next, opts.keep) {
-            Ok(next) if next.outside < best.outside => best = next,
-            _ => break,
+        let batches = std::iter::once(&add[..]).chain(
+            (add.len() > 1)
+                .then(|| add.chunks(1).take(SINGLE_TRIES))
+                .into_iter()
+                .flatten(),
+        );
+        let better = batches
+            .map(|b| best.split(backend, b, opts.keep))
+            .find_map(|next| next.ok().filter(|next| next.outside < best.outside));
+        match better {
+            Some(next) => best = next,
+            None => break,
         }
     }
     let Attempt {
@@ -219,6 +226,24 @@ struct Attempt {
 }
 
 impl Attempt {
+    /// The pipeline again with Steiner points `add` (facet, point) added.
+    fn split<B: Backend3 + ?Sized>(
+        &self,
+        backend: &B,
+        add: &[(usize, [f64; 3])],
+        keep: weights3::Keep,
+    ) -> Result<Attempt> {
+        let mut next = self.cx.clone();
+        let mut id = next.vertex_ids.iter().max().copied().unwrap_or(0);
+        for &(f, p) in add {
+            next.facets[f].polygons.push(vec![next.points.len() as u32]);
+            next.points.push(p);
+            id += 1;
+            next.vertex_ids.push(id);
+        }
+        Attempt::run(backend, next, keep)
+    }
+
     fn run<B: Backend3 + ?Sized>(
         backend: &B,
         cx: Complex3,

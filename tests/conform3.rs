@@ -64,6 +64,7 @@ fn tetgen_example_plc_conforms() {
             }
             other => panic!("expected sites outside, got {:?}", other.map(|o| o.report)),
         }
+        let mut unsplit_outside = None;
         for (keep, split_facets) in [
             (Keep::Auto, false),
             (Keep::Coplanar, false),
@@ -86,24 +87,41 @@ fn tetgen_example_plc_conforms() {
             assert!((c.domain_volume - volume).abs() < 1e-12, "{c:?}");
             assert!((c.cells_volume - c.domain_volume).abs() < 1e-12);
             assert_eq!(r.cells, c.domain_sites);
-            // Steiner points are kept only when they bring sites in
             let steiner = r.steiner_points.len();
-            assert!(split_facets || steiner == 0);
             assert_eq!(r.vertices, 28 + steiner);
-            if keep == Keep::Auto {
-                // shared weights solve it: 6 rectangles whole, 46 faces;
-                // relocation brought sites in (measured: 29 of 46; 8 faces
-                // miss their duals; Steiner points do not help here)
-                assert_eq!(r.whole_polygons_kept, Keep::Shared);
-                assert_eq!((r.whole_polygons, c.faces), (6, 46));
-                assert!(c.sites_inside >= 29, "{c:?}");
-            } else {
-                // Which polygons stay whole with coplanar lifts depends on
-                // how the backend breaks ties in degenerate regular
-                // triangulations (measured: CGAL 6 with 28 of 46 sites
-                // inside, the pure engine 18 with 22 of 34).
-                assert_eq!(r.whole_polygons_kept, Keep::Coplanar);
-                assert!(c.sites_inside >= 22, "{c:?}");
+            let outside = c.domain_sites - c.sites_inside;
+            match (keep, split_facets) {
+                (Keep::Auto, false) => {
+                    // shared weights solve it: 6 rectangles whole, 46
+                    // faces; relocation brought sites in (measured: 29 of
+                    // 46; 8 faces miss their duals)
+                    assert_eq!(r.whole_polygons_kept, Keep::Shared);
+                    assert_eq!((r.whole_polygons, c.faces), (6, 46));
+                    assert!(c.sites_inside >= 29, "{c:?}");
+                    assert_eq!(steiner, 0);
+                    unsplit_outside = Some(outside);
+                }
+                (Keep::Auto, true) => {
+                    // Steiner points are kept only when they bring sites
+                    // in (measured with CGAL: one point, 17 -> 13 outside)
+                    let before = unsplit_outside.unwrap();
+                    println!(
+                        "{}: TetGen's example, --split-facets: {steiner} Steiner points, \
+                         {before} -> {outside} sites outside",
+                        b.name()
+                    );
+                    assert!(outside <= before);
+                    assert_eq!(steiner == 0, outside == before, "{c:?}");
+                }
+                _ => {
+                    // Which polygons stay whole with coplanar lifts depends
+                    // on how the backend breaks ties in degenerate regular
+                    // triangulations (measured: CGAL 6 with 28 of 46 sites
+                    // inside, the pure engine 18 with 22 of 34).
+                    assert_eq!(r.whole_polygons_kept, Keep::Coplanar);
+                    assert!(c.sites_inside >= 22, "{c:?}");
+                    assert_eq!(steiner, 0);
+                }
             }
         }
     }
