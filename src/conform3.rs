@@ -6,10 +6,12 @@ use crate::backend::Backend3;
 use crate::complex3::{Complex3, Simplices3};
 use crate::diagram3::{Certificate3, Diagram3, Plane};
 use crate::error::{Error, Result};
-use crate::sites3::{self, Sites3};
+use crate::exact::{cross, dot, q, sub, Q};
+use crate::sites3::{self, Clip, Sites3};
 use crate::weights::WeightsReport;
 use crate::weights3;
 use serde::Serialize;
+use std::cmp::Ordering::{Greater, Less};
 use std::time::Instant;
 
 /// Rounds of relocation (each builds the exact site diagram once).
@@ -37,6 +39,11 @@ pub struct Options3 {
     /// points inside them to their facets, round by round, until none
     /// misses or no point can be added.
     pub split_facets: bool,
+    /// Facets (0-based) that bound the domain with nothing beyond them
+    /// (each on the hull of the points): the cells are cut at their planes
+    /// by mirrored sites instead of meeting them as single faces, so
+    /// their triangles need not cross their duals.
+    pub clip: Vec<u32>,
 }
 
 /// A polyhedral mesh: the domain's cells.
@@ -103,6 +110,8 @@ pub struct Report3 {
     pub whole_polygons_kept: weights3::Keep,
     /// Points added inside faces that missed their duals (`split_facets`).
     pub steiner_points: Vec<[f64; 3]>,
+    /// Facets (ids from 1) the cells were cut at (`Options3::clip`).
+    pub clip_facets: Vec<i64>,
     pub segments: usize,
     pub points: usize,
     pub weights: WeightsReport,
@@ -135,7 +144,8 @@ pub fn conform3<B: Backend3 + ?Sized>(
     opts: &Options3,
 ) -> Result<Outcome3> {
     let start = Instant::now();
-    let mut best = Attempt::run(backend, cx.clone(), opts.keep)?;
+    let clips = clips(cx, &opts.clip)?;
+    let mut best = Attempt::run(backend, cx.clone(), opts.keep, &clips)?;
     // Refinement rounds, each kept only when it leaves fewer sites
     // outside (measured: a round that does not tends to start a cascade of
     // new failing faces); when the whole batch does not, a single point
@@ -145,7 +155,7 @@ pub fn conform3<B: Backend3 + ?Sized>(
         if !opts.split_facets || best.outside == 0 {
             break;
         }
-        let add = steiner_points(&best.cx, &best.sc, &best.wt);
+        let add = steiner_points(&best.cx, &best.sc, &best.wt, &clips);
         if add.is_empty() || best.cx.points.len() + add.len() > cx.points.len() + MAX_STEINER {
             break;
         }
@@ -156,7 +166,7 @@ pub fn conform3<B: Backend3 + ?Sized>(
                 .flatten(),
         );
         let better = batches
-            .map(|b| best.split(backend, b, opts.keep))
+            .map(|b| best.split(backend, b, opts.keep, &clips))
             .find_map(|next| next.ok().filter(|next| next.outside < best.outside));
         match better {
             Some(next) => best = next,
@@ -195,12 +205,14 @@ pub fn conform3<B: Backend3 + ?Sized>(
         whole_polygons: wt.whole_polygons,
         whole_polygons_kept: wt.keep,
         steiner_points: steiner,
+        clip_facets: clips.iter().map(|c| c.facet as i64 + 1).collect(),
         segments: count(2),
         points: count(1),
         weights: wt.report.clone(),
         facets_missing_dual: facet_ids(&wt, &wt.sys3_failed),
         sites: s.p.len(),
-        extra_sites: s.p.len() - 2 * s.of_face.iter().flatten().count(),
+        extra_sites: (0..s.p.len()).filter(|&x| !s.is_mirror(x)).count()
+            - 2 * s.of_face.iter().flatten().count(),
         relocation_rounds: rounds,
         sites_outside: outside,
         cells: mesh.cells.len(),
@@ -232,6 +244,7 @@ impl Attempt {
         backend: &B,
         add: &[(usize, [f64; 3])],
         keep: weights3::Keep,
+        clips: &[Clip],
     ) -> Result<Attempt> {
         let mut next = self.cx.clone();
         let mut id = next.vertex_ids.iter().max().copied().unwrap_or(0);
@@ -241,17 +254,21 @@ impl Attempt {
             id += 1;
             next.vertex_ids.push(id);
         }
-        Attempt::run(backend, next, keep)
+        Attempt::run(backend, next, keep, clips)
     }
 
     fn run<B: Backend3 + ?Sized>(
         backend: &B,
         cx: Complex3,
         keep: weights3::Keep,
+        clips: &[Clip],
     ) -> Result<Attempt> {
         let sc = cx.triangulate(backend)?;
         let wt = weights3::solve(backend, &cx, &sc, keep)?;
         let mut s = sites3::place(&cx, &wt)?;
+        if !clips.is_empty() {
+            s = s.clipped(&wt, clips.to_vec());
+        }
         let mut d = Diagram3::build(backend, &cx, &s)?;
         let mut rounds = 0;
         while rounds < RELOCATION_ROUNDS {
@@ -267,6 +284,7 @@ impl Attempt {
             if !moved {
                 break;
             }
+            s.remirror();
             rounds += 1;
             d = Diagram3::build(backend, &cx, &s)?;
         }
@@ -293,12 +311,16 @@ fn steiner_points(
     cx: &Complex3,
     sc: &Simplices3,
     wt: &weights3::Weights3,
+    s_clips: &[Clip],
 ) -> Vec<(usize, [f64; 3])> {
     let mut add: Vec<(usize, [f64; 3])> = vec![];
     for face in wt.sys3_failed.iter().map(|&f| &wt.faces[f as usize]) {
         let (Some(f), 3) = (face.facet, face.vertices.len()) else {
             continue;
         };
+        if s_clips.iter().any(|c| c.facet == f) {
+            continue;
+        }
         let Some((c, _)) = weights3::face_centre(cx, &wt.w, &face.vertices) else {
             continue;
         };
@@ -325,6 +347,43 @@ fn steiner_points(
         }
     }
     add
+}
+
+/// The clip planes of these facets, their normals away from the points.
+fn clips(cx: &Complex3, facets: &[u32]) -> Result<Vec<Clip>> {
+    let p = |v: u32| cx.points[v as usize].map(q);
+    facets
+        .iter()
+        .map(|&f| {
+            let vs: Vec<u32> = cx.facets[f as usize]
+                .polygons
+                .iter()
+                .flatten()
+                .copied()
+                .collect();
+            let o = p(vs[0]);
+            let n = vs
+                .iter()
+                .flat_map(|&a| vs.iter().map(move |&b| (a, b)))
+                .map(|(a, b)| cross(&sub(&p(a), &o), &sub(&p(b), &o)))
+                .find(|n| n.iter().any(|x| *x != 0))
+                .ok_or_else(|| Error::BadFacets(format!("facet {} spans no plane", f + 1)))?;
+            let sides: Vec<std::cmp::Ordering> = cx
+                .points
+                .iter()
+                .map(|x| dot(&sub(&x.map(q), &o), &n).cmp(&Q::from(0)))
+                .collect();
+            let (above, below) = (sides.contains(&Greater), sides.contains(&Less));
+            if above && below {
+                return Err(Error::BadFacets(format!(
+                    "facet {} cannot bound the mesh: points lie on both sides of its plane",
+                    f + 1
+                )));
+            }
+            let n = if above { n.map(|x| -x) } else { n };
+            Ok(Clip { facet: f, o, n })
+        })
+        .collect()
 }
 
 fn facet_ids(wt: &weights3::Weights3, faces: &[u32]) -> Vec<i64> {

@@ -232,6 +232,10 @@ impl Diagram3 {
         let mut vertices: Vec<u32> = vec![];
         for (fi, face) in wt.faces.iter().enumerate() {
             vertices.extend(&face.vertices);
+            if s.clips.iter().any(|c| face.facet == Some(c.facet)) {
+                // cut by mirrors: the domain's cells share them out
+                continue;
+            }
             match face.dim() {
                 2 => {
                     c.faces += 1;
@@ -324,6 +328,13 @@ fn domain(
     for [a, b] in s.of_face.iter().flatten() {
         cut.insert([*a.min(b), *a.max(b)]);
     }
+    // mirrors are outside, and the faces they share with sites are on the
+    // clip planes
+    for e in faces.keys() {
+        if s.is_mirror(e[0] as usize) != s.is_mirror(e[1] as usize) {
+            cut.insert(*e);
+        }
+    }
     let mut parent: Vec<u32> = (0..n as u32).collect();
     fn find(p: &mut [u32], mut x: u32) -> u32 {
         while p[x as usize] != x {
@@ -341,6 +352,9 @@ fn domain(
         }
     }
     let mut outside = HashSet::new();
+    for x in (0..n).filter(|&x| s.is_mirror(x)) {
+        outside.insert(find(&mut parent, x as u32));
+    }
     for f in rt.hull_faces() {
         for v in f {
             outside.insert(find(&mut parent, v));
@@ -370,23 +384,31 @@ fn boundary_volume(cx: &Complex3, wt: &Weights3, s: &Sites3, d: &Diagram3) -> f6
     let o = cx.points[0];
     let mut vol = 0.0;
     for (fi, face) in wt.faces.iter().enumerate() {
-        let Some([a, b]) = s.of_face[fi] else {
-            continue;
+        // away from the domain: towards the outer site, or the clip's normal
+        let d: [f64; 3] = if let Some(c) = s.clips.iter().find(|c| face.facet == Some(c.facet)) {
+            c.n.clone().map(|x| f(&x))
+        } else {
+            let Some([a, b]) = s.of_face[fi] else {
+                continue;
+            };
+            let (ia, ib) = (in_domain[a as usize], in_domain[b as usize]);
+            if ia == ib {
+                continue;
+            }
+            let (inner, outer) = if ia { (a, b) } else { (b, a) };
+            std::array::from_fn(|k| sp[outer as usize][k] - sp[inner as usize][k])
         };
-        let (ia, ib) = (in_domain[a as usize], in_domain[b as usize]);
-        if ia == ib {
-            continue;
-        }
-        let (inner, outer) = if ia { (a, b) } else { (b, a) };
         let p = |v: u32| -> [f64; 3] {
             let x = cx.points[v as usize];
             std::array::from_fn(|i| x[i] - o[i])
         };
         let vs = &face.vertices;
+        if vs.len() < 3 {
+            continue;
+        }
         let mut face_vol: f64 = (1..vs.len() - 1)
             .map(|k| det3_f(p(vs[0]), p(vs[k]), p(vs[k + 1])) / 6.0)
             .sum();
-        let d: [f64; 3] = std::array::from_fn(|k| sp[outer as usize][k] - sp[inner as usize][k]);
         let pts: Vec<[f64; 3]> = vs.iter().map(|&v| cx.points[v as usize]).collect();
         if dot_f(newell(&pts), d) < 0.0 {
             face_vol = -face_vol;

@@ -38,15 +38,20 @@ pub struct Hybrid3Options {
     pub sectors: usize,
     /// Outer radius of the radial mesh, in the well cell's shorter sides
     /// (as in 2D; it may reach into the cavity's other columns). Measured
-    /// with the flow check (tests/hybrid3.rs, 16 sectors, 10 m cells): 0.4
-    /// gives 9.4% off Thiem's pressure drop, 1.0 gives 0.16%, 1.3 gives
-    /// 3.9%; as in 2D, the well polygon belongs near the cavity's sides but
+    /// with the flow check (tests/hybrid3.rs, 16 sectors, 10 m cells, the
+    /// annuli as faces): 0.4 gives 9.4% off Thiem's pressure drop, 1.0
+    /// gives 0.16%, 1.3 gives 3.9%; as in 2D, the well polygon belongs near the cavity's sides but
     /// not at them.
     pub outer: f64,
     pub allow_sites_outside: bool,
     /// Steiner points in the top and bottom annuli where their triangles
     /// miss their duals (`Options3::split_facets`).
     pub split_facets: bool,
+    /// Cut the transition cells at the grid's top and bottom with mirrored
+    /// sites (`Options3::clip`) instead of making the annuli there faces
+    /// (whose triangles may miss their duals and leave sites outside);
+    /// falls back to the annuli as faces when clipping fails.
+    pub clip: bool,
 }
 
 impl Default for Hybrid3Options {
@@ -57,6 +62,7 @@ impl Default for Hybrid3Options {
             outer: 1.0,
             allow_sites_outside: false,
             split_facets: false,
+            clip: true,
         }
     }
 }
@@ -314,18 +320,29 @@ pub fn build<B: Backend3 + ?Sized>(
         }
     }
     cx.holes.push(at(0.0, 0.0, (zs[0] + zs[g.nz]) / 2.0));
-    let t = conform3(
-        backend,
-        &cx,
-        &Options3 {
-            allow_sites_outside: opts.allow_sites_outside,
-            // The walls' and the well's rectangles face cells centred on
-            // them: orthogonal links need their power centres at their
-            // centres, hence equal weights.
-            keep: crate::weights3::Keep::Shared,
-            split_facets: opts.split_facets,
-        },
-    )?;
+    let top = first_well_facet as u32 - 2;
+    let run = |clip: Vec<u32>| {
+        conform3(
+            backend,
+            &cx,
+            &Options3 {
+                allow_sites_outside: opts.allow_sites_outside,
+                // The walls' and the well's rectangles face cells centred on
+                // them: orthogonal links need their power centres at their
+                // centres, hence equal weights.
+                keep: crate::weights3::Keep::Shared,
+                split_facets: opts.split_facets,
+                clip,
+            },
+        )
+    };
+    // Clipping needs every wall's and well face's sites below the top and
+    // above the bottom (a deviated well's triangles may have theirs
+    // beyond); where it fails, the annuli are faces again.
+    let t = match opts.clip {
+        true => run(vec![top, top + 1]).or_else(|_| run(vec![]))?,
+        false => run(vec![])?,
+    };
 
     // Assembly: one point numbering over the three meshes.
     let mut out = Mesh3::default();

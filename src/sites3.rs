@@ -29,6 +29,33 @@ pub struct Sites3 {
     /// Per site of a face that crosses its dual: the line it may move on
     /// towards the face (relocation).
     pub line: Vec<Option<Line>>,
+    /// The planes the diagram is cut at (`clipped`), and per site the
+    /// site and plane it mirrors (empty: no mirrors).
+    pub clips: Vec<Clip>,
+    pub mirror_of: Vec<Option<(u32, u32)>>,
+}
+
+/// A plane that bounds the domain where no mesh lies beyond (a facet on
+/// the hull, e.g. a reservoir's top): `o` on it, `n` pointing away from
+/// the domain.
+#[derive(Debug, Clone)]
+pub struct Clip {
+    pub facet: u32,
+    pub o: [Q; 3],
+    pub n: [Q; 3],
+}
+
+impl Clip {
+    /// The mirror image of x.
+    fn mirror(&self, x: &[Q; 3]) -> [Q; 3] {
+        let t = Q::from(-2) * dot(&sub(x, &self.o), &self.n) / dot(&self.n, &self.n);
+        along(x, &t, &self.n)
+    }
+
+    /// Whether x is strictly on the domain's side.
+    fn below(&self, x: &[Q; 3]) -> bool {
+        is_pos(&-dot(&sub(x, &self.o), &self.n))
+    }
 }
 
 /// A site at c + t n on the dual line of a face that crosses it at c.
@@ -340,6 +367,73 @@ fn affine_rank(s: &Sites3, ids: &[u32]) -> i32 {
 }
 
 impl Sites3 {
+    /// Whether site x is a mirror image (`clipped`).
+    pub fn is_mirror(&self, x: usize) -> bool {
+        self.mirror_of.get(x).is_some_and(|m| m.is_some())
+    }
+
+    /// The sites of a diagram cut at `clips` (mirrors clip exactly: where
+    /// every site lies on one side of a plane, a site's mirror image with
+    /// the same weight has a greater power than the site itself at every
+    /// point on that side, so it changes nothing there, and the mirrors of
+    /// all sites own everything beyond). The sites of the clip facets'
+    /// faces are dropped (those faces need not be single cell faces), and
+    /// so are sites not strictly on the domain's side of every plane.
+    pub fn clipped(&self, wt: &Weights3, clips: Vec<Clip>) -> Sites3 {
+        let mut keep = vec![true; self.p.len()];
+        for (fi, face) in wt.faces.iter().enumerate() {
+            if clips.iter().any(|c| face.facet == Some(c.facet)) {
+                for x in self.of_face[fi].into_iter().flatten() {
+                    keep[x as usize] = false;
+                }
+            }
+        }
+        for (x, k) in keep.iter_mut().enumerate() {
+            *k &= clips.iter().all(|c| c.below(&self.p[x]));
+        }
+        let mut id = vec![u32::MAX; self.p.len()];
+        let mut out = Sites3::default();
+        for x in (0..self.p.len()).filter(|&x| keep[x]) {
+            id[x] = out.p.len() as u32;
+            out.p.push(self.p[x].clone());
+            out.w.push(self.w[x].clone());
+            out.serves.push(self.serves[x].clone());
+            out.line.push(self.line[x].clone());
+            out.mirror_of.push(None);
+        }
+        out.of_face = self
+            .of_face
+            .iter()
+            .map(|f| {
+                let [a, b] = f.map(|p| p.map(|x| id[x as usize]))?;
+                (a != u32::MAX && b != u32::MAX).then_some([a, b])
+            })
+            .collect();
+        let n = out.p.len() as u32;
+        for c in 0..clips.len() as u32 {
+            for x in 0..n {
+                out.p.push(std::array::from_fn(|_| Q::from(0)));
+                out.w.push(Q::from(0));
+                out.serves.push(vec![]);
+                out.line.push(None);
+                out.mirror_of.push(Some((x, c)));
+            }
+        }
+        out.clips = clips;
+        out.remirror();
+        out
+    }
+
+    /// Puts the mirrors where their sites are now (after relocation).
+    pub fn remirror(&mut self) {
+        for m in 0..self.mirror_of.len() {
+            if let Some((x, c)) = self.mirror_of[m] {
+                self.p[m] = self.clips[c as usize].mirror(&self.p[x as usize]);
+                self.w[m] = self.w[x as usize].clone();
+            }
+        }
+    }
+
     /// Gives site x the power w_v at the vertices v it serves.
     fn reweigh(&mut self, x: usize, cx: &Complex3, w: &[Q]) {
         let v0 = self.serves[x][0] as usize;

@@ -52,6 +52,57 @@ fn stacked_boxes_keep_their_rectangles_whole() {
     }
 }
 
+/// The stack's bottom and top cut by mirrored sites instead of being
+/// faces; a facet with points on both sides of its plane cannot be cut at.
+#[test]
+fn stacked_boxes_clipped_at_bottom_and_top() {
+    let cx = orthomesh::generate::stacked_boxes(3);
+    let z = |f: &orthomesh::complex3::Facet| -> Vec<f64> {
+        f.polygons
+            .iter()
+            .flatten()
+            .map(|&v| cx.points[v as usize][2])
+            .collect()
+    };
+    let (lo, hi) = cx
+        .points
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p[2]), b.max(p[2])));
+    let at = |h: f64| {
+        cx.facets
+            .iter()
+            .position(|f| z(f).iter().all(|&x| x == h))
+            .unwrap() as u32
+    };
+    let inner = cx
+        .facets
+        .iter()
+        .position(|f| z(f).iter().all(|&x| x > lo && x < hi))
+        .unwrap() as u32;
+    for b in compiled3() {
+        let opts = Options3 {
+            clip: vec![at(lo), at(hi)],
+            ..Default::default()
+        };
+        let out = conform3(&*b, &cx, &opts).unwrap();
+        let (r, c) = (&out.report, &out.report.certificate);
+        assert!(c.conforms(), "{c:?}");
+        assert_eq!(r.clip_facets.len(), 2);
+        assert_eq!(c.faces, cx.facets.len() - 2);
+        assert_eq!(c.sites_inside, c.domain_sites, "{r:?}");
+        assert!((c.cells_volume - 6.0).abs() < 1e-12, "{c:?}");
+        assert!((c.domain_volume - 6.0).abs() < 1e-12, "{c:?}");
+        assert!(out.mesh.volumes.iter().all(|&v| v > 0.0));
+        write("clipped", &out);
+        let opts = Options3 {
+            clip: vec![inner],
+            ..Default::default()
+        };
+        let err = conform3(&*b, &cx, &opts).unwrap_err().to_string();
+        assert!(err.contains("both sides"), "{err}");
+    }
+}
+
 #[test]
 fn tetgen_example_plc_conforms() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
@@ -74,6 +125,7 @@ fn tetgen_example_plc_conforms() {
                 allow_sites_outside: true,
                 keep,
                 split_facets,
+                ..Default::default()
             };
             let out = conform3(&*b, &cx, &opts).unwrap();
             let r = &out.report;

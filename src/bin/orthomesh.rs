@@ -243,6 +243,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                         allow_sites_outside,
                         keep,
                         split_facets,
+                        ..Default::default()
                     };
                     let mut out = conform3(&*backend, &cx, &opts)?;
                     if reproducible {
@@ -353,6 +354,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     outer: outer.unwrap_or(1.0),
                     allow_sites_outside,
                     split_facets,
+                    ..Default::default()
                 };
                 let mut h = hybrid3::build(&*backend, &g, &w, &opts)?;
                 if reproducible {
