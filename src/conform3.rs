@@ -209,7 +209,11 @@ pub fn conform3<B: Backend3 + ?Sized>(
         segments: count(2),
         points: count(1),
         weights: wt.report.clone(),
-        facets_missing_dual: facet_ids(&wt, &wt.sys3_failed),
+        // (a clip facet's faces need not cross their duals)
+        facets_missing_dual: facet_ids(&wt, &wt.sys3_failed)
+            .into_iter()
+            .filter(|&f| !clips.iter().any(|c| c.facet as i64 + 1 == f))
+            .collect(),
         sites: s.p.len(),
         extra_sites: (0..s.p.len()).filter(|&x| !s.is_mirror(x)).count()
             - 2 * s.of_face.iter().flatten().count(),
@@ -267,7 +271,7 @@ impl Attempt {
         let wt = weights3::solve(backend, &cx, &sc, keep)?;
         let mut s = sites3::place(&cx, &wt)?;
         if !clips.is_empty() {
-            s = s.clipped(&wt, clips.to_vec());
+            s = s.clipped(&cx, &wt, clips.to_vec());
         }
         let mut d = Diagram3::build(backend, &cx, &s)?;
         let mut rounds = 0;
@@ -355,12 +359,10 @@ fn clips(cx: &Complex3, facets: &[u32]) -> Result<Vec<Clip>> {
     facets
         .iter()
         .map(|&f| {
-            let vs: Vec<u32> = cx.facets[f as usize]
-                .polygons
-                .iter()
-                .flatten()
-                .copied()
-                .collect();
+            let facet = cx.facets.get(f as usize).ok_or_else(|| {
+                Error::Usage(format!("clip facet {} of {}", f + 1, cx.facets.len()))
+            })?;
+            let vs: Vec<u32> = facet.polygons.iter().flatten().copied().collect();
             let o = p(vs[0]);
             let n = vs
                 .iter()

@@ -377,28 +377,38 @@ impl Sites3 {
     /// the same weight has a greater power than the site itself at every
     /// point on that side, so it changes nothing there, and the mirrors of
     /// all sites own everything beyond). The sites of the clip facets'
-    /// faces are dropped (those faces need not be single cell faces), and
-    /// so are sites not strictly on the domain's side of every plane.
-    pub fn clipped(&self, wt: &Weights3, clips: Vec<Clip>) -> Sites3 {
-        let mut keep = vec![true; self.p.len()];
+    /// faces are dropped (those faces need not be single cell faces); a
+    /// site beyond a plane moves towards its face (in the domain's
+    /// closure) until it is strictly on the domain's side, and one that
+    /// cannot is dropped (its face then fails the certificate).
+    pub fn clipped(&self, cx: &Complex3, wt: &Weights3, clips: Vec<Clip>) -> Sites3 {
+        let mut this = self.clone();
+        for x in 0..this.p.len() {
+            for _ in 0..64 {
+                if clips.iter().all(|c| c.below(&this.p[x])) || !this.halve(x, cx, &wt.w) {
+                    break;
+                }
+            }
+        }
+        let mut keep = vec![true; this.p.len()];
         for (fi, face) in wt.faces.iter().enumerate() {
             if clips.iter().any(|c| face.facet == Some(c.facet)) {
-                for x in self.of_face[fi].into_iter().flatten() {
+                for x in this.of_face[fi].into_iter().flatten() {
                     keep[x as usize] = false;
                 }
             }
         }
         for (x, k) in keep.iter_mut().enumerate() {
-            *k &= clips.iter().all(|c| c.below(&self.p[x]));
+            *k &= clips.iter().all(|c| c.below(&this.p[x]));
         }
-        let mut id = vec![u32::MAX; self.p.len()];
+        let mut id = vec![u32::MAX; this.p.len()];
         let mut out = Sites3::default();
-        for x in (0..self.p.len()).filter(|&x| keep[x]) {
+        for x in (0..this.p.len()).filter(|&x| keep[x]) {
             id[x] = out.p.len() as u32;
-            out.p.push(self.p[x].clone());
-            out.w.push(self.w[x].clone());
-            out.serves.push(self.serves[x].clone());
-            out.line.push(self.line[x].clone());
+            out.p.push(this.p[x].clone());
+            out.w.push(this.w[x].clone());
+            out.serves.push(this.serves[x].clone());
+            out.line.push(this.line[x].clone());
             out.mirror_of.push(None);
         }
         out.of_face = self

@@ -100,6 +100,12 @@ fn stacked_boxes_clipped_at_bottom_and_top() {
         };
         let err = conform3(&*b, &cx, &opts).unwrap_err().to_string();
         assert!(err.contains("both sides"), "{err}");
+        let opts = Options3 {
+            clip: vec![999],
+            ..Default::default()
+        };
+        let err = conform3(&*b, &cx, &opts).unwrap_err().to_string();
+        assert!(err.contains("clip facet 1000 of"), "{err}");
     }
 }
 
