@@ -353,29 +353,48 @@ fn steiner_points(
     add
 }
 
+/// A facet's plane (a point on it and a normal, None: no plane) and
+/// whether input points lie beyond it (along the normal) and before it.
+fn plane_sides(cx: &Complex3, f: usize) -> Option<([Q; 3], [Q; 3], bool, bool)> {
+    let p = |v: u32| cx.points[v as usize].map(q);
+    let vs: Vec<u32> = cx.facets[f].polygons.iter().flatten().copied().collect();
+    let o = p(*vs.first()?);
+    let n = vs
+        .iter()
+        .flat_map(|&a| vs.iter().map(move |&b| (a, b)))
+        .map(|(a, b)| cross(&sub(&p(a), &o), &sub(&p(b), &o)))
+        .find(|n| n.iter().any(|x| *x != 0))?;
+    let sides: Vec<std::cmp::Ordering> = cx
+        .points
+        .iter()
+        .map(|x| dot(&sub(&x.map(q), &o), &n).cmp(&Q::from(0)))
+        .collect();
+    Some((o, n, sides.contains(&Greater), sides.contains(&Less)))
+}
+
+/// The facets with every input point on one side of their plane (on the
+/// hull), to be clipped at (`Options3::clip`).
+pub fn hull_facets(cx: &Complex3) -> Vec<u32> {
+    (0..cx.facets.len())
+        .filter(|&f| plane_sides(cx, f).is_some_and(|(_, _, above, below)| !(above && below)))
+        .map(|f| f as u32)
+        .collect()
+}
+
 /// The clip planes of these facets, their normals away from the points.
 fn clips(cx: &Complex3, facets: &[u32]) -> Result<Vec<Clip>> {
-    let p = |v: u32| cx.points[v as usize].map(q);
     facets
         .iter()
         .map(|&f| {
-            let facet = cx.facets.get(f as usize).ok_or_else(|| {
-                Error::Usage(format!("clip facet {} of {}", f + 1, cx.facets.len()))
-            })?;
-            let vs: Vec<u32> = facet.polygons.iter().flatten().copied().collect();
-            let o = p(vs[0]);
-            let n = vs
-                .iter()
-                .flat_map(|&a| vs.iter().map(move |&b| (a, b)))
-                .map(|(a, b)| cross(&sub(&p(a), &o), &sub(&p(b), &o)))
-                .find(|n| n.iter().any(|x| *x != 0))
+            if f as usize >= cx.facets.len() {
+                return Err(Error::Usage(format!(
+                    "clip facet {} of {}",
+                    f + 1,
+                    cx.facets.len()
+                )));
+            }
+            let (o, n, above, below) = plane_sides(cx, f as usize)
                 .ok_or_else(|| Error::BadFacets(format!("facet {} spans no plane", f + 1)))?;
-            let sides: Vec<std::cmp::Ordering> = cx
-                .points
-                .iter()
-                .map(|x| dot(&sub(&x.map(q), &o), &n).cmp(&Q::from(0)))
-                .collect();
-            let (above, below) = (sides.contains(&Greater), sides.contains(&Less));
             if above && below {
                 return Err(Error::BadFacets(format!(
                     "facet {} cannot bound the mesh: points lie on both sides of its plane",

@@ -106,10 +106,16 @@ impl Diagram3 {
     /// face from an unbounded cell or a hole point).
     pub fn build<B: Backend3 + ?Sized>(backend: &B, cx: &Complex3, s: &Sites3) -> Result<Diagram3> {
         let rt = backend.regular3_exact(&s.p, &s.w)?;
-        if !rt.hidden.is_empty() {
+        // (mirrors across two planes may hide each other beyond both: no
+        // cell there is in the domain)
+        let hidden = rt
+            .hidden
+            .iter()
+            .filter(|&&x| !s.is_mirror(x as usize))
+            .count();
+        if hidden > 0 {
             return Err(Error::Certificate(format!(
-                "{} sites are hidden in their own diagram",
-                rt.hidden.len()
+                "{hidden} sites are hidden in their own diagram"
             )));
         }
         let exact_input: HashMap<[Q; 3], u32> = cx

@@ -96,8 +96,12 @@ fn bad_files_name_the_line_and_exit_non_zero() {
     assert!(err.contains("missing.poly"), "{err}");
     let square = dir.join("square.edg");
     std::fs::write(&square, "1\n0 0 1 0\n").unwrap();
-    let error = "--whole-polygons and --split-facets are for 3D inputs";
-    for flags in [&["--whole-polygons", "shared"][..], &["--split-facets"]] {
+    let error = "--whole-polygons, --split-facets and --clip-hull are for 3D inputs";
+    for flags in [
+        &["--whole-polygons", "shared"][..],
+        &["--split-facets"],
+        &["--clip-hull"],
+    ] {
         let mut args = vec![
             "conform",
             square.to_str().unwrap(),
@@ -388,6 +392,22 @@ fn conform_meshes_3d_files_and_rejects_bad_ones() {
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(r["whole_polygons_kept"], "coplanar");
+    // TetGen's example with its outer box cut at instead of being faces.
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
+    let (code, err) = run(
+        &example,
+        &[
+            "--clip-hull",
+            "--allow-sites-outside",
+            "--report",
+            report.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("11 cut at"), "{err}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(r["clip_facets"].as_array().unwrap().len(), 11);
     // Bad inputs: an error naming what is wrong, exit 1, nothing written.
     for f in [&vtu, &tough, &report] {
         std::fs::remove_file(f).unwrap();

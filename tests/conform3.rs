@@ -185,6 +185,41 @@ fn tetgen_example_plc_conforms() {
     }
 }
 
+/// TetGen's example with its hull facets (the outer box) cut at instead of
+/// being faces: their triangles no longer need to cross their duals.
+#[test]
+fn tetgen_example_clipped_at_its_hull() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
+    let cx = orthomesh::io::read_complex3(&path).unwrap();
+    let hull = orthomesh::conform3::hull_facets(&cx);
+    // the outer box's facets (the inner boxes' face outwards of nothing)
+    assert!(!hull.is_empty());
+    for b in compiled3() {
+        let opts = Options3 {
+            allow_sites_outside: true,
+            clip: hull.clone(),
+            ..Default::default()
+        };
+        let out = conform3(&*b, &cx, &opts).unwrap();
+        let (r, c) = (&out.report, &out.report.certificate);
+        println!(
+            "{}: TetGen's example clipped at {} hull facets: {} of {} sites inside",
+            b.name(),
+            hull.len(),
+            c.sites_inside,
+            c.domain_sites
+        );
+        assert!(c.conforms(), "{c:?}");
+        assert_eq!(r.clip_facets.len(), hull.len());
+        let volume = 20.0 - 1.5 * 1.25 * 0.5 - 1.5 * 1.5 * 0.5;
+        assert!((c.domain_volume - volume).abs() < 1e-12, "{c:?}");
+        assert!((c.cells_volume - volume).abs() < 1e-12, "{c:?}");
+        // measured with CGAL: 15 of 20 (29 of 46 with the hull as faces)
+        assert!(c.sites_inside >= 12, "{c:?}");
+        write("cliphull", &out);
+    }
+}
+
 #[test]
 fn no_regular_triangulation_is_an_error_naming_facets() {
     // Schoenhardt's twisted prism: bases, and each side folded along the

@@ -85,6 +85,13 @@ enum Command {
         /// stay outside; the points are listed in the report.
         #[arg(long)]
         split_facets: bool,
+        /// 3D: facets on the convex hull (every point on one side) bound
+        /// the mesh with nothing beyond: cut the cells at their planes
+        /// (mirrored sites) instead of making each one face. Their
+        /// triangles then need not cross their duals; the report lists
+        /// them (clip_facets).
+        #[arg(long)]
+        clip_hull: bool,
     },
     /// Hybrid reservoir mesh of one layer of a corner-point grid: reservoir
     /// cells, radial meshes around vertical wells, and conforming orthogonal
@@ -222,6 +229,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
             split_segments,
             whole_polygons,
             split_facets,
+            clip_hull,
             tough,
         } => {
             let cx = match io::read_input(&input)? {
@@ -243,7 +251,11 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                         allow_sites_outside,
                         keep,
                         split_facets,
-                        ..Default::default()
+                        clip: if clip_hull {
+                            orthomesh::conform3::hull_facets(&cx)
+                        } else {
+                            vec![]
+                        },
                     };
                     let mut out = conform3(&*backend, &cx, &opts)?;
                     if reproducible {
@@ -264,9 +276,9 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     "--tough is for 3D inputs (and for `hybrid`)".into(),
                 ));
             }
-            if whole_polygons != "auto" || split_facets {
+            if whole_polygons != "auto" || split_facets || clip_hull {
                 return Err(Error::Usage(
-                    "--whole-polygons and --split-facets are for 3D inputs".into(),
+                    "--whole-polygons, --split-facets and --clip-hull are for 3D inputs".into(),
                 ));
             }
             let opts = Options {
@@ -640,7 +652,7 @@ fn write_all3(
         let r = &out.report;
         let c = &r.certificate;
         eprintln!(
-            "{}: {} vertices, {} facets ({} triangles, {} polygons kept whole by {} lifts) -> {} cells ({} mesh vertices); \
+            "{}: {} vertices, {} facets ({} triangles, {} polygons kept whole by {} lifts, {} cut at) -> {} cells ({} mesh vertices); \
              weights: {}{}; sites outside their cells: {}",
             input.display(),
             cx.points.len(),
@@ -648,6 +660,7 @@ fn write_all3(
             r.triangles,
             r.whole_polygons,
             r.whole_polygons_kept,
+            r.clip_facets.len(),
             r.cells,
             r.mesh_vertices,
             r.weights.method,
