@@ -163,7 +163,7 @@ impl Complex3 {
     }
 
     /// The first non-collinear triple of these vertices.
-    fn spanning(&self, vs: &[u32]) -> Option<[u32; 3]> {
+    pub fn spanning(&self, vs: &[u32]) -> Option<[u32; 3]> {
         let p = |v: u32| self.points[v as usize];
         let &a = vs.first()?;
         let &b = vs.iter().find(|&&v| p(v) != p(a))?;

@@ -315,14 +315,14 @@ fn steiner_points(
     cx: &Complex3,
     sc: &Simplices3,
     wt: &weights3::Weights3,
-    s_clips: &[Clip],
+    clips: &[Clip],
 ) -> Vec<(usize, [f64; 3])> {
     let mut add: Vec<(usize, [f64; 3])> = vec![];
     for face in wt.sys3_failed.iter().map(|&f| &wt.faces[f as usize]) {
         let (Some(f), 3) = (face.facet, face.vertices.len()) else {
             continue;
         };
-        if s_clips.iter().any(|c| c.facet == f) {
+        if sites3::clip_of(clips, face.facet).is_some() {
             continue;
         }
         let Some((c, _)) = weights3::face_centre(cx, &wt.w, &face.vertices) else {
@@ -357,13 +357,9 @@ fn steiner_points(
 /// whether input points lie beyond it (along the normal) and before it.
 fn plane_sides(cx: &Complex3, f: usize) -> Option<([Q; 3], [Q; 3], bool, bool)> {
     let p = |v: u32| cx.points[v as usize].map(q);
-    let vs: Vec<u32> = cx.facets[f].polygons.iter().flatten().copied().collect();
-    let o = p(*vs.first()?);
-    let n = vs
-        .iter()
-        .flat_map(|&a| vs.iter().map(move |&b| (a, b)))
-        .map(|(a, b)| cross(&sub(&p(a), &o), &sub(&p(b), &o)))
-        .find(|n| n.iter().any(|x| *x != 0))?;
+    let [a, b, c] = cx.spanning(&cx.facets[f].polygons.concat())?;
+    let o = p(a);
+    let n = cross(&sub(&p(b), &o), &sub(&p(c), &o));
     let sides: Vec<std::cmp::Ordering> = cx
         .points
         .iter()

@@ -238,7 +238,7 @@ impl Diagram3 {
         let mut vertices: Vec<u32> = vec![];
         for (fi, face) in wt.faces.iter().enumerate() {
             vertices.extend(&face.vertices);
-            if s.clips.iter().any(|c| face.facet == Some(c.facet)) {
+            if crate::sites3::clip_of(&s.clips, face.facet).is_some() {
                 // cut by mirrors: the domain's cells share them out
                 continue;
             }
@@ -391,7 +391,7 @@ fn boundary_volume(cx: &Complex3, wt: &Weights3, s: &Sites3, d: &Diagram3) -> f6
     let mut vol = 0.0;
     for (fi, face) in wt.faces.iter().enumerate() {
         // away from the domain: towards the outer site, or the clip's normal
-        let d: [f64; 3] = if let Some(c) = s.clips.iter().find(|c| face.facet == Some(c.facet)) {
+        let d: [f64; 3] = if let Some(c) = crate::sites3::clip_of(&s.clips, face.facet) {
             c.n.clone().map(|x| f(&x))
         } else {
             let Some([a, b]) = s.of_face[fi] else {

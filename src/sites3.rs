@@ -45,6 +45,11 @@ pub struct Clip {
     pub n: [Q; 3],
 }
 
+/// The clip plane of the facet a face lies in, if it is one.
+pub fn clip_of(clips: &[Clip], facet: Option<u32>) -> Option<&Clip> {
+    clips.iter().find(|c| facet == Some(c.facet))
+}
+
 impl Clip {
     /// The mirror image of x.
     fn mirror(&self, x: &[Q; 3]) -> [Q; 3] {
@@ -392,7 +397,7 @@ impl Sites3 {
         }
         let mut keep = vec![true; this.p.len()];
         for (fi, face) in wt.faces.iter().enumerate() {
-            if clips.iter().any(|c| face.facet == Some(c.facet)) {
+            if clip_of(&clips, face.facet).is_some() {
                 for x in this.of_face[fi].into_iter().flatten() {
                     keep[x as usize] = false;
                 }
