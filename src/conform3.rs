@@ -272,6 +272,12 @@ impl Attempt {
         let mut s = sites3::place(&cx, &wt)?;
         if !clips.is_empty() {
             s = s.clipped(&cx, &wt, clips.to_vec());
+            if !s.span_volume() {
+                return Err(Error::Degenerate(format!(
+                    "cut at facets {}, the sites left span no volume (cut at fewer facets)",
+                    crate::error::list(&clips.iter().map(|c| c.facet + 1).collect::<Vec<_>>())
+                )));
+            }
         }
         let mut d = Diagram3::build(backend, &cx, &s)?;
         let mut rounds = 0;

@@ -72,10 +72,12 @@ pub enum Error {
     /// 3D input: what is wrong inside one facet (numbered from 1 in file
     /// order), its edges numbered from 1 in file order.
     InFacet { facet: i64, error: Box<Error> },
+    /// Each way a build was tried (how, and why it failed).
+    Tried(Vec<(String, Error)>),
 }
 
 /// Shows at most 20 items, then how many more.
-fn list<T: fmt::Display>(items: &[T]) -> String {
+pub(crate) fn list<T: fmt::Display>(items: &[T]) -> String {
     let shown: Vec<String> = items.iter().take(20).map(|x| x.to_string()).collect();
     let more = items.len().saturating_sub(20);
     if more > 0 {
@@ -169,6 +171,10 @@ impl fmt::Display for Error {
                 f,
                 "in facet {facet} (its edges numbered from 1 in file order): {error}"
             ),
+            Error::Tried(ways) => {
+                let v: Vec<String> = ways.iter().map(|(how, e)| format!("{how}: {e}")).collect();
+                write!(f, "every way failed: {}", v.join("; "))
+            }
         }
     }
 }
@@ -187,5 +193,16 @@ mod tests {
         let s = e.to_string();
         assert!(s.contains("20 and 5 more"), "{s}");
         assert!(!s.contains("21"));
+    }
+
+    #[test]
+    fn every_way_tried_is_named() {
+        let e = Error::Tried(vec![
+            ("cut".into(), Error::Degenerate("flat".into())),
+            ("faces".into(), Error::Lp("no solution".into())),
+        ]);
+        let s = e.to_string();
+        assert!(s.contains("cut: nothing to mesh: flat; faces: "), "{s}");
+        assert!(s.ends_with("no solution"), "{s}");
     }
 }

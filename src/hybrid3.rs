@@ -340,7 +340,14 @@ pub fn build<B: Backend3 + ?Sized>(
     // above the bottom (a deviated well's triangles may have theirs
     // beyond); where it fails, the annuli are faces again.
     let t = match opts.clip {
-        true => run(vec![top, top + 1]).or_else(|_| run(vec![]))?,
+        true => run(vec![top, top + 1]).or_else(|cut| {
+            run(vec![]).map_err(|faces| {
+                Error::Tried(vec![
+                    ("cut at the grid's top and bottom".into(), cut),
+                    ("with the annuli there as faces".into(), faces),
+                ])
+            })
+        })?,
         false => run(vec![])?,
     };
 

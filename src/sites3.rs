@@ -439,6 +439,30 @@ impl Sites3 {
         out
     }
 
+    /// Whether the sites that are not mirrors span a volume (clipping at
+    /// every facet may leave them on a plane, or none).
+    pub fn span_volume(&self) -> bool {
+        let own: Vec<&[Q; 3]> = (0..self.p.len())
+            .filter(|&x| self.mirror_of[x].is_none())
+            .map(|x| &self.p[x])
+            .collect();
+        let Some(&a) = own.first() else {
+            return false;
+        };
+        let zero = Q::from(0);
+        let Some(&b) = own.iter().find(|b| **b != a) else {
+            return false;
+        };
+        let Some(n) = own
+            .iter()
+            .map(|c| cross(&sub(b, a), &sub(c, a)))
+            .find(|n| n.iter().any(|x| *x != zero))
+        else {
+            return false;
+        };
+        own.iter().any(|d| dot(&sub(d, a), &n) != zero)
+    }
+
     /// Puts the mirrors where their sites are now (after relocation).
     pub fn remirror(&mut self) {
         for m in 0..self.mirror_of.len() {

@@ -106,6 +106,15 @@ fn stacked_boxes_clipped_at_bottom_and_top() {
         };
         let err = conform3(&*b, &cx, &opts).unwrap_err().to_string();
         assert!(err.contains("clip facet 1000 of"), "{err}");
+        // A box cut at all its sides keeps nothing to conform to.
+        let one = orthomesh::generate::stacked_boxes(1);
+        let opts = Options3 {
+            clip: orthomesh::conform3::hull_facets(&one),
+            ..Default::default()
+        };
+        assert_eq!(opts.clip.len(), one.facets.len());
+        let err = conform3(&*b, &one, &opts).unwrap_err().to_string();
+        assert!(err.contains("the sites left span no volume"), "{err}");
     }
 }
 
