@@ -505,7 +505,7 @@ fn hybrid_3d_from_options() {
     for (grid, wells, says) in [
         (g, vec!["W:4:4:0.1", "V:3:3:0.1"], "exactly one --well"),
         (g, vec!["W:1:4:0.1"], "column on every side"),
-        (g, vec!["W:4:4:0.1:80:0"], "leaves the cavity"),
+        (g, vec!["W:4:4:0.1:80:0"], "needs a thicker grid"),
         (g, vec!["W:4:4"], ""),
         (
             spe9.to_str().unwrap(),

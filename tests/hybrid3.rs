@@ -55,6 +55,23 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
                 assert_eq!(r.non_orthogonal, 0);
                 assert_eq!(c.sites_inside, c.domain_sites);
             }
+            // The well's layers are across its axis: its own links are
+            // orthogonal, and so are its links to the transition through
+            // exact rectangles. Only its first and last layers, cut by the
+            // grid's top and bottom, have outer faces in triangles.
+            let m = &h.mesh;
+            let first_well = r.cells[0] + r.cells[1];
+            let layer = |c: usize| (c - first_well) / (opts.rings * opts.sectors);
+            for l in m.links.iter().filter(|l| m.link_defect(l) > 1e-6) {
+                let regions = l.cells.map(|c| h.region[c]);
+                assert!(regions.contains(&Region::Transition), "{regions:?}");
+                let w = l.cells[0].max(l.cells[1]);
+                assert!(layer(w) == 0 || layer(w) == 2, "{l:?}");
+            }
+            assert!(m
+                .links
+                .iter()
+                .any(|l| l.cells.iter().all(|&c| h.region[c] == Region::Well)));
             assert_eq!(r.transition.clip_facets.len(), 2);
             assert_eq!(r.cells[0], 7 * 7 * 3 - 9 * 3);
             assert_eq!(r.cells[2], 3 * opts.rings * opts.sectors);
@@ -69,6 +86,30 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
             );
             write(if dip == 0.0 { "vertical" } else { "deviated" }, &h);
         }
+    }
+}
+
+/// Wells the block cannot hold are errors naming why, before any meshing.
+#[test]
+fn wells_that_do_not_fit_are_errors() {
+    let b = &compiled3()[0];
+    let opts = Hybrid3Options::default();
+    for (nz, dip, says) in [
+        (
+            10,
+            20.0,
+            "leaves the cavity of the 3 x 3 columns around (4, 4) at layer",
+        ),
+        (
+            2,
+            60.0,
+            "at a dip of 60 degrees, its radial mesh (outer radius 10) needs a thicker grid",
+        ),
+        (2, 90.0, "a dip of 90 degrees is not through the layers"),
+    ] {
+        let g = CornerPointGrid::cartesian([7, 7, nz], [10.0, 10.0, 4.0]);
+        let err = build(&**b, &g, &well(dip), &opts).unwrap_err().to_string();
+        assert!(err.contains(says), "{dip}: {err}");
     }
 }
 
