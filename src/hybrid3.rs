@@ -7,10 +7,11 @@
 //! the 3 x 3 columns around the well's head, and a conforming orthogonal
 //! transition mesh (`conform3`) between the cavity's walls and the well
 //! mesh's outer surface. The walls are rectangles kept whole, so the
-//! reservoir cells beyond stay hexahedra; a vertical well's outer faces
-//! are rectangles too, a deviated well's are split in two triangles
-//! (input facets must be exactly planar, and its rectangles' corners are
-//! rounded), so its links to the transition need not be orthogonal.
+//! reservoir cells beyond stay hexahedra; the well's outer faces are
+//! rectangles too (a deviated well's exact on a lattice, `Lattice`),
+//! except in a deviated well's first and last layers, where they are
+//! split in two triangles and their links to the transition need not be
+//! orthogonal.
 
 use crate::backend::Backend3;
 use crate::complex3::{Complex3, Facet};
@@ -252,18 +253,18 @@ pub fn build<B: Backend3 + ?Sized>(
     let nl = mid.len();
     // The outline's points at the levels across the axis: on the lattice,
     // translates of the first such level's (exact rectangles between).
+    let t1 = match levels.get(1) {
+        Some(&Level::Along(t1)) => t1,
+        _ => 0.0,
+    };
     let base: Vec<[i64; 3]> = match (&lattice, levels.get(1)) {
-        (Some(l), Some(&Level::Along(t1))) => {
+        (Some(l), Some(Level::Along(_))) => {
             let plane = l.plane(at(outer, 0.0, Level::Along(t1)));
             (0..m)
                 .map(|s| l.on(at(outer, angle(s), Level::Along(t1)), plane))
                 .collect()
         }
         _ => vec![],
-    };
-    let t1 = match levels.get(1) {
-        Some(&Level::Along(t1)) => t1,
-        _ => 0.0,
     };
     let surface = |s: usize, k: usize| -> [f64; 3] {
         match (&lattice, levels[k]) {
@@ -273,7 +274,8 @@ pub fn build<B: Backend3 + ?Sized>(
             _ => at(outer, angle(s), levels[k]),
         }
     };
-    let exact = |k: usize| matches!(levels[k], Level::Along(_)) && !base.is_empty(); // The outer surface must stay inside the cavity, clear of its walls.
+    let exact = |k: usize| matches!(levels[k], Level::Along(_)) && !base.is_empty();
+    // The outer surface must stay inside the cavity, clear of its walls.
     let clear = 0.25 * half_side;
     for (k, &level) in levels.iter().enumerate() {
         for s in 0..m {
@@ -713,20 +715,28 @@ impl Lattice {
         })
     }
 
+    /// The axis' direction w (unit z).
+    fn slopes(&self) -> [f64; 3] {
+        let one = 2f64.powi(self.k);
+        [self.w[0] as f64 / one, self.w[1] as f64 / one, -1.0]
+    }
+
     /// The unit axis.
     fn axis(&self) -> [f64; 3] {
-        let one = 2f64.powi(self.k);
-        let v = [self.w[0] as f64 / one, self.w[1] as f64 / one, -1.0];
+        let v = self.slopes();
         let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
         v.map(|x| x / n)
     }
 
-    /// The length along the axis of one step.
+    /// The length along the axis of one step (h 2^K w).
     fn step(&self) -> f64 {
-        let one = 2f64.powi(self.k);
-        self.h
-            * one
-            * (1.0 + (self.w[0] as f64 / one).powi(2) + (self.w[1] as f64 / one).powi(2)).sqrt()
+        let [a, b, _] = self.slopes();
+        self.h * 2f64.powi(self.k) * (1.0 + a.powi(2) + b.powi(2)).sqrt()
+    }
+
+    /// The unit of Z.
+    fn z_unit(&self) -> f64 {
+        self.h / 2f64.powi(self.k)
     }
 
     /// Whole steps nearest to a length along the axis.
@@ -741,8 +751,7 @@ impl Lattice {
     }
 
     fn round(&self, p: [f64; 3]) -> [i64; 3] {
-        let z_unit = self.h / 2f64.powi(self.k);
-        [p[0] / self.h, p[1] / self.h, p[2] / z_unit].map(|c| c.round() as i64)
+        [p[0] / self.h, p[1] / self.h, p[2] / self.z_unit()].map(|c| c.round() as i64)
     }
 
     /// The lattice point with p's x and y rounded, on a plane.
@@ -761,11 +770,10 @@ impl Lattice {
     }
 
     fn point(&self, p: [i64; 3]) -> [f64; 3] {
-        let z_unit = self.h / 2f64.powi(self.k);
         [
             p[0] as f64 * self.h,
             p[1] as f64 * self.h,
-            p[2] as f64 * z_unit,
+            p[2] as f64 * self.z_unit(),
         ]
     }
 }

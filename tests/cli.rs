@@ -354,6 +354,9 @@ fn conform_meshes_3d_files_and_rejects_bad_ones() {
         args.extend(extra);
         orthomesh(&args)
     };
+    let read_report = || -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap()
+    };
     let (code, err) = run(
         &input,
         &[
@@ -373,8 +376,7 @@ fn conform_meshes_3d_files_and_rejects_bad_ones() {
     assert!(std::fs::read_to_string(&tough)
         .unwrap()
         .starts_with("ELEME"));
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let r = read_report();
     assert_eq!(r["dimension"], 3);
     assert_eq!(r["whole_polygons"], 6);
     assert_eq!(r["whole_polygons_kept"], "shared");
@@ -389,8 +391,7 @@ fn conform_meshes_3d_files_and_rejects_bad_ones() {
     );
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("by coplanar lifts"), "{err}");
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let r = read_report();
     assert_eq!(r["whole_polygons_kept"], "coplanar");
     // TetGen's example with its outer box cut at instead of being faces.
     let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
@@ -405,8 +406,7 @@ fn conform_meshes_3d_files_and_rejects_bad_ones() {
     );
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("11 cut at"), "{err}");
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let r = read_report();
     assert_eq!(r["clip_facets"].as_array().unwrap().len(), 11);
     // Bad inputs: an error naming what is wrong, exit 1, nothing written.
     for f in [&vtu, &tough, &report] {
