@@ -168,7 +168,11 @@ impl Diagram3 {
         let sp = s.approx();
         let site_inside = sites_inside(s, faces.keys());
         let mut cells: Vec<Option<Cell>> = vec![None; s.p.len()];
-        for (&[a, b], face) in &faces {
+        // in key order: the same input gives the same cells' face order
+        let mut keys: Vec<[u32; 2]> = faces.keys().copied().collect();
+        keys.sort_unstable();
+        for [a, b] in keys {
+            let face = &faces[&[a, b]];
             for (me, other) in [(a, b), (b, a)] {
                 if !in_domain[me as usize] {
                     continue;

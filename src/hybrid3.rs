@@ -490,7 +490,10 @@ pub fn build<B: Backend3 + ?Sized>(
         }
     }
     // reservoir connections
-    for (&[i, j, k], &a) in &res_cell {
+    // in grid order: the same input gives the same connections' order
+    let mut grid_order: Vec<([usize; 3], usize)> = res_cell.iter().map(|(&c, &a)| (c, a)).collect();
+    grid_order.sort_unstable_by_key(|&(_, a)| a);
+    for ([i, j, k], a) in grid_order {
         let (dx, dy, dz) = (xs[i + 1] - xs[i], ys[j + 1] - ys[j], zs[k] - zs[k + 1]);
         for (n, area, normal) in [
             ([i + 1, j, k], dy * dz, [1.0, 0.0, 0.0]),

@@ -249,10 +249,14 @@ fn the_same_input_gives_byte_identical_mesh_and_report() {
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("6 x 6") || err.contains("segments"), "{err}");
     let p = |f: &str| dir.join(f).display().to_string();
+    // a 3D box too: its cells' faces came in hash order
+    let cube = dir.join("box.poly");
+    std::fs::write(&cube, box_poly("", &[])).unwrap();
     let inputs = [
         mixed.display().to_string(),
         data("la.poly"),
         data("square_circle_hole.poly"),
+        cube.display().to_string(),
     ];
     for input in &inputs {
         let args: Vec<String> = [
