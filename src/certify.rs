@@ -1,4 +1,4 @@
-//! The exact certificate of a finished mesh (method.md section 7), decided
+//! The exact certificate of a finished mesh (docs/method.md section 7), decided
 //! on the power diagram of an exactly checked regular triangulation of the
 //! sites (vertex identities exact, see diagram.rs), plus floating-point
 //! checks on the mesh as written.

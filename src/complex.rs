@@ -32,7 +32,7 @@ pub struct Complex {
     /// Per segment (or empty: none), a point that should lie on the
     /// segment's dual line: the site of the cell across an interface, so
     /// that the face is orthogonal to the link between the two sites. Met
-    /// where the weights LP can meet it (method.md section 6).
+    /// where the weights LP can meet it (docs/method.md section 6).
     pub anchors: Vec<Option<[f64; 2]>>,
 }
 

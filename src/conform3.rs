@@ -459,7 +459,7 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights3::Weights3) -> Mesh3 {
         cell_of[x] = c;
     }
     // Power vertices of the domain's cells, those closer than the output
-    // precision merged (method.md section 4).
+    // precision merged (docs/method.md section 4).
     let mut used: Vec<u32> = domain
         .iter()
         .flat_map(|&x| {

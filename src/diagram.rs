@@ -1,6 +1,6 @@
 //! The power diagram of the sites, read off a regular triangulation of the
 //! sites that is checked exactly: every triangle counter-clockwise, the hull
-//! convex, every edge locally regular (method.md section 7). Such a
+//! convex, every edge locally regular (docs/method.md section 7). Such a
 //! triangulation is the regular triangulation of the exact sites, whatever
 //! arithmetic built it. Triangles whose power centres coincide exactly (edges
 //! with a zero power test) share one power vertex; a vertex is an input

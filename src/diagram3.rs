@@ -1,5 +1,5 @@
 //! The power diagram of the 3D sites and its exact certificate (issue 6;
-//! method.md section 7). The sites' regular triangulation is built from
+//! docs/method.md section 7). The sites' regular triangulation is built from
 //! their exact rationals; every power vertex (the orthocentre of a site
 //! tetrahedron) is computed exactly, so that "this power vertex is input
 //! vertex p" and "this face has exactly these vertices" are decided

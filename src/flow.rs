@@ -1,6 +1,6 @@
 //! Single-phase incompressible flow with two-point fluxes on a polygon mesh:
 //! what an orthogonal mesh is for, and the check that it gives Thiem's
-//! radial solution around a well (method.md section 6).
+//! radial solution around a well (docs/method.md section 6).
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;

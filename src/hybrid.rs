@@ -1,4 +1,4 @@
-//! Hybrid reservoir meshes in map view (paper section 5, method.md section 6):
+//! Hybrid reservoir meshes in map view (paper section 5, docs/method.md section 6):
 //! a layer of a corner-point grid, radial meshes around vertical wells, and
 //! between them, in cavities cut out of the grid, transition meshes from the
 //! 2D core. The result is one conforming polygon mesh: active reservoir cells
@@ -69,7 +69,7 @@ impl Default for HybridOptions {
     fn default() -> Self {
         // The flow check (tests/flow.rs) against Thiem's solution: 0.02% off
         // with these (5 x 5-cell cavity, well polygon 0.6 cells from its
-        // sides, method.md section 6); 0.5-1% with an outer radius of 0.9
+        // sides, docs/method.md section 6); 0.5-1% with an outer radius of 0.9
         // cells; 3% with 4 rings. Crowded wells get smaller radial meshes.
         HybridOptions {
             layer: 0,
@@ -1026,7 +1026,7 @@ pub fn build<B: Backend + ?Sized>(
         // beta makes every ring-to-ring link carry radial flow exactly: with
         // r_{q+1} = alpha r_q, the two-point transmissibility of the chord,
         // 2 r_{q+1} sin(h) / (rho_{q+1} - rho_q), equals the sector's radial
-        // one, 2h / ln(alpha) (method.md section 6; beats the geometric mean
+        // one, 2h / ln(alpha) (docs/method.md section 6; beats the geometric mean
         // and the mid-radius). Weights make each chord the radical line of
         // the sites beside it.
         let half = TAU / (2 * m) as f64;

@@ -1,4 +1,4 @@
-//! Sites into their own cells (paper section 5.2, method.md section 5).
+//! Sites into their own cells (paper section 5.2, docs/method.md section 5).
 //! A site lies strictly inside its cell iff for every neighbour b in the
 //! regular triangulation of the sites |a - b|^2 + omega_a - omega_b > 0,
 //! decided exactly. The site triangulation is built once from the sites

@@ -1,5 +1,5 @@
 //! Sites of the conforming power diagram (paper section 4, Theorem 1;
-//! method.md section 4). A site is defined exactly by doubles: a parameter t
+//! docs/method.md section 4). A site is defined exactly by doubles: a parameter t
 //! on the radical line of two input vertices i, j (base + t n, n the left
 //! normal of i -> j), or a double point serving one vertex. Its weight gives
 //! it power w_i at each vertex p_i it serves, exactly:
@@ -374,7 +374,7 @@ impl Sites {
     }
 
     /// Extra sites: one for a free end, three for an isolated vertex, on
-    /// duals of non-constraint edges of positive length (method.md section 4).
+    /// duals of non-constraint edges of positive length (docs/method.md section 4).
     fn place_vertex_sites(&mut self, cx: &Complex, rt: &Triangulation) {
         let degree = cx.degrees();
         let n = cx.points.len();

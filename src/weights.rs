@@ -10,7 +10,7 @@
 //! is never trusted: the regular triangulation of the returned weights is
 //! built with exact predicates and checked segment by segment.
 //!
-//! Objective (method.md section 2): phase 1 maximises a common margin `delta`
+//! Objective (docs/method.md section 2): phase 1 maximises a common margin `delta`
 //! over rows scaled to be dimensionless: first with free weights (only that
 //! try may declare infeasibility), then with |w_i| <= k l_i^2 for k raised
 //! stepwise (1, 16) until the margin is trusted; phase 2 keeps delta >= delta*/2
@@ -270,7 +270,7 @@ fn lp<B: Backend + ?Sized>(
     let mut report = WeightsReport::started("local");
     // The local form fixes the triangulation, so its failures are no
     // verdict. First with weights free only near the segments that need
-    // them (method.md section 2), then with all free.
+    // them (docs/method.md section 2), then with all free.
     let unmet = if anchored {
         unmet_anchors(cx, &vec![0.0; n])
     } else {
@@ -1073,7 +1073,7 @@ impl Lp {
         let mut model = pb.try_optimise(sense).map_err(rejected)?;
         model.make_quiet();
         // Measured: dual simplex stalls on large sparse systems of this shape
-        // where interior point finishes in seconds (method.md section 2).
+        // where interior point finishes in seconds (docs/method.md section 2).
         model.set_option("solver", if big { "ipm" } else { "simplex" });
         if !big {
             // Measured: the primal simplex is 20% faster than the dual

@@ -13,7 +13,7 @@
 //! (rectangles, regular polygons) are kept whole: their lifts are made
 //! exactly coplanar, so the polygon is one face of the regular subdivision
 //! and one face of the power diagram. By default (`Keep::Coplanar`) that is
-//! method.md section 6's equality rows, solved exactly: each polygon
+//! docs/method.md section 6's equality rows, solved exactly: each polygon
 //! vertex beyond the first three has its weight fixed by the others
 //! (`Relations`), the LP sees only the free weights, and the dependent ones
 //! are recomputed as rationals from the LP's (the equalities hold
@@ -265,12 +265,12 @@ pub enum Keep {
     /// Shared weights, and coplanar lifts where shared weights leave no
     /// solution even with every facet triangulated, or HiGHS fails on them
     /// (measured on TetGen's example: shared weights bring more sites
-    /// inside, see README).
+    /// inside, see docs/limitations.md).
     #[default]
     Auto,
     /// Each polygon's vertices beyond its first three get the weights that
     /// put their lifts on the plane through the first three lifts (the
-    /// equality rows of method.md section 6, made exact): the most freedom.
+    /// equality rows of docs/method.md section 6, made exact): the most freedom.
     Coplanar,
     /// The vertices of whole polygons joined through common vertices share
     /// one weight: every polygon's power centre is its circumcentre, which

@@ -73,7 +73,7 @@ enum Command {
         /// 3D: how polygons kept whole keep their lifts coplanar: shared
         /// (one weight per group of polygons joined at vertices, so that
         /// each polygon's power centre is its circumcentre: orthogonal links
-        /// to cells centred on it), coplanar (method.md's equality rows,
+        /// to cells centred on it), coplanar (docs/method.md's equality rows,
         /// exact: more freedom), or auto (shared, then coplanar where
         /// shared weights leave no solution).
         #[arg(long, value_name = "WAY", default_value = "auto",

@@ -1,4 +1,4 @@
-//! TOUGH2 `MESH` files (ELEME and CONNE blocks, fixed columns; formats.md):
+//! TOUGH2 `MESH` files (ELEME and CONNE blocks, fixed columns; docs/formats.md):
 //! elements with their volume and node (the site, not the centroid), and
 //! connections with the distances from each node to the interface (they
 //! differ in a power diagram), the interface area and the gravity cosine.
