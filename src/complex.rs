@@ -2,7 +2,7 @@
 //! validation. Validation comes before any geometry and decides exactly.
 
 use crate::error::{Error, Result};
-use crate::exact::{in_box, orient};
+use crate::geom::{in_box, orient};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
@@ -216,7 +216,7 @@ impl Complex {
             ]
         };
         let boxes: Vec<[f64; 4]> = (0..self.segments.len()).map(bbox).collect();
-        let (lo, hi) = crate::mesh::bbox(p);
+        let (lo, hi) = crate::geom::bbox(p);
         // About one cell per item, but no smaller than a typical segment.
         let mut sizes: Vec<f64> = boxes
             .iter()

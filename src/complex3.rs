@@ -10,7 +10,7 @@
 use crate::backend::Backend;
 use crate::complex::{distinct_with_extent, finite_in_range, Complex};
 use crate::error::{Error, Result};
-use crate::exact::{is_pos, orient, orient3, q, Q};
+use crate::geom::{is_pos, orient, orient3, q, Q};
 use std::cmp::Ordering;
 
 /// One facet: everything in it lies in one plane.
@@ -336,7 +336,7 @@ impl Complex3 {
         );
         let bbox = |vs: &[u32]| {
             let pts: Vec<[f64; 3]> = vs.iter().map(|&v| self.points[v as usize]).collect();
-            let (lo, hi) = crate::mesh::bbox(&pts);
+            let (lo, hi) = crate::geom::bbox(&pts);
             [lo, hi]
         };
         let boxes: Vec<[[f64; 3]; 2]> = items.iter().map(|(vs, _)| bbox(vs)).collect();
@@ -469,7 +469,7 @@ impl Geometry<'_> {
                 || self.on_segment(q, r, s);
         };
         let f = |v: u32| drop_axis(k, self.p(v));
-        crate::exact::segments_meet(f(p), f(q), f(r), f(s))
+        crate::geom::segments_meet(f(p), f(q), f(r), f(s))
     }
 
     fn segment_meets_triangle(&self, p: u32, q: u32, [a, b, c]: [u32; 3]) -> bool {

@@ -4,9 +4,10 @@
 
 use crate::backend::Backend3;
 use crate::complex3::{Complex3, Simplices3};
-use crate::diagram3::{Certificate3, Diagram3, Plane};
+use crate::diagram3::{Certificate3, Diagram3};
 use crate::error::{Error, Result};
-use crate::exact::{cross, dot, q, sub, Q};
+use crate::geom::Plane;
+use crate::geom::{cross, dot, q, sub, Q};
 use crate::sites3::{self, Clip, Sites3};
 use crate::weights::WeightsReport;
 use crate::weights3;
@@ -334,7 +335,7 @@ fn steiner_points(
         let Some((c, _)) = weights3::face_centre(cx, &wt.w, &face.vertices) else {
             continue;
         };
-        let c = c.map(|x| crate::exact::f(&x));
+        let c = c.map(|x| crate::geom::f(&x));
         let g: [f64; 3] = std::array::from_fn(|k| {
             face.vertices
                 .iter()

@@ -9,7 +9,7 @@
 use crate::backend::{Backend3, Tetrahedralisation};
 use crate::complex3::Complex3;
 use crate::error::{Error, Result};
-use crate::exact::{f, is_pos, norm2, q, sub, Q};
+use crate::geom::{det3_f, dot_f, f, is_pos, newell, norm2, q, sub, Q};
 use crate::sites3::Sites3;
 use crate::weights3::Weights3;
 use serde::Serialize;
@@ -92,7 +92,7 @@ fn orthocentre(s: &Sites3, t: [u32; 4]) -> [Q; 3] {
     let (r0, r1, r2) = (row(b), row(c), row(d));
     let m = [&r0.0, &r1.0, &r2.0];
     let rhs = [&r0.1, &r1.1, &r2.1];
-    let det3 = |m: [[&Q; 3]; 3]| crate::exact::det3_q(m);
+    let det3 = |m: [[&Q; 3]; 3]| crate::geom::det3_q(m);
     let cols = |k: usize| -> Q {
         let pick = |r: usize, c: usize| if c == k { rhs[r] } else { &m[r][c] };
         det3([0, 1, 2].map(|r| [0, 1, 2].map(|c| pick(r, c))))
@@ -426,57 +426,6 @@ fn boundary_volume(cx: &Complex3, wt: &Weights3, s: &Sites3, d: &Diagram3) -> f6
         vol += face_vol;
     }
     vol
-}
-
-fn dot_f(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn det3_f(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
-    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-        + a[2] * (b[0] * c[1] - b[1] * c[0])
-}
-
-/// A planar polygon's plane, in doubles.
-#[derive(Debug, Clone, Copy)]
-pub struct Plane {
-    /// A point of the polygon.
-    pub origin: [f64; 3],
-    /// Unit normal (the polygon counter-clockwise seen from its tip).
-    pub unit: [f64; 3],
-    pub area: f64,
-}
-
-impl Plane {
-    pub fn of(pts: &[[f64; 3]]) -> Plane {
-        let n = newell(pts);
-        let len = dot_f(n, n).sqrt();
-        Plane {
-            origin: pts[0],
-            unit: n.map(|c| c / len),
-            area: len / 2.0,
-        }
-    }
-
-    /// The distance from x to the plane.
-    pub fn distance(&self, x: [f64; 3]) -> f64 {
-        dot_f(std::array::from_fn(|k| self.origin[k] - x[k]), self.unit).abs()
-    }
-}
-
-/// Newell's normal of a planar polygon: twice its area times the unit
-/// normal (counter-clockwise seen from its tip).
-pub fn newell(pts: &[[f64; 3]]) -> [f64; 3] {
-    let edge = |k: usize| (pts[k], pts[(k + 1) % pts.len()]);
-    std::array::from_fn(|i| {
-        let (j, l) = ((i + 1) % 3, (i + 2) % 3);
-        (0..pts.len())
-            .map(|k| {
-                let (a, b) = edge(k);
-                (a[j] - b[j]) * (a[l] + b[l])
-            })
-            .sum()
-    })
 }
 
 #[cfg(test)]

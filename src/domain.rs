@@ -6,7 +6,7 @@
 use crate::backend::{Backend, Triangulation};
 use crate::complex::Complex;
 use crate::error::{Error, Result};
-use crate::exact::orient;
+use crate::geom::orient;
 use crate::FastSet;
 use std::cmp::Ordering;
 use std::collections::VecDeque;

@@ -263,7 +263,7 @@ impl MapView {
             self.pid(i + 1, j + 1),
             self.pid(i, j + 1),
         ];
-        if crate::mesh::shoelace(4, |k| self.pillar[q[k] as usize]) < 0.0 {
+        if crate::geom::shoelace(4, |k| self.pillar[q[k] as usize]) < 0.0 {
             [q[0], q[3], q[2], q[1]]
         } else {
             q
@@ -515,7 +515,7 @@ pub fn build<B: Backend + ?Sized>(
             let q = quad_points(i, j);
             // NaN area (unreadable corners) counts as none
             grid.active(i, j, k)
-                && crate::mesh::shoelace(4, |c| q[c]).abs().partial_cmp(&0.0)
+                && crate::geom::shoelace(4, |c| q[c]).abs().partial_cmp(&0.0)
                     != Some(std::cmp::Ordering::Greater)
         })
         .map(|(i, j)| format!("({}, {}, {})", i + 1, j + 1, k + 1))
@@ -1063,7 +1063,7 @@ pub fn build<B: Backend + ?Sized>(
         sizes(Region::Transition),
         sizes(Region::Well),
     ];
-    let (lo, hi) = crate::mesh::bbox(&mesh.points);
+    let (lo, hi) = crate::geom::bbox(&mesh.points);
     mesh.size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
     // The outer boundary: sides of active columns next to inactive ones or
     // the grid's edge. Every other cell edge must have a twin.

@@ -16,8 +16,8 @@
 use crate::backend::Backend3;
 use crate::complex3::{Complex3, Facet};
 use crate::conform3::{conform3, Link3, Mesh3, Options3, Report3};
-use crate::diagram3::Plane;
 use crate::error::{Error, Result};
+use crate::geom::{cross_f, volume, Plane};
 use crate::hybrid::{ring_radii, site_radii, Region};
 use crate::io::eclipse::CornerPointGrid;
 use serde::Serialize;
@@ -197,7 +197,7 @@ pub fn build<B: Backend3 + ?Sized>(
         zs[0],
     ];
     let e1 = [az.cos(), -az.sin(), 0.0];
-    let e2 = cross(u, e1);
+    let e2 = cross_f(u, e1);
     // The point of the cylinder of radius r at angle a on a level.
     let at = |r: f64, a: f64, level: Level| -> [f64; 3] {
         let off: [f64; 3] = std::array::from_fn(|k| r * (a.cos() * e1[k] + a.sin() * e2[k]));
@@ -389,7 +389,7 @@ pub fn build<B: Backend3 + ?Sized>(
                     let e: [f64; 3] = std::array::from_fn(|i| px[i] - po[i]);
                     let f: [f64; 3] = std::array::from_fn(|i| py[i] - po[i]);
                     let dot: f64 = (0..3).map(|i| e[i] * f[i]).sum();
-                    let n = cross(e, f);
+                    let n = cross_f(e, f);
                     n.iter().map(|x| x * x).sum::<f64>().sqrt().atan2(dot)
                 };
                 let ac = angle_at(b, a, c) + angle_at(d, c, a) <= std::f64::consts::PI;
@@ -789,14 +789,6 @@ enum Level {
     Along(f64),
 }
 
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 /// Distance between two sites along a unit direction.
 fn dist(a: [f64; 3], b: [f64; 3], n: [f64; 3]) -> f64 {
     (0..3).map(|k| (b[k] - a[k]) * n[k]).sum::<f64>().abs()
@@ -809,31 +801,13 @@ fn orient_faces(faces: Vec<Vec<u32>>, points: &[[f64; 3]], site: [f64; 3]) -> Ve
         .into_iter()
         .map(|mut f| {
             let pts: Vec<[f64; 3]> = f.iter().map(|&v| points[v as usize]).collect();
-            let n = crate::diagram3::newell(&pts);
+            let n = crate::geom::newell(&pts);
             if (0..3).map(|k| n[k] * (pts[0][k] - site[k])).sum::<f64>() < 0.0 {
                 f.reverse();
             }
             f
         })
         .collect()
-}
-
-/// A polyhedron's volume from its outward faces.
-fn volume(faces: &[Vec<u32>], points: &[[f64; 3]]) -> f64 {
-    let o = points[faces[0][0] as usize];
-    let rel = |v: u32| -> [f64; 3] { std::array::from_fn(|k| points[v as usize][k] - o[k]) };
-    faces
-        .iter()
-        .map(|f| {
-            (1..f.len() - 1)
-                .map(|k| {
-                    let (a, b, c) = (rel(f[0]), rel(f[k]), rel(f[k + 1]));
-                    let n = cross(b, c);
-                    (a[0] * n[0] + a[1] * n[1] + a[2] * n[2]) / 6.0
-                })
-                .sum::<f64>()
-        })
-        .sum()
 }
 
 /// The face two cells share (same point set).
@@ -900,7 +874,7 @@ impl Hybrid3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::exact::{dot, q, sub, Q};
+    use crate::geom::{dot, q, sub, Q};
 
     /// Translates of points on one plane across the axis make exact
     /// rectangles, in the doubles themselves, for axes and coordinates
@@ -937,7 +911,7 @@ mod tests {
                 let [a, b, c, d] = [a, b, c, d].map(|p| p.map(q));
                 assert_eq!(sub(&c, &b), sub(&d, &a));
                 assert_eq!(dot(&sub(&b, &a), &sub(&d, &a)), Q::from(0));
-                let len = crate::exact::f(&dot(&sub(&d, &a), &sub(&d, &a))).sqrt();
+                let len = crate::geom::f(&dot(&sub(&d, &a), &sub(&d, &a))).sqrt();
                 assert!((len - steps as f64 * l.step()).abs() < 1e-9 * len);
             }
         }

@@ -6,6 +6,7 @@
 use crate::backend::Triangulation;
 use crate::diagram::Diagram;
 use crate::error::{Error, Result};
+use crate::geom::shoelace;
 use crate::sites::Sites;
 use crate::FastMap;
 use nalgebra::Vector2;
@@ -118,30 +119,6 @@ pub struct Mesh {
     pub fixed: Vec<bool>,
     /// Largest extent of the mesh.
     pub size: f64,
-}
-
-/// Signed area of a polygon (shoelace), relative to its first vertex: far
-/// from the origin (map coordinates) absolute products would cancel.
-pub(crate) fn shoelace(n: usize, at: impl Fn(usize) -> [f64; 2]) -> f64 {
-    let o = Vector2::from(at(0));
-    let v = |k: usize| Vector2::from(at(k)) - o;
-    (1..n.saturating_sub(1))
-        .map(|k| v(k).perp(&v(k + 1)))
-        .sum::<f64>()
-        / 2.0
-}
-
-/// Lower-left and upper-right corners of the points' bounding box.
-pub(crate) fn bbox<const D: usize>(pts: &[[f64; D]]) -> ([f64; D], [f64; D]) {
-    let mut lo = [f64::INFINITY; D];
-    let mut hi = [f64::NEG_INFINITY; D];
-    for p in pts {
-        for k in 0..D {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (lo, hi)
 }
 
 impl Mesh {

@@ -10,7 +10,7 @@
 
 use crate::backend::Triangulation;
 use crate::complex::Complex;
-use crate::exact::{det3, det3_q, orient, q, qp, Iv, QPoint, Q};
+use crate::geom::{det3, det3_q, orient, q, qp, Iv, QPoint, Q};
 use crate::{FastMap, FastSet};
 use std::cmp::Ordering;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
@@ -689,7 +689,7 @@ impl Sites {
         let two_det = det * Q::from(2);
         let x = &p0[0] + (&ru * &v[1] - &rv * &u[1]) / &two_det;
         let y = &p0[1] + (&rv * &u[0] - &ru * &v[0]) / &two_det;
-        [crate::exact::f(&x), crate::exact::f(&y)]
+        [crate::geom::f(&x), crate::geom::f(&y)]
     }
 
     /// A site whose position or weight is beyond the range of doubles, or

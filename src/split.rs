@@ -11,7 +11,7 @@ use crate::backend::Backend;
 use crate::complex::Complex;
 use crate::conform::{conform, Options, Outcome};
 use crate::error::{Error, Result};
-use crate::exact::orient;
+use crate::geom::orient;
 use serde::Serialize;
 use std::cmp::Ordering;
 use std::collections::BTreeMap;

@@ -25,7 +25,7 @@ use crate::complex::Complex;
 use crate::conform::Progress;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
-use crate::exact::{abs, dot, in_diametral_disc, is_pos, norm2, q, qp, sub, Q};
+use crate::geom::{abs, dot, in_diametral_disc, is_pos, norm2, q, qp, sub, Q};
 use highs::{HighsModelStatus, RowProblem, Sense};
 use nalgebra::{SVector, Vector2};
 use serde::Serialize;
@@ -1545,7 +1545,7 @@ fn strictly_gabriel(cx: &Complex, dt: &Triangulation, i: u32, j: u32) -> bool {
 /// |w_i - w_j| < L and the radical point of i, j on the segment has smaller
 /// power for i than for each apex beside the segment.
 pub fn sys3_failures(cx: &Complex, w: &[f64], rt: &Triangulation) -> Vec<u32> {
-    use crate::exact::Iv;
+    use crate::geom::Iv;
     use rayon::prelude::*;
     let p = &cx.points;
     // Filtered: the same expressions in intervals, exact rationals only

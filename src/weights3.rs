@@ -26,7 +26,7 @@
 use crate::backend::{Backend3, Tetrahedralisation};
 use crate::complex3::{drop_axis, plane_axis, Complex3, Simplices3};
 use crate::error::{Error, Result};
-use crate::exact::{along, dot, is_pos, norm2, q, sub, Q};
+use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
 use crate::weights::{
     destroy_finished, plane_rows, rel, solve_rows, sys3_rows, Answer, Family, Row, System, Units,
     WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
@@ -169,7 +169,7 @@ fn kept_whole(cx: &Complex3) -> Vec<bool> {
             let flat = |v: u32| drop_axis(axis, p(v));
             let m = poly.len();
             let turn = |k: usize| {
-                crate::exact::orient(
+                crate::geom::orient(
                     flat(poly[k]),
                     flat(poly[(k + 1) % m]),
                     flat(poly[(k + 2) % m]),
@@ -415,7 +415,7 @@ impl Relations {
                 match self.of.get(c).copied().flatten() {
                     Some(k) => {
                         for (f, y) in &self.dependent[k].1 {
-                            add(*f, x * crate::exact::f(y));
+                            add(*f, x * crate::geom::f(y));
                         }
                     }
                     None => add(c, x),
@@ -670,7 +670,7 @@ fn finish(
     (whole_polygons, keep): (usize, Keep),
     sys3_failed: Vec<u32>,
 ) -> Weights3 {
-    report.max_abs_weight = w.iter().fold(0.0, |m, x| m.max(crate::exact::f(x).abs()));
+    report.max_abs_weight = w.iter().fold(0.0, |m, x| m.max(crate::geom::f(x).abs()));
     report.system3_feasible = sys3_failed.is_empty();
     Weights3 {
         w,

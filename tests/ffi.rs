@@ -4,7 +4,7 @@
 #![cfg(feature = "cgal")]
 
 use orthomesh::backend::{Backend, Cgal, Triangulation};
-use orthomesh::exact::Q;
+use orthomesh::geom::Q;
 use orthomesh::Error;
 
 fn random(n: usize, seed: u64) -> Vec<f64> {
@@ -160,7 +160,7 @@ fn regular_triangulation_3_batch_and_throws() {
 #[test]
 fn regular_triangulation_3_of_exact_rationals() {
     use orthomesh::backend::Backend3;
-    use orthomesh::exact::{q, Q};
+    use orthomesh::geom::{q, Q};
     // A unit cube's corners and its centre at weight 1/3: 6 pyramids, 12
     // tetrahedra. Halfway from the centre to the bottom face the lower hull
     // of the lifts is at (3/4 - 1/3 + 1) / 2 = 17/24; a point there with

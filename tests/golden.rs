@@ -59,24 +59,67 @@ const CASES: &[Case] = &[
     case(
         "A-split",
         &["tests/data/pslg/A.poly"],
-        &[&["conform", "A.poly", "-o", "m.vtu", "--svg", "m.svg", "--report", "m.json", "--split-segments", "@"]],
+        &[&[
+            "conform",
+            "A.poly",
+            "-o",
+            "m.vtu",
+            "--svg",
+            "m.svg",
+            "--report",
+            "m.json",
+            "--split-segments",
+            "@",
+        ]],
     ),
     case(
         "face-split",
         &["tests/data/pslg/face.poly"],
-        &[&["conform", "face.poly", "-o", "m.vtu", "--svg", "m.svg", "--report", "m.json", "--split-segments", "--allow-sites-outside", "@"]],
+        &[&[
+            "conform",
+            "face.poly",
+            "-o",
+            "m.vtu",
+            "--svg",
+            "m.svg",
+            "--report",
+            "m.json",
+            "--split-segments",
+            "--allow-sites-outside",
+            "@",
+        ]],
     ),
     case(
         "la-split",
         &["tests/data/pslg/la.poly"],
-        &[&["conform", "la.poly", "-o", "m.vtu", "--report", "m.json", "--split-segments", "@"]],
+        &[&[
+            "conform",
+            "la.poly",
+            "-o",
+            "m.vtu",
+            "--report",
+            "m.json",
+            "--split-segments",
+            "@",
+        ]],
     ),
     case(
         "mixed3",
         &[],
         &[
             &["generate", "mixed", "3", "-o", "mixed.poly"],
-            &["conform", "mixed.poly", "-o", "m.vtu", "--svg", "m.svg", "--report", "m.json", "--allow-sites-outside", "@"],
+            &[
+                "conform",
+                "mixed.poly",
+                "-o",
+                "m.vtu",
+                "--svg",
+                "m.svg",
+                "--report",
+                "m.json",
+                "--allow-sites-outside",
+                "@",
+            ],
         ],
     ),
     case(
@@ -84,63 +127,232 @@ const CASES: &[Case] = &[
         &[],
         &[
             &["generate", "cavities", "2", "-o", "cavities.poly"],
-            &["conform", "cavities.poly", "-o", "m.vtu", "--svg", "m.svg", "--report", "m.json", "@"],
+            &[
+                "conform",
+                "cavities.poly",
+                "-o",
+                "m.vtu",
+                "--svg",
+                "m.svg",
+                "--report",
+                "m.json",
+                "@",
+            ],
         ],
     ),
     case(
         "tetgen",
         &["tests/data/plc3d/example.poly"],
-        &[&["conform", "example.poly", "-o", "m.vtu", "--tough", "m.mesh", "--report", "m.json", "--allow-sites-outside", "@"]],
+        &[&[
+            "conform",
+            "example.poly",
+            "-o",
+            "m.vtu",
+            "--tough",
+            "m.mesh",
+            "--report",
+            "m.json",
+            "--allow-sites-outside",
+            "@",
+        ]],
     ),
     case(
         "tetgen-clip",
         &["tests/data/plc3d/example.poly"],
-        &[&["conform", "example.poly", "-o", "m.vtu", "--report", "m.json", "--allow-sites-outside", "--clip-hull", "@"]],
+        &[&[
+            "conform",
+            "example.poly",
+            "-o",
+            "m.vtu",
+            "--report",
+            "m.json",
+            "--allow-sites-outside",
+            "--clip-hull",
+            "@",
+        ]],
     ),
     case(
         "stacked",
         &["tests/golden/stacked3.poly"],
-        &[&["conform", "stacked3.poly", "-o", "m.vtu", "--tough", "m.mesh", "--report", "m.json", "@"]],
+        &[&[
+            "conform",
+            "stacked3.poly",
+            "-o",
+            "m.vtu",
+            "--tough",
+            "m.mesh",
+            "--report",
+            "m.json",
+            "@",
+        ]],
     ),
     case(
         "stacked-clip",
         &["tests/golden/stacked3.poly"],
-        &[&["conform", "stacked3.poly", "-o", "m.vtu", "--report", "m.json", "--clip-hull", "@"]],
+        &[&[
+            "conform",
+            "stacked3.poly",
+            "-o",
+            "m.vtu",
+            "--report",
+            "m.json",
+            "--clip-hull",
+            "@",
+        ]],
     ),
     case(
         "stacked-split",
         &["tests/golden/stacked3.poly"],
-        &[&["conform", "stacked3.poly", "-o", "m.vtu", "--report", "m.json", "--split-facets", "--whole-polygons", "coplanar", "@"]],
+        &[&[
+            "conform",
+            "stacked3.poly",
+            "-o",
+            "m.vtu",
+            "--report",
+            "m.json",
+            "--split-facets",
+            "--whole-polygons",
+            "coplanar",
+            "@",
+        ]],
     ),
     case(
         "spe9-deck",
-        &["tests/data/grids/SPE9.GRDECL", "tests/data/grids/SPE9_CP.DATA"],
-        &[&["hybrid", "--grid", "SPE9.GRDECL", "--deck", "SPE9_CP.DATA", "-o", "m.vtu", "--svg", "m.svg", "--tough", "m.mesh", "--report", "m.json", "@"]],
+        &[
+            "tests/data/grids/SPE9.GRDECL",
+            "tests/data/grids/SPE9_CP.DATA",
+        ],
+        &[&[
+            "hybrid",
+            "--grid",
+            "SPE9.GRDECL",
+            "--deck",
+            "SPE9_CP.DATA",
+            "-o",
+            "m.vtu",
+            "--svg",
+            "m.svg",
+            "--tough",
+            "m.mesh",
+            "--report",
+            "m.json",
+            "@",
+        ]],
     ),
     case(
         "spe9-layers",
         &["tests/data/grids/SPE9.GRDECL"],
-        &[&["hybrid", "--grid", "SPE9.GRDECL", "--well", "A:5:5:0.5", "--well-xy", "B:4000:4000", "--layers", "--rings", "4", "--sectors", "12", "-o", "m.vtu", "--tough", "m.mesh", "--report", "m.json", "@"]],
+        &[&[
+            "hybrid",
+            "--grid",
+            "SPE9.GRDECL",
+            "--well",
+            "A:5:5:0.5",
+            "--well-xy",
+            "B:4000:4000",
+            "--layers",
+            "--rings",
+            "4",
+            "--sectors",
+            "12",
+            "-o",
+            "m.vtu",
+            "--tough",
+            "m.mesh",
+            "--report",
+            "m.json",
+            "@",
+        ]],
     ),
     case(
         "faulted",
         &["tests/golden/faulted11.grdecl"],
-        &[&["hybrid", "--grid", "faulted11.grdecl", "--well", "W:6:4:0.1", "-o", "m.vtu", "--svg", "m.svg", "--tough", "m.mesh", "--report", "m.json", "@"]],
+        &[&[
+            "hybrid",
+            "--grid",
+            "faulted11.grdecl",
+            "--well",
+            "W:6:4:0.1",
+            "-o",
+            "m.vtu",
+            "--svg",
+            "m.svg",
+            "--tough",
+            "m.mesh",
+            "--report",
+            "m.json",
+            "@",
+        ]],
     ),
     case(
         "faulted-line",
         &["tests/golden/faulted11.grdecl"],
-        &[&["hybrid", "--grid", "faulted11.grdecl", "--well", "W:3:8:0.1", "--fault", "12,92,30,70", "--layer", "2", "--layers", "-o", "m.vtu", "--svg", "m.svg", "--report", "m.json", "@"]],
+        &[&[
+            "hybrid",
+            "--grid",
+            "faulted11.grdecl",
+            "--well",
+            "W:3:8:0.1",
+            "--fault",
+            "12,92,30,70",
+            "--layer",
+            "2",
+            "--layers",
+            "-o",
+            "m.vtu",
+            "--svg",
+            "m.svg",
+            "--report",
+            "m.json",
+            "@",
+        ]],
     ),
     case(
         "hybrid3-vertical",
         &["tests/golden/block7x7x2.grdecl"],
-        &[&["hybrid", "--3d", "--grid", "block7x7x2.grdecl", "--well", "W:4:4:0.1", "--rings", "4", "--sectors", "12", "-o", "m.vtu", "--tough", "m.mesh", "--report", "m.json", "@"]],
+        &[&[
+            "hybrid",
+            "--3d",
+            "--grid",
+            "block7x7x2.grdecl",
+            "--well",
+            "W:4:4:0.1",
+            "--rings",
+            "4",
+            "--sectors",
+            "12",
+            "-o",
+            "m.vtu",
+            "--tough",
+            "m.mesh",
+            "--report",
+            "m.json",
+            "@",
+        ]],
     ),
     case(
         "hybrid3-deviated",
         &["tests/golden/block7x7x2.grdecl"],
-        &[&["hybrid", "--3d", "--grid", "block7x7x2.grdecl", "--well", "W:4:4:0.1:20:30", "--rings", "2", "--sectors", "8", "--allow-sites-outside", "-o", "m.vtu", "--tough", "m.mesh", "--report", "m.json", "@"]],
+        &[&[
+            "hybrid",
+            "--3d",
+            "--grid",
+            "block7x7x2.grdecl",
+            "--well",
+            "W:4:4:0.1:20:30",
+            "--rings",
+            "2",
+            "--sectors",
+            "8",
+            "--allow-sites-outside",
+            "-o",
+            "m.vtu",
+            "--tough",
+            "m.mesh",
+            "--report",
+            "m.json",
+            "@",
+        ]],
     ),
 ];
 
@@ -152,9 +364,11 @@ fn root() -> &'static Path {
 fn all_cases() -> Vec<(String, Vec<String>, Vec<Vec<String>>)> {
     let mut v = vec![];
     for (file, flags) in CONFORM_2D {
-        let mut cmd: Vec<String> = ["conform", file, "-o", "m.vtu", "--svg", "m.svg", "--report", "m.json"]
-            .map(String::from)
-            .to_vec();
+        let mut cmd: Vec<String> = [
+            "conform", file, "-o", "m.vtu", "--svg", "m.svg", "--report", "m.json",
+        ]
+        .map(String::from)
+        .to_vec();
         cmd.extend(flags.iter().map(|s| s.to_string()));
         cmd.push("@".into());
         v.push((file.to_string(), vec![format!("{PSLG}{file}")], vec![cmd]));
@@ -238,8 +452,14 @@ fn outputs_keep_their_hashes() {
     // this test stays the same while the library changes around it)
     // ORTHOMESH_GOLDEN_BACKEND=pure runs the other backend's cases in a
     // build that has both.
-    let backend = std::env::var("ORTHOMESH_GOLDEN_BACKEND")
-        .unwrap_or_else(|_| if cfg!(feature = "cgal") { "cgal" } else { "pure" }.into());
+    let backend = std::env::var("ORTHOMESH_GOLDEN_BACKEND").unwrap_or_else(|_| {
+        if cfg!(feature = "cgal") {
+            "cgal"
+        } else {
+            "pure"
+        }
+        .into()
+    });
     let cases = all_cases();
     // two workers: each run is a separate process
     let next = std::sync::atomic::AtomicUsize::new(0);
@@ -255,12 +475,18 @@ fn outputs_keep_their_hashes() {
                         };
                         let t = std::time::Instant::now();
                         done.push((k, run_case(&backend, name, inputs, cmds)));
-                        eprintln!("golden {backend} {name}: {:.1} s", t.elapsed().as_secs_f64());
+                        eprintln!(
+                            "golden {backend} {name}: {:.1} s",
+                            t.elapsed().as_secs_f64()
+                        );
                     }
                 })
             })
             .collect();
-        workers.into_iter().flat_map(|w| w.join().unwrap()).collect()
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().unwrap())
+            .collect()
     });
     results.sort();
     let text: String = results.into_iter().map(|(_, l)| l).collect();

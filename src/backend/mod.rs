@@ -14,7 +14,7 @@ mod tetrahedra;
 pub use tetrahedra::Tetrahedralisation;
 
 use crate::error::Result;
-use crate::exact::Q;
+use crate::geom::Q;
 #[cfg(test)]
 use crate::FastMap;
 use std::cmp::Ordering;

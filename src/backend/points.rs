@@ -2,7 +2,7 @@
 //! flips above the backends decide with, and the pure-Rust engine's input.
 
 use super::FlipTests;
-use crate::exact::{det3, det3_q, det4, det4_q, q, Iv, Q};
+use crate::geom::{det3, det3_q, det4, det4_q, q, Iv, Q};
 use std::cmp::Ordering;
 
 /// Double points and weights.
@@ -34,7 +34,7 @@ pub(crate) fn sign_q(x: &Q) -> Ordering {
 
 impl FlipTests for F64Points<'_> {
     fn orient(&self, a: u32, b: u32, c: u32) -> Ordering {
-        crate::exact::orient(self.p[a as usize], self.p[b as usize], self.p[c as usize])
+        crate::geom::orient(self.p[a as usize], self.p[b as usize], self.p[c as usize])
     }
 
     fn power(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
@@ -93,7 +93,7 @@ impl F64Points3<'_> {
     /// Greater when d sees (a, b, c) counter-clockwise (`exact::orient3`).
     pub fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
         let p = |x: u32| self.p[x as usize];
-        crate::exact::orient3(p(a), p(b), p(c), p(d))
+        crate::geom::orient3(p(a), p(b), p(c), p(d))
     }
 
     /// Greater when e conflicts with the positively oriented tetrahedron

@@ -11,7 +11,7 @@
 use super::points::{power_q, sign_q, F64Points};
 use super::{Backend, FlipTests, Triangulation};
 use crate::error::{Error, Result};
-use crate::exact::{q, Q};
+use crate::geom::{q, Q};
 use std::cmp::Ordering;
 
 /// Weighted points as the engine sees them: exact predicates by index.
@@ -112,7 +112,7 @@ impl Weighted for QPoints<'_> {
     }
 
     fn approx(&self, a: u32) -> [f64; 2] {
-        self.p[a as usize].each_ref().map(crate::exact::f)
+        self.p[a as usize].each_ref().map(crate::geom::f)
     }
 }
 

@@ -8,7 +8,7 @@
 use super::points::{sign_q, F64Points3};
 use super::{Tetrahedralisation, NONE};
 use crate::error::{Error, Result};
-use crate::exact::{det3, det3_q, det4, det4_q, dot, norm2, q, sub, Iv, Q};
+use crate::geom::{det3, det3_q, det4, det4_q, dot, norm2, q, sub, Iv, Q};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
@@ -394,7 +394,7 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
     let collinear = |x: u32| {
         let (pa, pb, px) = (pts.exact(a).0, pts.exact(b).0, pts.exact(x).0);
         let (u, v) = (sub(&pb, &pa), sub(&px, &pa));
-        crate::exact::cross(&u, &v).iter().all(|c| *c == 0)
+        crate::geom::cross(&u, &v).iter().all(|c| *c == 0)
     };
     let c = (1..n)
         .find(|&x| x != b && !collinear(x))
@@ -438,9 +438,9 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
     // The rest, in a spatial order for short walks.
     let mut rest: Vec<u32> = (0..n).filter(|x| !first.contains(x)).collect();
     let approx: Vec<[f64; 3]> = (0..n)
-        .map(|v| pts.exact(v).0.map(|x| crate::exact::f(&x)))
+        .map(|v| pts.exact(v).0.map(|x| crate::geom::f(&x)))
         .collect();
-    let (lo, hi) = crate::mesh::bbox(&approx);
+    let (lo, hi) = crate::geom::bbox(&approx);
     rest.sort_by_cached_key(|&v| {
         let p = approx[v as usize];
         morton(std::array::from_fn(|k| {

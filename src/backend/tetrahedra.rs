@@ -344,8 +344,8 @@ mod tests {
             v.sort_unstable();
             (v, t.hidden.clone())
         };
-        let qp: Vec<[crate::exact::Q; 3]> = p.iter().map(|x| x.map(crate::exact::q)).collect();
-        let qw: Vec<crate::exact::Q> = w.iter().map(|&x| crate::exact::q(x)).collect();
+        let qp: Vec<[crate::geom::Q; 3]> = p.iter().map(|x| x.map(crate::geom::q)).collect();
+        let qw: Vec<crate::geom::Q> = w.iter().map(|&x| crate::geom::q(x)).collect();
         let all: Vec<_> = compiled3()
             .iter()
             .flat_map(|b| {

@@ -7,7 +7,7 @@ mod ffi;
 
 use super::{Backend, Backend3, Tetrahedralisation, Triangulation};
 use crate::error::{Error, Result};
-use crate::exact::Q;
+use crate::geom::Q;
 use std::fmt::Write;
 
 /// The CGAL backend (feature `cgal`).

@@ -1,0 +1,9 @@
+//! The geometric kernel: every exact predicate and construction (filters,
+//! intervals, rationals) and the measures in doubles. The one place where
+//! a geometric decision is made.
+
+mod exact;
+mod measure;
+
+pub use exact::*;
+pub use measure::*;
