@@ -3,7 +3,6 @@
 //! over the backend's 3D side.
 
 use crate::backend::Backend3;
-use crate::complex3::{Complex3, Simplices3};
 use crate::diagram3::{Certificate3, Diagram3};
 use crate::error::{Error, Result};
 use crate::geom::Plane;
@@ -11,6 +10,7 @@ use crate::geom::{cross, dot, q, sub, Q};
 use crate::sites3::{self, Clip, Sites3};
 use crate::weights::WeightsReport;
 use crate::weights3;
+use crate::{complex::Complex3, domain::Simplices3};
 use serde::Serialize;
 use std::cmp::Ordering::{Greater, Less};
 use std::time::Instant;

@@ -7,7 +7,7 @@
 //! vertices are written as the input's own doubles.
 
 use crate::backend::{Backend3, Tetrahedralisation};
-use crate::complex3::Complex3;
+use crate::complex::Complex3;
 use crate::error::{Error, Result};
 use crate::geom::{det3_f, dot_f, f, is_pos, newell, norm2, q, sub, Q};
 use crate::sites3::Sites3;

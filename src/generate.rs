@@ -190,14 +190,14 @@ pub fn mixed(nx: usize, ny: usize, seed: u64) -> Complex {
 /// Boxes stacked along z, sharing their horizontal rectangles: the 4 (k + 1)
 /// corners of [0, 2] x [0, 1] x [0, k] and their rectangles (a 3D complex
 /// whose faces are all kept whole).
-pub fn stacked_boxes(k: usize) -> crate::complex3::Complex3 {
+pub fn stacked_boxes(k: usize) -> crate::complex::Complex3 {
     let mut points = vec![];
     for z in 0..=k {
         for (x, y) in [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)] {
             points.push([x, y, z as f64]);
         }
     }
-    let facet = |p: [u32; 4]| crate::complex3::Facet {
+    let facet = |p: [u32; 4]| crate::complex::Facet {
         polygons: vec![p.to_vec()],
         ..Default::default()
     };
@@ -212,7 +212,7 @@ pub fn stacked_boxes(k: usize) -> crate::complex3::Complex3 {
         }
     }
     let n = points.len() as i64;
-    crate::complex3::Complex3 {
+    crate::complex::Complex3 {
         points,
         vertex_ids: (1..=n).collect(),
         facets,

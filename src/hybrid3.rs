@@ -14,7 +14,7 @@
 //! orthogonal.
 
 use crate::backend::Backend3;
-use crate::complex3::{Complex3, Facet};
+use crate::complex::{Complex3, Facet};
 use crate::conform3::{conform3, Link3, Mesh3, Options3, Report3};
 use crate::error::{Error, Result};
 use crate::geom::{cross_f, volume, Plane};

@@ -36,7 +36,6 @@
 pub mod backend;
 pub mod certify;
 pub mod complex;
-pub mod complex3;
 pub mod conform;
 pub mod conform3;
 pub mod diagram;

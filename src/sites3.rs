@@ -9,7 +9,7 @@
 //! exact rationals, so each site lies exactly on its dual and its weight
 //! is exactly that power.
 
-use crate::complex3::Complex3;
+use crate::complex::Complex3;
 use crate::error::{Error, Result};
 use crate::geom::{along, cross, dot, f, is_pos, norm2, q, sub, Q};
 use crate::weights3::{face_centre, fan, sorted3, Weights3};

@@ -24,12 +24,16 @@
 //! solution, fewer are kept and the LP tried again.
 
 use crate::backend::{Backend3, Tetrahedralisation};
-use crate::complex3::{drop_axis, plane_axis, Complex3, Simplices3};
 use crate::error::{Error, Result};
 use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
 use crate::weights::{
     destroy_finished, plane_rows, rel, solve_rows, sys3_rows, Answer, Family, Row, System, Units,
     WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
+};
+use crate::{
+    complex::Complex3,
+    domain::Simplices3,
+    geom::{drop_axis, plane_axis},
 };
 use nalgebra::{Matrix2, Matrix3x2, Vector2};
 use std::collections::{BTreeSet, HashMap, HashSet};
@@ -900,7 +904,7 @@ pub fn sys3_failures(cx: &Complex3, faces: &[Face], w: &[Q], rt: &Tetrahedralisa
 mod tests {
     use super::*;
     use crate::backend::compiled3;
-    use crate::complex3::Facet;
+    use crate::complex::Facet;
 
     fn facet(polygons: Vec<Vec<u32>>) -> Facet {
         Facet {

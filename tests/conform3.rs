@@ -3,7 +3,7 @@
 //! exactly; output read back by vtk (tests/readers.py: `conform3-*`).
 
 use orthomesh::backend::compiled3;
-use orthomesh::complex3::{Complex3, Facet};
+use orthomesh::complex::{Complex3, Facet};
 use orthomesh::conform3::{conform3, Options3, Outcome3};
 use orthomesh::error::Error;
 use orthomesh::weights3::Keep;
@@ -57,7 +57,7 @@ fn stacked_boxes_keep_their_rectangles_whole() {
 #[test]
 fn stacked_boxes_clipped_at_bottom_and_top() {
     let cx = orthomesh::generate::stacked_boxes(3);
-    let z = |f: &orthomesh::complex3::Facet| -> Vec<f64> {
+    let z = |f: &orthomesh::complex::Facet| -> Vec<f64> {
         f.polygons
             .iter()
             .flatten()

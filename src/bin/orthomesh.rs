@@ -1,7 +1,7 @@
 //! The orthomesh command line.
 
 use clap::{Parser, Subcommand};
-use orthomesh::complex3::Complex3;
+use orthomesh::complex::Complex3;
 use orthomesh::conform::{conform, Options, Outcome, Progress};
 use orthomesh::conform3::{conform3, Options3, Outcome3};
 use orthomesh::error::{Error, Result};

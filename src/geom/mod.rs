@@ -4,6 +4,8 @@
 
 mod exact;
 mod measure;
+mod simplices;
 
 pub use exact::*;
 pub use measure::*;
+pub use simplices::*;

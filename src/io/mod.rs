@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone)]
 pub enum Input {
     Plane(Complex),
-    Space(crate::complex3::Complex3),
+    Space(crate::complex::Complex3),
 }
 
 /// Reads a constraint complex, the file telling the dimension: .edg is
@@ -65,7 +65,7 @@ pub fn read_complex(path: &Path) -> Result<Complex> {
 
 /// Reads a 3D constraint complex (TetGen `.poly` or `.smesh`), not yet
 /// validated.
-pub fn read_complex3(path: &Path) -> Result<crate::complex3::Complex3> {
+pub fn read_complex3(path: &Path) -> Result<crate::complex::Complex3> {
     let text = read_text(path)?;
     let format = match extension(path).as_deref() {
         Some("poly") => tetgen::Format::Poly,

@@ -4,7 +4,7 @@
 //! past and ignored.
 
 use super::Records;
-use crate::complex3::{Complex3, Facet};
+use crate::complex::{Complex3, Facet};
 use crate::error::Result;
 use std::collections::HashMap;
 use std::path::Path;

@@ -1,0 +1,195 @@
+//! The 3D domain stage: each facet triangulated in its plane by the 2D
+//! domain stage, and simplices of different facets checked exactly to meet
+//! only in a common face.
+
+use crate::backend::Backend;
+use crate::complex::Complex3;
+use crate::error::{Error, Result};
+use crate::geom::Simplices;
+
+/// The simplicial complex of a validated PLC: each facet triangulated in
+/// its plane (constrained Delaunay, no new points; regions outside its
+/// polygons or around its hole points left out), the segments on no such
+/// triangle, the points on no triangle or segment; each with its facet
+/// (index into `Complex3::facets`).
+#[derive(Debug, Clone, Default)]
+pub struct Simplices3 {
+    pub triangles: Vec<[u32; 3]>,
+    pub triangle_facet: Vec<u32>,
+    pub segments: Vec<[u32; 2]>,
+    pub segment_facet: Vec<u32>,
+    pub points: Vec<u32>,
+    pub point_facet: Vec<u32>,
+}
+
+impl Complex3 {
+    /// Validates, triangulates the facets, and checks that simplices of
+    /// different facets meet only in a common face (exactly): else an
+    /// error naming the facets.
+    pub fn triangulate<B: Backend + ?Sized>(&self, backend: &B) -> Result<Simplices3> {
+        self.validate_in_space()?;
+        let mut out = Simplices3::default();
+        for (f, facet) in self.facets.iter().enumerate() {
+            let mut on_triangle = std::collections::HashSet::new();
+            let mut on_edge = std::collections::HashSet::new();
+            let area = facet.polygons.iter().any(|p| p.len() >= 3);
+            if let Some((cx, global)) = self.checked_facet_2d(f)?.filter(|_| area) {
+                let dom = crate::domain::build(backend, &cx).map_err(|e| Error::InFacet {
+                    facet: f as i64 + 1,
+                    error: Box::new(e),
+                })?;
+                for (t, tri) in dom.cdt.triangles.iter().enumerate() {
+                    if dom.inside[t] {
+                        let g = tri.map(|v| global[v as usize]);
+                        for k in 0..3 {
+                            on_triangle.insert(g[k]);
+                            let (a, b) = (g[k], g[(k + 1) % 3]);
+                            on_edge.insert((a.min(b), a.max(b)));
+                        }
+                        out.triangles.push(g);
+                        out.triangle_facet.push(f as u32);
+                    }
+                }
+            }
+            for poly in &facet.polygons {
+                if poly.len() == 2 {
+                    let (a, b) = (poly[0].min(poly[1]), poly[0].max(poly[1]));
+                    if on_edge.insert((a, b)) {
+                        out.segments.push([a, b]);
+                        out.segment_facet.push(f as u32);
+                        on_triangle.extend([a, b]);
+                    }
+                }
+            }
+            for poly in &facet.polygons {
+                if poly.len() == 1 && on_triangle.insert(poly[0]) {
+                    out.points.push(poly[0]);
+                    out.point_facet.push(f as u32);
+                }
+            }
+        }
+        let pairs = self.crossing_facets(&out);
+        if pairs.is_empty() {
+            Ok(out)
+        } else {
+            Err(Error::CrossingFacets { pairs })
+        }
+    }
+
+    /// Pairs of facets (ids from 1) with simplices that meet other than in
+    /// a common face: a sweep along x over bounding boxes, then exact tests.
+    fn crossing_facets(&self, sc: &Simplices3) -> Vec<(i64, i64)> {
+        let mut items: Vec<(Vec<u32>, u32)> = vec![];
+        items.extend(
+            sc.triangles
+                .iter()
+                .zip(&sc.triangle_facet)
+                .map(|(t, &f)| (t.to_vec(), f)),
+        );
+        items.extend(
+            sc.segments
+                .iter()
+                .zip(&sc.segment_facet)
+                .map(|(s, &f)| (s.to_vec(), f)),
+        );
+        items.extend(
+            sc.points
+                .iter()
+                .zip(&sc.point_facet)
+                .map(|(&p, &f)| (vec![p], f)),
+        );
+        let bbox = |vs: &[u32]| {
+            let pts: Vec<[f64; 3]> = vs.iter().map(|&v| self.points[v as usize]).collect();
+            let (lo, hi) = crate::geom::bbox(&pts);
+            [lo, hi]
+        };
+        let boxes: Vec<[[f64; 3]; 2]> = items.iter().map(|(vs, _)| bbox(vs)).collect();
+        let mut order: Vec<usize> = (0..items.len()).collect();
+        order.sort_unstable_by(|&i, &j| boxes[i][0][0].total_cmp(&boxes[j][0][0]));
+        let mut active: Vec<usize> = vec![];
+        let mut pairs = std::collections::BTreeSet::new();
+        for &i in &order {
+            active.retain(|&j| boxes[j][1][0] >= boxes[i][0][0]);
+            for &j in &active {
+                let (fi, fj) = (items[i].1, items[j].1);
+                let overlap = (1..3)
+                    .all(|k| boxes[i][0][k] <= boxes[j][1][k] && boxes[j][0][k] <= boxes[i][1][k]);
+                if fi != fj && overlap && Simplices(&self.points).improper(&items[i].0, &items[j].0)
+                {
+                    pairs.insert((fi.min(fj) as i64 + 1, fi.max(fj) as i64 + 1));
+                }
+            }
+            active.push(i);
+        }
+        pairs.into_iter().collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::complex::{tests::cube, Facet};
+
+    #[test]
+    fn facets_triangulate_and_must_not_cross() {
+        let b = crate::backend::default_backend();
+        let sc = cube().triangulate(&b).unwrap();
+        assert_eq!(sc.triangles.len(), 12);
+        assert!(sc.segments.is_empty() && sc.points.is_empty());
+        // A square through the cube's middle, its corners outside.
+        let mut c = cube();
+        let n = c.points.len() as u32;
+        c.points.extend([
+            [-1.0, -1.0, 0.5],
+            [2.0, -1.0, 0.5],
+            [2.0, 2.0, 0.5],
+            [-1.0, 2.0, 0.5],
+        ]);
+        c.vertex_ids.extend(9..=12);
+        c.facets.push(Facet {
+            polygons: vec![vec![n, n + 1, n + 2, n + 3]],
+            ..Default::default()
+        });
+        let e = c.triangulate(&b).unwrap_err();
+        assert!(
+            matches!(e, Error::CrossingFacets { ref pairs } if pairs.len() == 4 && pairs.iter().all(|p| p.1 == 7)),
+            "{e}"
+        );
+        // A dangling segment from a corner into the cube: fine; through
+        // the top face's interior: not.
+        let mut c = cube();
+        c.points.extend([[0.5, 0.5, 0.5], [0.5, 0.5, 2.0]]);
+        c.vertex_ids.extend([9, 10]);
+        c.facets.push(Facet {
+            polygons: vec![vec![0, 8]],
+            ..Default::default()
+        });
+        let sc = c.triangulate(&b).unwrap();
+        assert_eq!(sc.segments, vec![[0, 8]]);
+        c.facets.push(Facet {
+            polygons: vec![vec![8, 9]],
+            ..Default::default()
+        });
+        let e = c.triangulate(&b).unwrap_err().to_string();
+        assert!(e.contains("2 x 8"), "{e}");
+        // A triangle folded back onto the bottom face along its edge, and
+        // one touching it at a corner from inside its plane.
+        let mut c = cube();
+        c.points.extend([[0.5, 0.5, 0.0], [-1.0, -0.5, 0.0]]);
+        c.vertex_ids.extend([9, 10]);
+        c.facets.push(Facet {
+            polygons: vec![vec![0, 1, 8]],
+            ..Default::default()
+        });
+        let e = c.triangulate(&b).unwrap_err().to_string();
+        assert!(e.contains("1 x 7"), "{e}");
+        c.facets[6].polygons = vec![vec![0, 9, 2]];
+        assert!(
+            c.triangulate(&b).is_ok(),
+            "outside the square, sharing a corner"
+        );
+        c.points[9] = [0.25, 0.5, 0.0];
+        let e = c.triangulate(&b).unwrap_err().to_string();
+        assert!(e.contains("1 x 7"), "{e}");
+    }
+}

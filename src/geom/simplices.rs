@@ -1,0 +1,210 @@
+//! Exact predicates on points and simplices in space (points, segments,
+//! triangles of double points, by index): whether they meet, and the
+//! coordinate plane a facet projects onto.
+
+use super::exact::{is_pos, orient, orient3, q, Q};
+use std::cmp::Ordering;
+
+/// Whether three double points lie on one line (exactly: the cross
+/// product of b - a and c - a in rationals is zero).
+pub fn collinear(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> bool {
+    let d = |u: [f64; 3], k: usize| q(u[k]) - q(a[k]);
+    let (u, v) = ([0, 1, 2].map(|k| d(b, k)), [0, 1, 2].map(|k| d(c, k)));
+    (0..3).all(|k| {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        &u[i] * &v[j] == &u[j] * &v[i]
+    })
+}
+
+/// Exact predicates on simplices of double points, by index.
+pub struct Simplices<'a>(pub &'a [[f64; 3]]);
+
+impl Simplices<'_> {
+    fn p(&self, v: u32) -> [f64; 3] {
+        self.0[v as usize]
+    }
+
+    fn o3(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
+        orient3(self.p(a), self.p(b), self.p(c), self.p(d))
+    }
+
+    fn coplanar(&self, a: u32, b: u32, c: u32, d: u32) -> bool {
+        self.o3(a, b, c, d) == Ordering::Equal
+    }
+
+    /// The coordinate plane a non-degenerate triangle projects onto
+    /// without degenerating (the steepest such).
+    fn axis(&self, a: u32, b: u32, c: u32) -> usize {
+        plane_axis(self.p(a), self.p(b), self.p(c)).expect("a triangle of a validated facet")
+    }
+
+    /// 2D orientation of three points projected along `axis`.
+    fn o2(&self, axis: usize, a: u32, b: u32, c: u32) -> Ordering {
+        let f = |v: u32| drop_axis(axis, self.p(v));
+        orient(f(a), f(b), f(c))
+    }
+
+    /// Whether closed simplices (1 to 3 vertices) intersect.
+    fn meet(&self, s: &[u32], t: &[u32]) -> bool {
+        let (s, t) = if s.len() <= t.len() { (s, t) } else { (t, s) };
+        match (s, t) {
+            ([x], [y]) => x == y,
+            ([x], [p, q]) => self.on_segment(*x, *p, *q),
+            ([x], [a, b, c]) => self.coplanar(*a, *b, *c, *x) && self.in_triangle(*x, [*a, *b, *c]),
+            ([p, q], [r, u]) => self.segments_meet(*p, *q, *r, *u),
+            ([p, q], [a, b, c]) => self.segment_meets_triangle(*p, *q, [*a, *b, *c]),
+            ([a, b, c], [_, _, _]) => {
+                let tt = [t[0], t[1], t[2]];
+                let ss = [*a, *b, *c];
+                (0..3).any(|k| self.segment_meets_triangle(ss[k], ss[(k + 1) % 3], tt))
+                    || (0..3).any(|k| self.segment_meets_triangle(tt[k], tt[(k + 1) % 3], ss))
+            }
+            _ => unreachable!("simplices have 1 to 3 vertices"),
+        }
+    }
+
+    fn on_segment(&self, x: u32, p: u32, q: u32) -> bool {
+        let (x, p, q) = (self.p(x), self.p(p), self.p(q));
+        collinear(p, q, x) && (0..3).all(|k| x[k] >= p[k].min(q[k]) && x[k] <= p[k].max(q[k]))
+    }
+
+    /// x (in the triangle's plane) in the closed triangle.
+    fn in_triangle(&self, x: u32, [a, b, c]: [u32; 3]) -> bool {
+        let k = self.axis(a, b, c);
+        let o = [
+            self.o2(k, a, b, x),
+            self.o2(k, b, c, x),
+            self.o2(k, c, a, x),
+        ];
+        !(o.contains(&Ordering::Greater) && o.contains(&Ordering::Less))
+    }
+
+    fn segments_meet(&self, p: u32, q: u32, r: u32, s: u32) -> bool {
+        if !self.coplanar(p, q, r, s) {
+            return false;
+        }
+        let (pp, pq) = (self.p(p), self.p(q));
+        let Some(k) = [r, s].iter().find_map(|&x| plane_axis(pp, pq, self.p(x))) else {
+            // all four on one line
+            return self.on_segment(r, p, q)
+                || self.on_segment(s, p, q)
+                || self.on_segment(p, r, s)
+                || self.on_segment(q, r, s);
+        };
+        let f = |v: u32| drop_axis(k, self.p(v));
+        crate::geom::segments_meet(f(p), f(q), f(r), f(s))
+    }
+
+    fn segment_meets_triangle(&self, p: u32, q: u32, [a, b, c]: [u32; 3]) -> bool {
+        let (op, oq) = (self.o3(a, b, c, p), self.o3(a, b, c, q));
+        if op == Ordering::Equal && oq == Ordering::Equal {
+            return self.in_triangle(p, [a, b, c])
+                || self.in_triangle(q, [a, b, c])
+                || (0..3).any(|k| {
+                    let t = [a, b, c];
+                    self.segments_meet(p, q, t[k], t[(k + 1) % 3])
+                });
+        }
+        if op == oq {
+            return false;
+        }
+        let o = [
+            self.o3(p, q, a, b),
+            self.o3(p, q, b, c),
+            self.o3(p, q, c, a),
+        ];
+        !(o.contains(&Ordering::Greater) && o.contains(&Ordering::Less))
+    }
+
+    /// Whether the segment from v (a vertex of t) to a has points other
+    /// than v in the closed simplex t.
+    fn beyond_vertex(&self, v: u32, a: u32, t: &[u32]) -> bool {
+        let others: Vec<u32> = t.iter().copied().filter(|&x| x != v).collect();
+        match others[..] {
+            // t a segment (v, b): overlap along one line, on b's side.
+            [b] => collinear(self.p(v), self.p(b), self.p(a)) && self.same_direction(v, a, b),
+            // t a triangle (v, b, c): a in its plane, within its cone at v.
+            [b, c] => {
+                if !self.coplanar(v, b, c, a) {
+                    return false;
+                }
+                let k = self.axis(v, b, c);
+                let (b, c) = if self.o2(k, v, b, c) == Ordering::Greater {
+                    (b, c)
+                } else {
+                    (c, b)
+                };
+                self.o2(k, v, b, a) != Ordering::Less && self.o2(k, v, a, c) != Ordering::Less
+            }
+            _ => false,
+        }
+    }
+
+    /// For collinear v, a, b: whether a and b lie on the same side of v.
+    fn same_direction(&self, v: u32, a: u32, b: u32) -> bool {
+        let (v, a, b) = (self.p(v), self.p(a), self.p(b));
+        let d = (0..3)
+            .map(|k| (q(a[k]) - q(v[k])) * (q(b[k]) - q(v[k])))
+            .fold(Q::from(0), |s, x| s + x);
+        is_pos(&d)
+    }
+
+    /// For a, b coplanar with the line vw: whether they lie on one side of it.
+    fn same_side(&self, v: u32, w: u32, a: u32, b: u32) -> bool {
+        let k = self.axis(v, w, a);
+        self.o2(k, v, w, a) == self.o2(k, v, w, b)
+    }
+
+    /// Whether two simplices (1 to 3 vertices) meet in more than the face
+    /// their shared vertices span (exactly).
+    pub fn improper(&self, s: &[u32], t: &[u32]) -> bool {
+        let shared: Vec<u32> = s.iter().copied().filter(|v| t.contains(v)).collect();
+        let rest =
+            |x: &[u32]| -> Vec<u32> { x.iter().copied().filter(|v| !shared.contains(v)).collect() };
+        let (s1, t1) = (rest(s), rest(t));
+        if s1.is_empty() || t1.is_empty() {
+            return false; // one is a face of the other
+        }
+        let g = self;
+        match shared.len() {
+            0 => g.meet(s, t),
+            1 => {
+                let v = shared[0];
+                // The faces away from v, then the edges from v (a point of
+                // such an edge other than v lies in the other simplex only
+                // in its plane, inside its cone at v).
+                g.meet(&s1, t)
+                    || g.meet(&t1, s)
+                    || s1.iter().any(|&a| g.beyond_vertex(v, a, t))
+                    || t1.iter().any(|&a| g.beyond_vertex(v, a, s))
+            }
+            _ => {
+                // A shared edge (v, w): two triangles fold onto each other
+                // when coplanar with their third vertices on one side.
+                let [v, w] = [shared[0], shared[1]];
+                let (a, b) = (s1[0], t1[0]);
+                g.coplanar(v, w, a, b) && g.same_side(v, w, a, b)
+            }
+        }
+    }
+}
+
+/// The coordinate (0, 1, 2) whose drop keeps the triangle abc
+/// non-degenerate, the one along which its plane is steepest; None for
+/// collinear points.
+pub fn plane_axis(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<usize> {
+    let u = [0, 1, 2].map(|k| b[k] - a[k]);
+    let w = [0, 1, 2].map(|k| c[k] - a[k]);
+    let normal = [0, 1, 2].map(|k| {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        (u[i] * w[j] - u[j] * w[i]).abs()
+    });
+    (0..3)
+        .filter(|&k| orient(drop_axis(k, a), drop_axis(k, b), drop_axis(k, c)) != Ordering::Equal)
+        .max_by(|&i, &j| normal[i].total_cmp(&normal[j]))
+}
+
+/// A point with coordinate `axis` dropped (the others in cyclic order).
+pub fn drop_axis(axis: usize, x: [f64; 3]) -> [f64; 2] {
+    [x[(axis + 1) % 3], x[(axis + 2) % 3]]
+}
