@@ -7,6 +7,7 @@ use crate::complex::Complex;
 use crate::domain::{self, Domain};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
+use crate::progress::Progress;
 use crate::relocate::relocate;
 use crate::sites::{Role, Sites};
 use crate::weights::{self, WeightsReport};
@@ -28,9 +29,6 @@ pub struct Options {
     /// duals at Steiner points and mesh again (`split`).
     pub split_segments: bool,
 }
-
-/// A progress callback: (stage, done, of).
-pub type Progress = fn(&str, usize, usize);
 
 /// A certified mesh and how it was made.
 #[derive(Debug, Clone)]

@@ -8,8 +8,8 @@ use crate::error::{Error, Result};
 use crate::geom::Plane;
 use crate::geom::{cross, dot, q, sub, Q};
 use crate::sites3::{self, Clip, Sites3};
+use crate::weights;
 use crate::weights::WeightsReport;
-use crate::weights3;
 use crate::{complex::Complex3, domain::Simplices3};
 use serde::Serialize;
 use std::cmp::Ordering::{Greater, Less};
@@ -35,7 +35,7 @@ pub struct Options3 {
     pub allow_sites_outside: bool,
     /// How whole polygons stay whole (`Keep::Auto` unless the caller asks
     /// for shared weights or coplanar lifts).
-    pub keep: weights3::Keep,
+    pub keep: weights::Keep,
     /// Where faces miss their duals (system 3 infeasible), add Steiner
     /// points inside them to their facets, round by round, until none
     /// misses or no point can be added.
@@ -108,7 +108,7 @@ pub struct Report3 {
     pub triangles: usize,
     pub whole_polygons: usize,
     /// How they were kept: coplanar lifts, or shared weights.
-    pub whole_polygons_kept: weights3::Keep,
+    pub whole_polygons_kept: weights::Keep,
     /// Points added inside faces that missed their duals (`split_facets`).
     pub steiner_points: Vec<[f64; 3]>,
     /// Facets (ids from 1) the cells were cut at (`Options3::clip`).
@@ -234,7 +234,7 @@ pub fn conform3<B: Backend3 + ?Sized>(
 struct Attempt {
     cx: Complex3,
     sc: Simplices3,
-    wt: weights3::Weights3,
+    wt: weights::Weights3,
     s: Sites3,
     d: Diagram3,
     /// Relocation rounds, and the domain's sites left outside their cells.
@@ -248,7 +248,7 @@ impl Attempt {
         &self,
         backend: &B,
         add: &[(usize, [f64; 3])],
-        keep: weights3::Keep,
+        keep: weights::Keep,
         clips: &[Clip],
     ) -> Result<Attempt> {
         let mut next = self.cx.clone();
@@ -265,11 +265,11 @@ impl Attempt {
     fn run<B: Backend3 + ?Sized>(
         backend: &B,
         cx: Complex3,
-        keep: weights3::Keep,
+        keep: weights::Keep,
         clips: &[Clip],
     ) -> Result<Attempt> {
         let sc = cx.triangulate(backend)?;
-        let wt = weights3::solve(backend, &cx, &sc, keep)?;
+        let wt = weights::solve3(backend, &cx, &sc, keep)?;
         let mut s = sites3::place(&cx, &wt)?;
         if !clips.is_empty() {
             s = s.clipped(&cx, &wt, clips.to_vec());
@@ -321,7 +321,7 @@ impl Attempt {
 fn steiner_points(
     cx: &Complex3,
     sc: &Simplices3,
-    wt: &weights3::Weights3,
+    wt: &weights::Weights3,
     clips: &[Clip],
 ) -> Vec<(usize, [f64; 3])> {
     let mut add: Vec<(usize, [f64; 3])> = vec![];
@@ -332,7 +332,7 @@ fn steiner_points(
         if sites3::clip_of(clips, face.facet).is_some() {
             continue;
         }
-        let Some((c, _)) = weights3::face_centre(cx, &wt.w, &face.vertices) else {
+        let Some((c, _)) = weights::face_centre(cx, &wt.w, &face.vertices) else {
             continue;
         };
         let c = c.map(|x| crate::geom::f(&x));
@@ -410,7 +410,7 @@ fn clips(cx: &Complex3, facets: &[u32]) -> Result<Vec<Clip>> {
         .collect()
 }
 
-fn facet_ids(wt: &weights3::Weights3, faces: &[u32]) -> Vec<i64> {
+fn facet_ids(wt: &weights::Weights3, faces: &[u32]) -> Vec<i64> {
     let mut ids: Vec<i64> = faces
         .iter()
         .filter_map(|&f| wt.faces[f as usize].facet)
@@ -422,7 +422,7 @@ fn facet_ids(wt: &weights3::Weights3, faces: &[u32]) -> Vec<i64> {
 }
 
 /// The error naming the sites left outside their cells.
-fn sites_outside(cx: &Complex3, wt: &weights3::Weights3, s: &Sites3, d: &Diagram3) -> Error {
+fn sites_outside(cx: &Complex3, wt: &weights::Weights3, s: &Sites3, d: &Diagram3) -> Error {
     let mut sites = vec![];
     let mut faces = vec![];
     for x in (0..s.p.len()).filter(|&x| d.in_domain[x] && !d.site_inside[x]) {
@@ -452,7 +452,7 @@ fn sites_outside(cx: &Complex3, wt: &weights3::Weights3, s: &Sites3, d: &Diagram
 }
 
 /// The domain's cells as a mesh, with the faces between them.
-fn mesh(d: &Diagram3, s: &Sites3, wt: &weights3::Weights3) -> Mesh3 {
+fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
     let approx = &d.approx;
     let domain: Vec<usize> = (0..s.p.len()).filter(|&x| d.in_domain[x]).collect();
     let mut cell_of = vec![usize::MAX; s.p.len()];

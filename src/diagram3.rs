@@ -11,7 +11,7 @@ use crate::complex::Complex3;
 use crate::error::{Error, Result};
 use crate::geom::{det3_f, dot_f, f, is_pos, newell, norm2, q, sub, Q};
 use crate::sites3::Sites3;
-use crate::weights3::Weights3;
+use crate::weights::Weights3;
 use serde::Serialize;
 use std::collections::{HashMap, HashSet};
 
@@ -436,7 +436,7 @@ mod tests {
     fn pipeline(cx: &Complex3) -> (Weights3, Sites3, Diagram3, Certificate3) {
         let b = &compiled3()[0];
         let sc = cx.triangulate(b.as_ref()).unwrap();
-        let wt = crate::weights3::solve(b.as_ref(), cx, &sc, Default::default()).unwrap();
+        let wt = crate::weights::solve3(b.as_ref(), cx, &sc, Default::default()).unwrap();
         let s = crate::sites3::place(cx, &wt).unwrap();
         let d = Diagram3::build(b.as_ref(), cx, &s).unwrap();
         let c = d.certify(cx, &wt, &s);

@@ -417,7 +417,7 @@ pub fn build<B: Backend3 + ?Sized>(
                 // The walls' and the well's rectangles face cells centred on
                 // them: orthogonal links need their power centres at their
                 // centres, hence equal weights.
-                keep: crate::weights3::Keep::Shared,
+                keep: crate::weights::Keep::Shared,
                 split_facets: opts.split_facets,
                 clip,
             },

@@ -49,13 +49,14 @@ pub mod hybrid;
 pub mod hybrid3;
 pub mod io;
 pub mod layers;
+pub mod lp;
 pub mod mesh;
+pub mod progress;
 pub mod relocate;
 pub mod sites;
 pub mod sites3;
 pub mod split;
 pub mod weights;
-pub mod weights3;
 
 pub use complex::Complex;
 pub use error::{Error, Result};

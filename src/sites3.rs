@@ -12,7 +12,7 @@
 use crate::complex::Complex3;
 use crate::error::{Error, Result};
 use crate::geom::{along, cross, dot, f, is_pos, norm2, q, sub, Q};
-use crate::weights3::{face_centre, fan, sorted3, Weights3};
+use crate::weights::{face_centre, fan, sorted3, Weights3};
 use std::collections::{BTreeMap, HashMap};
 
 /// All sites, exactly.

@@ -6,7 +6,7 @@ use orthomesh::backend::compiled3;
 use orthomesh::complex::{Complex3, Facet};
 use orthomesh::conform3::{conform3, Options3, Outcome3};
 use orthomesh::error::Error;
-use orthomesh::weights3::Keep;
+use orthomesh::weights::Keep;
 use std::path::Path;
 
 fn write(stem: &str, out: &Outcome3) {

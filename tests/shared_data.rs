@@ -320,7 +320,7 @@ fn tetgen_example_plc_gets_weights() {
     let cx = orthomesh::io::read_complex3(&path).unwrap();
     for b in orthomesh::backend::compiled3() {
         let sc = cx.triangulate(&*b).unwrap();
-        let out = orthomesh::weights3::solve(&*b, &cx, &sc, Default::default()).unwrap();
+        let out = orthomesh::weights::solve3(&*b, &cx, &sc, Default::default()).unwrap();
         eprintln!(
             "{}: {} faces, {} whole polygons, report {:?}, sys3 failed {:?}",
             b.name(),

@@ -2,11 +2,12 @@
 
 use clap::{Parser, Subcommand};
 use orthomesh::complex::Complex3;
-use orthomesh::conform::{conform, Options, Outcome, Progress};
+use orthomesh::conform::{conform, Options, Outcome};
 use orthomesh::conform3::{conform3, Options3, Outcome3};
 use orthomesh::error::{Error, Result};
 use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
 use orthomesh::hybrid3::{self, Hybrid3Options, Well3};
+use orthomesh::progress::Progress;
 use orthomesh::{
     backend::{default_backend, Backend},
     io, Complex,
@@ -242,9 +243,9 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                         ));
                     }
                     let keep = match whole_polygons.as_str() {
-                        "shared" => orthomesh::weights3::Keep::Shared,
-                        "coplanar" => orthomesh::weights3::Keep::Coplanar,
-                        _ => orthomesh::weights3::Keep::Auto,
+                        "shared" => orthomesh::weights::Keep::Shared,
+                        "coplanar" => orthomesh::weights::Keep::Coplanar,
+                        _ => orthomesh::weights::Keep::Auto,
                     };
                     let backend = orthomesh::backend::by_name3(backend.name())?;
                     let opts = Options3 {

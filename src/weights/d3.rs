@@ -26,7 +26,7 @@
 use crate::backend::{Backend3, Tetrahedralisation};
 use crate::error::{Error, Result};
 use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
-use crate::weights::{
+use crate::lp::{
     destroy_finished, plane_rows, rel, solve_rows, sys3_rows, Answer, Family, Row, System, Units,
     WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
 };

@@ -1,0 +1,486 @@
+//! One HiGHS model of a row system, kept across phase 1's k ladder and
+//! phase 2, warm-started from its basis.
+
+use super::{
+    finite, Family, Row, System, WeightsReport, ANCHOR_COST, BIG_MODEL, LAZY_SLACK, LP_BUDGET,
+};
+use crate::error::{Error, Result};
+use highs::{HighsModelStatus, RowProblem, Sense};
+use std::collections::HashMap;
+use std::ops::Bound;
+
+pub(crate) enum Mode {
+    /// Maximise delta.
+    Margin,
+    /// System 1 with delta >= min; system 3 rows elastic, minimise the
+    /// violation, segment s weighted by costs[s] (1 where absent).
+    Elastic {
+        delta_min: f64,
+        costs: HashMap<u32, f64>,
+    },
+}
+
+pub(crate) struct Solution {
+    pub(crate) delta: f64,
+    pub(crate) w: Vec<f64>,
+    /// Elastic mode: the violation of system 3 per segment.
+    pub(crate) slack: HashMap<u32, f64>,
+}
+
+/// HiGHS runs (shared) and instance drops (exclusive), see `Lp::solve`.
+pub(crate) static HIGHS: std::sync::RwLock<()> = std::sync::RwLock::new(());
+
+/// One HiGHS model of a row system, kept across phase 1's k ladder and
+/// phase 2. Each free weight is the difference of two non-negative columns,
+/// w_i = p_i - q_i, so that phase 2's objective sum (p_i + q_i) / l_i^2
+/// (which is sum |w_i| / l_i^2 at the optimum) needs no rows: going from
+/// phase 1 to phase 2 changes only costs and delta's bounds, phase 1's
+/// optimal basis stays feasible, and the primal simplex goes on from it
+/// (measured on the local form's pieces: phase 2 had cost more than phase
+/// 1, from scratch or with |w_i| as rows).
+pub(crate) struct Lp {
+    pub(crate) model: Option<highs::Model>,
+    /// Per weight, its columns (p, q); None for fixed weights, which are
+    /// zero and left out of the rows.
+    pub(crate) w: Vec<Option<(highs::Col, highs::Col)>>,
+    pub(crate) delta: highs::Col,
+    /// Elastic mode: the violation column of each segment.
+    pub(crate) slack: HashMap<u32, highs::Col>,
+    /// Rows of `sys.rows` not in the model yet (see `LAZY_SLACK`).
+    pub(crate) lazy: Vec<usize>,
+    /// Whether the next solve is the dual simplex (see `Lp::simplex`).
+    pub(crate) dual: bool,
+}
+
+thread_local! {
+    /// This thread's finished models, destroyed together (`Drop for Lp`).
+    static FINISHED: std::cell::RefCell<Vec<highs::Model>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Models destroyed at once. Destroying a HiGHS instance resets its global
+/// scheduler, which must not happen while another thread is inside HiGHS
+/// (ERGO-Code/HiGHS#3141): drops take the lock exclusively and so wait for
+/// the other threads' running solves. One at a time, that serialised the
+/// local form's parallel pieces.
+pub(crate) const DROP_BATCH: usize = 64;
+
+impl Drop for Lp {
+    fn drop(&mut self) {
+        let Some(model) = self.model.take() else {
+            return;
+        };
+        let batch = FINISHED.with_borrow_mut(|f| {
+            f.push(model);
+            (f.len() >= DROP_BATCH).then(|| std::mem::take(f))
+        });
+        if let Some(batch) = batch {
+            let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
+            drop(batch);
+        }
+    }
+}
+
+/// Destroys the finished models that wait, on this thread and on every
+/// thread of rayon's pool (at the end of a weights step).
+pub(crate) fn destroy_finished() {
+    let flush = || {
+        let batch = FINISHED.with_borrow_mut(std::mem::take);
+        let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
+        drop(batch);
+    };
+    flush();
+    rayon::broadcast(|_| flush());
+}
+
+/// v w_c as terms of the model: v p_c - v q_c, nothing for a fixed weight.
+pub(crate) fn weight_terms(
+    w: &[Option<(highs::Col, highs::Col)>],
+    c: usize,
+    v: f64,
+) -> Vec<(highs::Col, f64)> {
+    w[c].map_or(vec![], |(p, q)| vec![(p, v), (q, -v)])
+}
+
+/// A row over weights alone (no auxiliary columns) as model terms.
+pub(crate) fn weight_row(
+    w: &[Option<(highs::Col, highs::Col)>],
+    r: &Row,
+) -> Vec<(highs::Col, f64)> {
+    r.terms
+        .iter()
+        .flat_map(|&(c, v)| weight_terms(w, c, v))
+        .collect()
+}
+
+/// New values for columns: bounds (lower, upper) or costs, one per column.
+pub(crate) enum Change<'a> {
+    Bounds(&'a [f64], &'a [f64]),
+    Costs(&'a [f64]),
+}
+
+/// Changes many columns in one HiGHS call: the crate changes one at a
+/// time, and HiGHS invalidates its solution and info at every call
+/// (measured: 6% of the pieces' instructions).
+#[allow(unsafe_code)]
+pub(crate) fn change_columns(
+    model: &mut highs::Model,
+    cols: &[highs::Col],
+    change: Change,
+) -> Result<()> {
+    let set: Vec<highs_sys::HighsInt> = cols.iter().map(|c| c.index() as _).collect();
+    let n = set.len() as highs_sys::HighsInt;
+    let ptr = model.as_mut_ptr();
+    // SAFETY: `ptr` is the model's live HiGHS instance, `set` holds its
+    // columns, and every array given has set.len() entries (asserted).
+    let status = match change {
+        Change::Bounds(lower, upper) => {
+            assert!(lower.len() == set.len() && upper.len() == set.len());
+            unsafe {
+                highs_sys::Highs_changeColsBoundsBySet(
+                    ptr,
+                    n,
+                    set.as_ptr(),
+                    lower.as_ptr(),
+                    upper.as_ptr(),
+                )
+            }
+        }
+        Change::Costs(cost) => {
+            assert_eq!(cost.len(), set.len());
+            unsafe { highs_sys::Highs_changeColsCostBySet(ptr, n, set.as_ptr(), cost.as_ptr()) }
+        }
+    };
+    if status == highs_sys::STATUS_ERROR {
+        return Err(Error::Lp("HiGHS refused to change the LP's columns".into()));
+    }
+    Ok(())
+}
+
+/// HiGHS refused a row or the model.
+pub(crate) fn rejected(e: highs::HighsStatus) -> Error {
+    Error::Lp(format!(
+        "HiGHS rejects the LP as built ({e:?}): its coefficients are beyond its range \
+         (nearly coincident or collinear vertices?)"
+    ))
+}
+
+/// A lower bound of a simplex model's margin: the margin that zero
+/// weights reach, where that is nearer zero than delta's upper bound 1.
+/// HiGHS starts a boxed column at its bound nearer zero, so delta starts
+/// here and the slack basis meets every margin row (measured: 2% fewer
+/// instructions). The optimum is the same: zero weights reach this margin.
+pub(crate) fn margin_floor(sys: &System, with3: bool, big: bool) -> Bound<f64> {
+    let floor = sys
+        .rows
+        .iter()
+        .filter(finite)
+        .filter(|r| r.share > 0.0 && margin_row(r, with3))
+        .map(|r| -r.rhs / r.share)
+        .fold(f64::INFINITY, f64::min);
+    if big || floor.is_nan() || floor.abs() >= 1.0 {
+        Bound::Unbounded
+    } else {
+        Bound::Included(floor)
+    }
+}
+
+/// Whether a row is one of the model's margin rows: system 1's, and
+/// system 3's when asked for (anchors are elastic rows of phase 2).
+pub(crate) fn margin_row(r: &Row, with3: bool) -> bool {
+    match r.family {
+        Family::Anchor => false,
+        Family::Sys3(_) => with3,
+        Family::Sys1 => true,
+    }
+}
+
+/// Upper bound of p_i and q_i (>= 0) for |w_i| <= k l_i^2 (k None:
+/// unbounded).
+pub(crate) fn part_upper(sys: &System, i: usize, k: Option<f64>) -> f64 {
+    k.map_or(f64::INFINITY, |k| k * sys.l2[i])
+}
+
+impl Lp {
+    /// The model of `sys` in `mode` (Margin or Elastic; phase 2 comes from
+    /// a Margin model through `regularise`).
+    pub(crate) fn build(sys: &System, with3: bool, k: Option<f64>, mode: &Mode) -> Result<Lp> {
+        let mut pb = RowProblem::default();
+        let free = (Bound::<f64>::Unbounded, Bound::<f64>::Unbounded);
+        let w: Vec<_> = (0..sys.n)
+            .map(|i| {
+                sys.free[i].then(|| {
+                    let b = 0.0..=part_upper(sys, i, k);
+                    (pb.add_column(0.0, b.clone()), pb.add_column(0.0, b))
+                })
+            })
+            .collect();
+        let aux: Vec<_> = (0..sys.aux).map(|_| pb.add_column(0.0, free)).collect();
+        let big = sys.eqs.len() + sys.rows.len() > BIG_MODEL;
+        let (delta, sense) = match mode {
+            Mode::Margin => (
+                pb.add_column(1.0, (margin_floor(sys, with3, big), Bound::Included(1.0))),
+                Sense::Maximise,
+            ),
+            Mode::Elastic { delta_min, .. } => (
+                pb.add_column(0.0, *delta_min..=1.0f64.max(*delta_min)),
+                Sense::Minimise,
+            ),
+        };
+        let terms = |r: &Row| -> Vec<(highs::Col, f64)> {
+            r.terms
+                .iter()
+                .flat_map(|&(c, v)| match c.checked_sub(sys.n) {
+                    Some(a) => vec![(aux[a], v)],
+                    None => weight_terms(&w, c, v),
+                })
+                .collect()
+        };
+        let mut slack = HashMap::new();
+        for r in sys.eqs.iter().filter(finite) {
+            pb.add_row(r.rhs..=r.rhs, terms(r));
+        }
+        let lazy_ok = matches!(mode, Mode::Margin) && sys.aux == 0 && !big;
+        let mut lazy = vec![];
+        for (at, r) in sys.rows.iter().enumerate().filter(|(_, r)| finite(r)) {
+            match (r.family, mode) {
+                // Anchors (elastic in phase 2 only, `regularise`), and
+                // system 3 unless asked for.
+                _ if !margin_row(r, with3) => continue,
+                // A margin row; its slack at zero weights and margin is -rhs.
+                _ if lazy_ok && -r.rhs > LAZY_SLACK => lazy.push(at),
+                (Family::Sys3(s), Mode::Elastic { costs, .. }) => {
+                    // sum(terms) + slack_s >= rhs + small positive margin
+                    let cost = costs.get(&s).copied().unwrap_or(1.0);
+                    let sl = *slack.entry(s).or_insert_with(|| pb.add_column(cost, 0.0..));
+                    let mut terms = terms(r);
+                    terms.push((sl, 1.0));
+                    pb.add_row((r.rhs + 1e-3).., terms);
+                }
+                _ => {
+                    let mut terms = terms(r);
+                    terms.push((delta, -r.share));
+                    pb.add_row(r.rhs.., terms);
+                }
+            }
+        }
+        let mut model = pb.try_optimise(sense).map_err(rejected)?;
+        model.make_quiet();
+        // Measured: dual simplex stalls on large sparse systems of this shape
+        // where interior point finishes in seconds (docs/method.md section 2).
+        model.set_option("solver", if big { "ipm" } else { "simplex" });
+        if !big {
+            // Measured: the primal simplex is 20% faster than the dual
+            // (steepest edge) on the pieces' phase 1, and goes on from phase
+            // 1's basis in phase 2. The dual goes on after rows enter or
+            // bounds loosen (`Lp::simplex`); devex pricing, as the primal's:
+            // steepest edge weights cost more than the few iterations need.
+            model.set_option("simplex_strategy", 4);
+            model.set_option("simplex_dual_edge_weight_strategy", 1);
+            // Measured: on the local form's small pieces presolve costs as
+            // much as the solve (and it would discard the warm start).
+            model.set_option("presolve", "off");
+            // Measured: HiGHS' accuracy test before a rebuild (a solve with
+            // fresh work vectors each time) was 7% of the pieces' time; their
+            // few updates keep the factors accurate, and the weights are
+            // checked exactly anyway.
+            model.set_option("rebuild_refactor_solution_error_tolerance", 0.0);
+        }
+        Ok(Lp {
+            model: Some(model),
+            w,
+            delta,
+            slack,
+            lazy,
+            dual: false,
+        })
+    }
+
+    /// The lazy rows that the solution `cols` violates, now in the model.
+    pub(crate) fn enter_violated(&mut self, sys: &System, cols: &[f64]) -> Result<bool> {
+        let value = |r: &Row| {
+            r.terms
+                .iter()
+                .filter_map(|&(c, v)| {
+                    self.w[c].map(|(p, q)| v * (cols[p.index()] - cols[q.index()]))
+                })
+                .sum::<f64>()
+                - r.share * cols[self.delta.index()]
+                - r.rhs
+        };
+        let (enter, keep): (Vec<usize>, Vec<usize>) = self
+            .lazy
+            .iter()
+            .partition(|&&at| value(&sys.rows[at]) < 0.0);
+        for &at in &enter {
+            let r = &sys.rows[at];
+            let mut terms = weight_row(&self.w, r);
+            terms.push((self.delta, -r.share));
+            let model = self.model.as_mut().expect("model");
+            model.try_add_row(r.rhs.., terms).map_err(rejected)?;
+        }
+        self.lazy = keep;
+        if !enter.is_empty() {
+            self.simplex(true);
+        }
+        Ok(!enter.is_empty())
+    }
+
+    /// Which simplex goes on from the current basis: the dual after rows
+    /// enter or bounds loosen (the basis stays dual feasible), the primal
+    /// after costs change (it stays primal feasible). Simplex models only.
+    /// Measured (callgrind, the pieces' solves at 13,200 segments): 15%
+    /// fewer instructions than the primal throughout.
+    pub(crate) fn simplex(&mut self, dual: bool) {
+        if self.dual != dual {
+            let model = self.model.as_mut().expect("model");
+            model.set_option("simplex_strategy", if dual { 1 } else { 4 });
+            self.dual = dual;
+        }
+    }
+
+    /// Phase 1 again with |w_i| <= k l_i^2 (free: None).
+    pub(crate) fn bound(&mut self, sys: &System, k: Option<f64>) -> Result<()> {
+        self.simplex(true);
+        let (mut cols, mut upper) = (vec![], vec![]);
+        for (i, pq) in self.w.iter().enumerate() {
+            if let Some((p, q)) = *pq {
+                cols.extend([p, q]);
+                upper.extend([part_upper(sys, i, k); 2]);
+            }
+        }
+        let lower = vec![0.0; cols.len()];
+        let model = self.model.as_mut().expect("model");
+        change_columns(model, &cols, Change::Bounds(&lower, &upper))
+    }
+
+    /// Turns a solved Margin model into phase 2: delta >= delta_min,
+    /// minimise sum |w_i| / l_i^2 plus the anchors' violations.
+    pub(crate) fn regularise(&mut self, sys: &System, delta_min: f64) -> Result<()> {
+        self.simplex(false);
+        let model = self.model.as_mut().expect("model");
+        model.set_sense(Sense::Minimise);
+        model.change_column_bounds(self.delta, delta_min..=1.0f64.max(delta_min));
+        let (mut cols, mut cost) = (vec![self.delta], vec![0.0]);
+        for (i, pq) in self.w.iter().enumerate() {
+            if let Some((p, q)) = *pq {
+                cols.extend([p, q]);
+                cost.extend([1.0 / sys.l2[i]; 2]);
+            }
+        }
+        change_columns(model, &cols, Change::Costs(&cost))?;
+        for r in sys.rows.iter().filter(finite) {
+            if r.family == Family::Anchor {
+                // sum(terms) + s+ - s- == rhs, |violation| costed
+                let up = model
+                    .try_add_column(ANCHOR_COST, 0.0.., [])
+                    .map_err(rejected)?;
+                let down = model
+                    .try_add_column(ANCHOR_COST, 0.0.., [])
+                    .map_err(rejected)?;
+                let mut terms = weight_row(&self.w, r);
+                terms.extend([(up, 1.0), (down, -1.0)]);
+                model.try_add_row(r.rhs..=r.rhs, terms).map_err(rejected)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves, and again while the solution violates lazy rows (which
+    /// then enter the model; the basis goes on). Rows only lower the
+    /// margin: a margin at or below `enough` is returned as it is, an upper
+    /// bound of the whole system's.
+    pub(crate) fn solve(
+        &mut self,
+        sys: &System,
+        report: &mut WeightsReport,
+        enough: f64,
+    ) -> Result<Solution> {
+        loop {
+            let (solution, cols) = self.solve_once(sys, report)?;
+            if solution.delta <= enough {
+                return Ok(solution);
+            }
+            match cols {
+                Some(cols) if self.enter_violated(sys, &cols)? => continue,
+                _ => return Ok(solution),
+            }
+        }
+    }
+
+    /// One HiGHS run: the solution, and the columns when optimal.
+    pub(crate) fn solve_once(
+        &mut self,
+        sys: &System,
+        report: &mut WeightsReport,
+    ) -> Result<(Solution, Option<Vec<f64>>)> {
+        let left = report.deadline.map_or(LP_BUDGET, |d| {
+            d.saturating_duration_since(std::time::Instant::now())
+        });
+        if left.is_zero() {
+            return Err(Error::Lp(format!(
+                "the LP time budget of {} s ran out",
+                LP_BUDGET.as_secs()
+            )));
+        }
+        // Taken out (a solve consumes it) only now: on the early return the
+        // model stays for `Drop`, which destroys it under the lock.
+        let mut model = self.model.take().expect("model");
+        report.lp_rows = report.lp_rows.max(model.num_rows());
+        report.lp_cols = report.lp_cols.max(model.num_cols());
+        report.lp_solves += 1;
+        model.set_option("time_limit", left.as_secs_f64());
+        let solved = {
+            let _running = HIGHS.read().unwrap_or_else(|e| e.into_inner());
+            model
+                .try_solve()
+                .map_err(|e| Error::Lp(format!("HiGHS: {e:?}")))?
+        };
+        let status = solved.status();
+        let cols =
+            (status == HighsModelStatus::Optimal).then(|| solved.get_solution().columns().to_vec());
+        self.model = Some(solved.into());
+        report.lp_status = format!("{status:?}");
+        match status {
+            HighsModelStatus::Optimal => {
+                let cols = cols.expect("optimal");
+                let w: Vec<f64> = self
+                    .w
+                    .iter()
+                    .map(|pq| {
+                        pq.map_or(0.0, |(p, q)| cols[p.index()] - cols[q.index()]) * sys.unit2
+                    })
+                    .collect();
+                if cols.iter().chain(&w).any(|c| !c.is_finite()) {
+                    return Err(Error::Lp(
+                        "the LP returned weights that are not finite doubles".into(),
+                    ));
+                }
+                let solution = Solution {
+                    slack: self
+                        .slack
+                        .iter()
+                        .map(|(&s, c)| (s, cols[c.index()]))
+                        .collect(),
+                    delta: cols[self.delta.index()],
+                    w,
+                };
+                Ok((solution, Some(cols)))
+            }
+            HighsModelStatus::Infeasible => Ok((
+                Solution {
+                    delta: f64::NEG_INFINITY,
+                    w: vec![],
+                    slack: HashMap::new(),
+                },
+                None,
+            )),
+            HighsModelStatus::ReachedTimeLimit => Err(Error::Lp(format!(
+                "the LP time budget of {} s ran out ({} solves of up to {} rows)",
+                LP_BUDGET.as_secs(),
+                report.lp_solves,
+                report.lp_rows
+            ))),
+            s => Err(Error::Lp(format!("HiGHS ended with status {s:?}"))),
+        }
+    }
+}

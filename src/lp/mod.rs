@@ -1,0 +1,275 @@
+//! The LP engine behind the weights (docs/method.md sections 2 and 3), the
+//! only code that talks to HiGHS: rows of systems 1 and 3 (`rows`), the
+//! HiGHS model kept across the phases (`highs`), the split of a local
+//! system into independent pieces (`pieces`), and the ladder of solves
+//! that gives a trusted margin or a verdict (`solve_rows`). Generic over
+//! the dimension: rows are written over weights and coordinates in any D.
+//!
+//! under which every segment crosses its dual (section 5.1, system 3).
+//! The only module that talks to HiGHS.
+//!
+//! Order of attack: zero weights when every segment is strictly Gabriel;
+//! else the local form (one power-test row per interior edge of the
+//! constrained Delaunay triangulation); else the lazy global form (a
+//! supporting plane per segment, rows added where the regular triangulation
+//! of the current weights disagrees). The LP output is floating point and
+//! is never trusted: the regular triangulation of the returned weights is
+//! built with exact predicates and checked segment by segment.
+//!
+//! Objective (docs/method.md section 2): phase 1 maximises a common margin `delta`
+//! over rows scaled to be dimensionless: first with free weights (only that
+//! try may declare infeasibility), then with |w_i| <= k l_i^2 for k raised
+//! stepwise (1, 16) until the margin is trusted; phase 2 keeps delta >= delta*/2
+//! and minimises sum |w_i| / l_i^2, so weights stay small and sites stay near the segments'
+//! midpoints. Phase 1's ladder and phase 2 share one HiGHS model, each
+//! solve warm-started from the last basis (`Lp`). When system 3 cannot hold, an elastic phase keeps system 1 and
+//! minimises the total violation of system 3, so that as few segments as
+//! possible miss their duals.
+
+mod highs;
+mod pieces;
+mod rows;
+
+pub(crate) use highs::destroy_finished;
+use highs::{Lp, Mode, Solution};
+pub(crate) use pieces::solve_pieces;
+pub(crate) use rows::{plane_rows, rel, sys3_rows, Family, Row, System, Units};
+
+use crate::error::Result;
+use serde::Serialize;
+use std::collections::HashMap;
+
+/// Margins below this are inside HiGHS' tolerances: not trusted.
+pub(crate) const TRUST: f64 = 1e-6;
+
+/// Bounds |w_i| <= k l_i^2 tried in turn after the unbounded try.
+pub(crate) const K_LADDER: [f64; 2] = [1.0, 16.0];
+
+/// Time all LP solves of one run may take together.
+pub(crate) const LP_BUDGET: std::time::Duration = std::time::Duration::from_secs(1800);
+
+/// Largest number of point rows the lazy global form may grow to.
+pub(crate) const MAX_GLOBAL_ROWS: usize = 5_000_000;
+
+/// System 1 margin tried first by the elastic phase.
+pub(crate) const ELASTIC_MARGIN: f64 = 1e-3;
+
+/// Rounds of the lazy global form before giving up on adding rows locally.
+pub(crate) const GLOBAL_ROUNDS: usize = 40;
+
+/// A margin row of a simplex model whose slack at zero weights exceeds
+/// this enters the model only once a solution violates it (measured on the
+/// local form's pieces: 80% of the rows, of which 1 in 200 ever enters;
+/// HiGHS' cost per iteration grows with the rows). The optimum is the same:
+/// a solution of fewer rows that meets all rows is optimal for all.
+/// Phase 2 cost of an anchor's violation (dimensionless, like the weights'
+/// cost sum |w_i| / l_i^2, which it outweighs).
+pub(crate) const ANCHOR_COST: f64 = 1e3;
+
+pub(crate) const LAZY_SLACK: f64 = 0.2;
+
+/// Rows of a model above which interior point replaces the simplex.
+pub(crate) const BIG_MODEL: usize = 5_000;
+
+/// What the weights step did, for the report.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct WeightsReport {
+    /// When the LP work must stop (never a hang).
+    #[serde(skip)]
+    pub(crate) deadline: Option<std::time::Instant>,
+    /// "zero", "local", or "global".
+    pub method: String,
+    pub lp_solves: usize,
+    /// Independent LPs the local form split into (solved in parallel).
+    pub lp_pieces: usize,
+    /// Largest LP solved (rows, columns).
+    pub lp_rows: usize,
+    pub lp_cols: usize,
+    pub lp_status: String,
+    /// Phase-1 margin (dimensionless), when an LP ran.
+    pub margin: Option<f64>,
+    /// The k of |w_i| <= k l_i^2 that gave a positive margin (None: unbounded).
+    pub bound_k: Option<f64>,
+    pub global_rounds: usize,
+    /// How many weights were LP unknowns (the others stayed zero).
+    pub free_weights: usize,
+    pub max_abs_weight: f64,
+    pub system3_feasible: bool,
+    /// Why the LP gave no answer, when zero weights had to do.
+    pub lp_error: Option<String>,
+    /// Segments with an anchor, and those whose anchor is on the dual line.
+    pub anchors: usize,
+    pub anchors_met: usize,
+}
+
+impl WeightsReport {
+    /// A report whose LP work has the whole budget from now.
+    pub(crate) fn started(method: &str) -> WeightsReport {
+        WeightsReport {
+            method: method.into(),
+            deadline: Some(std::time::Instant::now() + LP_BUDGET),
+            ..Default::default()
+        }
+    }
+
+    /// Adds what one piece's LPs did: counts add up, sizes take the
+    /// largest, the margin the smallest, the bound the loosest.
+    pub(crate) fn absorb(&mut self, piece: &WeightsReport) {
+        self.lp_solves += piece.lp_solves;
+        self.lp_rows = self.lp_rows.max(piece.lp_rows);
+        self.lp_cols = self.lp_cols.max(piece.lp_cols);
+        if self.lp_status.is_empty() || piece.lp_status != "Optimal" {
+            self.lp_status = piece.lp_status.clone();
+        }
+        if let Some(m) = piece.margin {
+            self.bound_k = match (self.margin, self.bound_k, piece.bound_k) {
+                (None, _, k) => k,
+                (Some(_), Some(a), Some(b)) => Some(a.max(b)),
+                _ => None,
+            };
+            self.margin = Some(self.margin.map_or(m, |x| x.min(m)));
+        }
+    }
+}
+
+/// A row from a triangle too thin for doubles may hold infinities: it is
+/// left out (the exact verification of the result still covers it).
+pub(crate) fn finite(r: &&Row) -> bool {
+    r.rhs.is_finite() && r.terms.iter().all(|t| t.1.is_finite())
+}
+
+/// One model, one solve.
+pub(crate) fn run(
+    sys: &System,
+    with3: bool,
+    k: Option<f64>,
+    mode: &Mode,
+    report: &mut WeightsReport,
+) -> Result<Solution> {
+    Lp::build(sys, with3, k, mode)?.solve(sys, report, f64::NEG_INFINITY)
+}
+
+/// Phase 1 up the k ladder, in one warm model: the best margin, the k that
+/// reached it, and the model at that k (for phase 2).
+/// Where a failure is a verdict (the global form), the unbounded try comes
+/// first: only it may declare infeasibility, and an infeasible system then
+/// costs one solve. The local form's failures are no verdict: its ladder
+/// starts small and the unbounded try comes last. The smallest k with a
+/// trusted margin keeps the weights small.
+pub(crate) fn margin(
+    sys: &System,
+    with3: bool,
+    report: &mut WeightsReport,
+) -> Result<(f64, Option<f64>, Lp)> {
+    let ladder: Vec<Option<f64>> = K_LADDER.iter().map(|&k| Some(k)).collect();
+    let order: Vec<Option<f64>> = if sys.verdict {
+        [None].into_iter().chain(ladder).collect()
+    } else {
+        ladder.into_iter().chain([None]).collect()
+    };
+    let mut lp = Lp::build(sys, with3, order[0], &Mode::Margin)?;
+    let mut best = (f64::NEG_INFINITY, None);
+    for (step, &k) in order.iter().enumerate() {
+        if step > 0 {
+            lp.bound(sys, k)?;
+        }
+        // A rung whose margin is not returned fails as soon as its rows so
+        // far leave none (lazy rows cannot raise it).
+        let returned = step + 1 == order.len() || (sys.verdict && step == 0);
+        let enough = if returned { f64::NEG_INFINITY } else { TRUST };
+        let delta = lp.solve(sys, report, enough)?.delta;
+        if sys.verdict && step == 0 {
+            if delta <= TRUST {
+                return Ok((delta, None, lp));
+            }
+            best = (delta, None);
+        } else if delta > TRUST || k.is_none() {
+            return Ok((delta, k, lp));
+        }
+    }
+    // The verdict order: no bound gave a trusted margin, the free one did.
+    lp.bound(sys, None)?;
+    lp.solve(sys, report, f64::NEG_INFINITY)?;
+    Ok((best.0, best.1, lp))
+}
+
+/// What the LP says about one row system (no verification yet).
+pub(crate) enum Answer {
+    /// Weights (for the system's columns), and whether system 3 held on
+    /// the rows (false: elastic).
+    Weights(Vec<f64>, bool),
+    /// System 1 has no trusted margin on these rows.
+    Sys1Infeasible,
+    /// Systems 1 and 3 together have none (asked not to go elastic).
+    Sys3Infeasible,
+}
+
+/// The LP on one row system: system 1 + 3; else system 1 with system 3
+/// elastic (as few segments as possible missing their duals).
+pub(crate) fn solve_rows(
+    sys: &System,
+    elastic: bool,
+    report: &mut WeightsReport,
+) -> Result<Answer> {
+    let (m3, k3, mut lp) = margin(sys, true, report)?;
+    if m3 <= TRUST && !elastic {
+        return Ok(Answer::Sys3Infeasible);
+    }
+    let (w, lp_sys3) = if m3 > TRUST {
+        report.margin = Some(m3);
+        report.bound_k = k3;
+        lp.regularise(sys, m3 / 2.0)?;
+        (lp.solve(sys, report, f64::NEG_INFINITY)?.w, true)
+    } else {
+        drop(lp);
+        // Usually system 1 alone has a comfortable margin: one elastic solve
+        // at a fixed margin settles it; only when that fails is the margin of
+        // system 1 searched (and its absence a verdict).
+        let elastic = |costs| Mode::Elastic {
+            delta_min: ELASTIC_MARGIN,
+            costs,
+        };
+        let quick = run(sys, true, None, &elastic(HashMap::new()), report)?;
+        if quick.delta >= ELASTIC_MARGIN {
+            // Reweighted once (cost 1 / (violation + eps)): the total
+            // violation is spread over fewer segments, so fewer miss their
+            // duals and fewer sites end outside.
+            let costs = quick
+                .slack
+                .iter()
+                .map(|(&s, &v)| (s, 1.0 / (v.max(0.0) + 1e-3)))
+                .collect();
+            let sparse = run(sys, true, None, &elastic(costs), report)?;
+            let w = if sparse.delta >= ELASTIC_MARGIN {
+                sparse.w
+            } else {
+                quick.w
+            };
+            report.margin = Some(quick.delta);
+            report.bound_k = None;
+            (w, false)
+        } else {
+            let (m1, k1, _) = margin(sys, false, report)?;
+            report.margin = Some(m1);
+            report.bound_k = k1;
+            if m1 <= TRUST {
+                return Ok(Answer::Sys1Infeasible);
+            }
+            (
+                run(
+                    sys,
+                    true,
+                    k1,
+                    &Mode::Elastic {
+                        delta_min: m1 / 2.0,
+                        costs: HashMap::new(),
+                    },
+                    report,
+                )?
+                .w,
+                false,
+            )
+        }
+    };
+    Ok(Answer::Weights(w, lp_sys3))
+}
