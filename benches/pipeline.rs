@@ -159,7 +159,7 @@ fn regular_triangulation_3(c: &mut Criterion) {
         let pts: Vec<[f64; 3]> = (0..n).map(|_| [u(), u(), u()]).collect();
         let w: Vec<f64> = (0..n).map(|_| 1e-4 * u()).collect();
         g.throughput(Throughput::Elements(n as u64));
-        for b in orthomesh::backend::compiled3() {
+        for b in orthomesh::backend::compiled() {
             g.bench_with_input(BenchmarkId::new(b.name(), n), &n, |bench, _| {
                 bench.iter(|| b.regular3(&pts, &w).unwrap())
             });
@@ -191,7 +191,7 @@ fn conform3_pipeline(c: &mut Criterion) {
     g.sample_size(10).measurement_time(Duration::from_secs(5));
     for (name, cx) in &inputs {
         let zero = vec![0.0; cx.points.len()];
-        for b in orthomesh::backend::compiled3() {
+        for b in orthomesh::backend::compiled() {
             g.bench_function(BenchmarkId::new(b.name(), name), |bench| {
                 bench.iter(|| conform3(&*b, cx, &opts).unwrap())
             });

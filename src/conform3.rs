@@ -2,7 +2,7 @@
 //! weights, sites, relocation, site diagram, certificate, mesh. Generic
 //! over the backend's 3D side.
 
-use crate::backend::Backend3;
+use crate::backend::Backend;
 use crate::diagram3::{Certificate3, Diagram3};
 use crate::error::{Error, Result};
 use crate::geom::Plane;
@@ -139,7 +139,7 @@ pub struct Outcome3 {
 }
 
 /// Meshes a 3D complex.
-pub fn conform3<B: Backend3 + ?Sized>(
+pub fn conform3<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex3,
     opts: &Options3,
@@ -244,7 +244,7 @@ struct Attempt {
 
 impl Attempt {
     /// The pipeline again with Steiner points `add` (facet, point) added.
-    fn split<B: Backend3 + ?Sized>(
+    fn split<B: Backend + ?Sized>(
         &self,
         backend: &B,
         add: &[(usize, [f64; 3])],
@@ -262,7 +262,7 @@ impl Attempt {
         Attempt::run(backend, next, keep, clips)
     }
 
-    fn run<B: Backend3 + ?Sized>(
+    fn run<B: Backend + ?Sized>(
         backend: &B,
         cx: Complex3,
         keep: weights::Keep,

@@ -6,7 +6,7 @@
 //! without rounding. Positions are rounded only for output, and input
 //! vertices are written as the input's own doubles.
 
-use crate::backend::{Backend3, Tetrahedralisation};
+use crate::backend::{Backend, Tetrahedralisation};
 use crate::complex::Complex3;
 use crate::error::{Error, Result};
 use crate::geom::{det3_f, dot_f, f, is_pos, newell, norm2, q, sub, Q};
@@ -104,7 +104,7 @@ fn orthocentre(s: &Sites3, t: [u32; 4]) -> [Q; 3] {
 impl Diagram3 {
     /// Builds the site diagram and its domain (cells not separated by a
     /// face from an unbounded cell or a hole point).
-    pub fn build<B: Backend3 + ?Sized>(backend: &B, cx: &Complex3, s: &Sites3) -> Result<Diagram3> {
+    pub fn build<B: Backend + ?Sized>(backend: &B, cx: &Complex3, s: &Sites3) -> Result<Diagram3> {
         let rt = backend.regular3_exact(&s.p, &s.w)?;
         // (mirrors across two planes may hide each other beyond both: no
         // cell there is in the domain)
@@ -431,10 +431,10 @@ fn boundary_volume(cx: &Complex3, wt: &Weights3, s: &Sites3, d: &Diagram3) -> f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backend::compiled3;
+    use crate::backend::compiled;
 
     fn pipeline(cx: &Complex3) -> (Weights3, Sites3, Diagram3, Certificate3) {
-        let b = &compiled3()[0];
+        let b = &compiled()[0];
         let sc = cx.triangulate(b.as_ref()).unwrap();
         let wt = crate::weights::solve3(b.as_ref(), cx, &sc, Default::default()).unwrap();
         let s = crate::sites3::place(cx, &wt).unwrap();

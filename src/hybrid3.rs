@@ -13,7 +13,7 @@
 //! split in two triangles and their links to the transition need not be
 //! orthogonal.
 
-use crate::backend::Backend3;
+use crate::backend::Backend;
 use crate::complex::{Complex3, Facet};
 use crate::conform3::{conform3, Link3, Mesh3, Options3, Report3};
 use crate::error::{Error, Result};
@@ -140,7 +140,7 @@ fn axes(g: &CornerPointGrid) -> Result<[Vec<f64>; 3]> {
 }
 
 /// Builds the 3D hybrid mesh around one well.
-pub fn build<B: Backend3 + ?Sized>(
+pub fn build<B: Backend + ?Sized>(
     backend: &B,
     g: &CornerPointGrid,
     well: &Well3,

@@ -2,7 +2,7 @@
 //! rectangle kept whole) exactly one face of the polyhedral cells, checked
 //! exactly; output read back by vtk (tests/readers.py: `conform3-*`).
 
-use orthomesh::backend::compiled3;
+use orthomesh::backend::compiled;
 use orthomesh::complex::{Complex3, Facet};
 use orthomesh::conform3::{conform3, Options3, Outcome3};
 use orthomesh::error::Error;
@@ -28,7 +28,7 @@ fn write(stem: &str, out: &Outcome3) {
 
 #[test]
 fn stacked_boxes_keep_their_rectangles_whole() {
-    for b in compiled3() {
+    for b in compiled() {
         for k in [1, 3] {
             let cx = orthomesh::generate::stacked_boxes(k);
             let out = conform3(&*b, &cx, &Options3::default()).unwrap();
@@ -79,7 +79,7 @@ fn stacked_boxes_clipped_at_bottom_and_top() {
         .iter()
         .position(|f| z(f).iter().all(|&x| x > lo && x < hi))
         .unwrap() as u32;
-    for b in compiled3() {
+    for b in compiled() {
         let opts = Options3 {
             clip: vec![at(lo), at(hi)],
             ..Default::default()
@@ -122,7 +122,7 @@ fn stacked_boxes_clipped_at_bottom_and_top() {
 fn tetgen_example_plc_conforms() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
     let cx = orthomesh::io::read_complex3(&path).unwrap();
-    for b in compiled3() {
+    for b in compiled() {
         // Sites of the faces that do not cross their duals stay outside.
         match conform3(&*b, &cx, &Options3::default()) {
             Err(Error::SitesOutsideCells { sites, crowding }) => {
@@ -203,7 +203,7 @@ fn tetgen_example_clipped_at_its_hull() {
     let hull = orthomesh::conform3::hull_facets(&cx);
     // the outer box's facets (the inner boxes' face outwards of nothing)
     assert!(!hull.is_empty());
-    for b in compiled3() {
+    for b in compiled() {
         let opts = Options3 {
             allow_sites_outside: true,
             clip: hull.clone(),
@@ -264,7 +264,7 @@ fn no_regular_triangulation_is_an_error_naming_facets() {
             holes: vec![],
         }
     };
-    for b in compiled3() {
+    for b in compiled() {
         let e = conform3(&*b, &prism(true), &Options3::default()).unwrap_err();
         assert!(
             matches!(e, Error::NoRegularConstrainedTetrahedralisation { .. }),

@@ -123,7 +123,7 @@ fn every_throw_in_the_shim_is_an_error() {
 
 #[test]
 fn regular_triangulation_3_batch_and_throws() {
-    use orthomesh::backend::Backend3;
+    use orthomesh::backend::Backend;
     let n = 5_000;
     let r = random(4 * n, 11);
     let mut points: Vec<[f64; 3]> = (0..n)
@@ -159,7 +159,7 @@ fn regular_triangulation_3_batch_and_throws() {
 
 #[test]
 fn regular_triangulation_3_of_exact_rationals() {
-    use orthomesh::backend::Backend3;
+    use orthomesh::backend::Backend;
     use orthomesh::geom::{q, Q};
     // A unit cube's corners and its centre at weight 1/3: 6 pyramids, 12
     // tetrahedra. Halfway from the centre to the bottom face the lower hull

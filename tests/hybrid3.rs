@@ -2,7 +2,7 @@
 //! deviated well with its radial mesh, a certified transition mesh in the
 //! cavity around it, and the flow check against Thiem's solution.
 
-use orthomesh::backend::compiled3;
+use orthomesh::backend::compiled;
 use orthomesh::hybrid::Region;
 use orthomesh::hybrid3::{build, Hybrid3, Hybrid3Options, Well3};
 use orthomesh::io::eclipse::CornerPointGrid;
@@ -33,7 +33,7 @@ fn well(dip: f64) -> Well3 {
 #[test]
 fn vertical_and_deviated_wells_in_a_block_grid() {
     let g = CornerPointGrid::cartesian([7, 7, 3], [10.0, 10.0, 4.0]);
-    for b in compiled3() {
+    for b in compiled() {
         for dip in [0.0, 10.0] {
             // The cells are cut at the grid's top and bottom by mirrored
             // sites; a deviated well's triangles may miss their duals, and
@@ -92,7 +92,7 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
 /// Wells the block cannot hold are errors naming why, before any meshing.
 #[test]
 fn wells_that_do_not_fit_are_errors() {
-    let b = &compiled3()[0];
+    let b = &compiled()[0];
     let opts = Hybrid3Options::default();
     for (nz, dip, says) in [
         (
@@ -119,7 +119,7 @@ fn wells_that_do_not_fit_are_errors() {
 #[test]
 fn steiner_points_bring_the_annuli_sites_in() {
     let g = CornerPointGrid::cartesian([7, 7, 2], [10.0, 10.0, 4.0]);
-    let b = &compiled3()[0];
+    let b = &compiled()[0];
     let opts = Hybrid3Options {
         rings: 4,
         sectors: 12,
@@ -159,7 +159,7 @@ fn thiem_in_3d() {
         dip: 0.0,
         ..well(0.0)
     };
-    let b = &compiled3()[0];
+    let b = &compiled()[0];
     let opts = Hybrid3Options {
         allow_sites_outside: true,
         ..Default::default()

@@ -318,7 +318,7 @@ fn tetgen_example_plc_gets_weights() {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
     let cx = orthomesh::io::read_complex3(&path).unwrap();
-    for b in orthomesh::backend::compiled3() {
+    for b in orthomesh::backend::compiled() {
         let sc = cx.triangulate(&*b).unwrap();
         let out = orthomesh::weights::solve3(&*b, &cx, &sc, Default::default()).unwrap();
         eprintln!(

@@ -33,25 +33,11 @@ pub trait Backend: Sync {
     ) -> Result<Triangulation>;
     /// Regular triangulation of exact rational weighted points.
     fn regular_exact(&self, points: &[[Q; 2]], weights: &[Q]) -> Result<Triangulation>;
-}
-
-/// The 3D side of a backend (true 3D, issue 6).
-pub trait Backend3: Backend {
     /// Regular triangulation of weighted double points in 3D, exact
     /// predicates. Err when the points are coplanar (no tetrahedron).
     fn regular3(&self, points: &[[f64; 3]], weights: &[f64]) -> Result<Tetrahedralisation>;
     /// Regular triangulation of exact rational weighted points in 3D.
     fn regular3_exact(&self, points: &[[Q; 3]], weights: &[Q]) -> Result<Tetrahedralisation>;
-}
-
-/// Every backend with a 3D side compiled in.
-pub fn compiled3() -> Vec<Box<dyn Backend3>> {
-    vec![
-        #[cfg(feature = "cgal")]
-        Box::new(Cgal),
-        #[cfg(feature = "pure-rust")]
-        Box::new(pure::Pure),
-    ]
 }
 
 /// The backend compiled in by default.
@@ -85,18 +71,6 @@ pub fn by_name(name: &str) -> Result<Box<dyn Backend>> {
     all.into_iter().find(|b| b.name() == name).ok_or_else(|| {
         crate::error::Error::Usage(format!(
             "backend {name:?} is not compiled in (this build has: {list})"
-        ))
-    })
-}
-
-/// The backend of this name with a 3D side.
-pub fn by_name3(name: &str) -> Result<Box<dyn Backend3>> {
-    let all = compiled3();
-    let names: Vec<&str> = all.iter().map(|b| b.name()).collect();
-    let list = names.join(", ");
-    all.into_iter().find(|b| b.name() == name).ok_or_else(|| {
-        crate::error::Error::Usage(format!(
-            "backend {name:?} has no 3D side in this build (3D backends: {list})"
         ))
     })
 }

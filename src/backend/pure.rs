@@ -9,7 +9,7 @@
 //! Delaunay triangulation by retriangulating the polygons beside it.
 
 use super::points::{power_q, sign_q, F64Points};
-use super::{Backend, FlipTests, Triangulation};
+use super::{Backend, FlipTests, Tetrahedralisation, Triangulation};
 use crate::error::{Error, Result};
 use crate::geom::{q, Q};
 use std::cmp::Ordering;
@@ -433,6 +433,14 @@ impl Backend for Pure {
             p: points,
             w: weights,
         }))
+    }
+
+    fn regular3(&self, points: &[[f64; 3]], weights: &[f64]) -> Result<Tetrahedralisation> {
+        self.regular3_f64(points, weights)
+    }
+
+    fn regular3_exact(&self, points: &[[Q; 3]], weights: &[Q]) -> Result<Tetrahedralisation> {
+        self.regular3_q(points, weights)
     }
 }
 

@@ -42,8 +42,13 @@ impl Predicates3 for F64Points3<'_> {
     }
 }
 
-impl super::Backend3 for super::pure::Pure {
-    fn regular3(&self, points: &[[f64; 3]], weights: &[f64]) -> Result<Tetrahedralisation> {
+/// The pure engine's 3D entry points (`Backend::regular3`, `regular3_exact`).
+impl super::pure::Pure {
+    pub(super) fn regular3_f64(
+        &self,
+        points: &[[f64; 3]],
+        weights: &[f64],
+    ) -> Result<Tetrahedralisation> {
         if let Some(i) = points
             .iter()
             .flatten()
@@ -60,7 +65,11 @@ impl super::Backend3 for super::pure::Pure {
         })
     }
 
-    fn regular3_exact(&self, points: &[[Q; 3]], weights: &[Q]) -> Result<Tetrahedralisation> {
+    pub(super) fn regular3_q(
+        &self,
+        points: &[[Q; 3]],
+        weights: &[Q],
+    ) -> Result<Tetrahedralisation> {
         regular3(&QPoints3::new(points, weights))
     }
 }

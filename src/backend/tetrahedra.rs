@@ -141,7 +141,7 @@ impl Tetrahedralisation {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backend::compiled3;
+    use crate::backend::compiled;
     use crate::backend::points::F64Points3;
     use std::cmp::Ordering;
 
@@ -293,7 +293,7 @@ mod tests {
 
     #[test]
     fn random_weighted_points_give_a_regular_triangulation() {
-        for b in compiled3() {
+        for b in compiled() {
             let n = 1500;
             let r = rng(4 * n, 3);
             let mut p: Vec<[f64; 3]> = (0..n)
@@ -346,7 +346,7 @@ mod tests {
         };
         let qp: Vec<[crate::geom::Q; 3]> = p.iter().map(|x| x.map(crate::geom::q)).collect();
         let qw: Vec<crate::geom::Q> = w.iter().map(|&x| crate::geom::q(x)).collect();
-        let all: Vec<_> = compiled3()
+        let all: Vec<_> = compiled()
             .iter()
             .flat_map(|b| {
                 let from_f64 = sorted(&b.regular3(&p, &w).unwrap());
@@ -361,7 +361,7 @@ mod tests {
 
     #[test]
     fn a_cospherical_lattice() {
-        for b in compiled3() {
+        for b in compiled() {
             let p: Vec<[f64; 3]> = (0..125)
                 .map(|i| [(i % 5) as f64, (i / 5 % 5) as f64, (i / 25) as f64])
                 .collect();
@@ -376,7 +376,7 @@ mod tests {
 
     #[test]
     fn coplanar_or_not_finite_points_are_errors() {
-        for b in compiled3() {
+        for b in compiled() {
             let flat: Vec<[f64; 3]> = (0..10).map(|i| [i as f64, (i * i) as f64, 0.0]).collect();
             assert!(
                 b.regular3(&flat, &[0.0; 10]).is_err(),

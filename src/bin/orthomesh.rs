@@ -247,7 +247,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                         "coplanar" => orthomesh::weights::Keep::Coplanar,
                         _ => orthomesh::weights::Keep::Auto,
                     };
-                    let backend = orthomesh::backend::by_name3(backend.name())?;
+                    let backend = orthomesh::backend::by_name(backend.name())?;
                     let opts = Options3 {
                         allow_sites_outside,
                         keep,
@@ -360,7 +360,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     return Err(Error::Usage("--3d takes exactly one --well".into()));
                 };
                 let w = well3_spec(spec)?;
-                let backend = orthomesh::backend::by_name3(backend.name())?;
+                let backend = orthomesh::backend::by_name(backend.name())?;
                 let opts = Hybrid3Options {
                     rings,
                     sectors,

@@ -23,7 +23,7 @@
 //! centred on it, as the hybrid's walls need). When whole polygons leave no
 //! solution, fewer are kept and the LP tried again.
 
-use crate::backend::{Backend3, Tetrahedralisation};
+use crate::backend::{Backend, Tetrahedralisation};
 use crate::error::{Error, Result};
 use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
 use crate::lp::{
@@ -81,7 +81,7 @@ pub struct Weights3 {
 /// Finds weights for a validated, triangulated 3D complex, whole polygons
 /// kept as `keep` asks: each way in turn (`Keep::ways`) while the LP finds
 /// no solution or fails.
-pub fn solve<B: Backend3 + ?Sized>(
+pub fn solve<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex3,
     sc: &Simplices3,
@@ -102,7 +102,7 @@ pub fn solve<B: Backend3 + ?Sized>(
 /// plane where their vertices lie (they are Delaunay there), which the
 /// triangles of other facets may contradict: then only the whole polygons
 /// whose vertices are on no triangle or segment are kept whole, then none.
-fn solve_kept<B: Backend3 + ?Sized>(
+fn solve_kept<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex3,
     sc: &Simplices3,
@@ -523,7 +523,7 @@ struct Misses {
 }
 
 /// The lazy global form (see the module's doc).
-fn global<B: Backend3 + ?Sized>(
+fn global<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex3,
     faces: Vec<Face>,
@@ -903,7 +903,7 @@ pub fn sys3_failures(cx: &Complex3, faces: &[Face], w: &[Q], rt: &Tetrahedralisa
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backend::compiled3;
+    use crate::backend::compiled;
     use crate::complex::Facet;
 
     fn facet(polygons: Vec<Vec<u32>>) -> Facet {
@@ -941,7 +941,7 @@ mod tests {
     }
 
     fn run_kept(cx: &Complex3, keep: Keep) -> Result<Weights3> {
-        let b = &compiled3()[0];
+        let b = &compiled()[0];
         let sc = cx.triangulate(b.as_ref())?;
         solve(b.as_ref(), cx, &sc, keep)
     }
@@ -1075,7 +1075,7 @@ mod tests {
             facets: vec![facet(vec![vec![0, 1, 2]])],
             holes: vec![],
         };
-        let b = &compiled3()[0];
+        let b = &compiled()[0];
         let dt = b.regular3(&cx.points, &vec![0.0; n]).unwrap();
         assert!(!dt.triangle_apexes().contains_key(&[0, 1, 2]));
         let out = run(&cx).unwrap();
@@ -1098,7 +1098,7 @@ mod tests {
         }
         // Each side quad (b_k, b_k+1, t_k+1, t_k) folded along the
         // diagonal that is not a hull edge.
-        let b = &compiled3()[0];
+        let b = &compiled()[0];
         let hull = b.regular3(&points, &[0.0; 6]).unwrap();
         let on_hull = |a: u32, b: u32| {
             hull.hull_faces().any(|f| {

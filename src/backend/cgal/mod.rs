@@ -5,7 +5,7 @@
 #[allow(unsafe_code)]
 mod ffi;
 
-use super::{Backend, Backend3, Tetrahedralisation, Triangulation};
+use super::{Backend, Tetrahedralisation, Triangulation};
 use crate::error::{Error, Result};
 use crate::geom::Q;
 use std::fmt::Write;
@@ -62,9 +62,7 @@ impl Backend for Cgal {
         }
         convert(ffi::bridge::regular_triangulation_2_exact(&text))
     }
-}
 
-impl Backend3 for Cgal {
     fn regular3(&self, points: &[[f64; 3]], weights: &[f64]) -> Result<Tetrahedralisation> {
         let xyzw: Vec<f64> = points
             .iter()
