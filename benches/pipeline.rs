@@ -7,11 +7,11 @@
 
 use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
 use orthomesh::backend::{default_backend, Backend};
-use orthomesh::conform::{conform, Options};
 use orthomesh::generate::{cavities, staggered_chains};
 use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
 use orthomesh::io::eclipse::{read_grid, read_wells};
 use orthomesh::Complex;
+use orthomesh::{Mesher, Options};
 use std::time::{Duration, Instant};
 
 /// As in the CLI: mimalloc for every allocation, HiGHS' too.
@@ -51,7 +51,7 @@ fn ratios() {
         let mut out = None;
         for k in 0.. {
             let t = Instant::now();
-            let o = conform(&b, cx, &allow());
+            let o = Mesher::new(&b).options(allow().clone()).conform(cx);
             let once = t.elapsed().as_secs_f64() * 1e3;
             ms = ms.min(once);
             raw = raw.min(raw_ms(&b, cx));
@@ -172,7 +172,6 @@ fn regular_triangulation_3(c: &mut Criterion) {
 /// every backend with a 3D side, beside the raw regular triangulation of
 /// the same vertices (ids raw-BACKEND): exact rationals make it slow.
 fn conform3_pipeline(c: &mut Criterion) {
-    use orthomesh::conform3::{conform3, Options3};
     let example =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
     let inputs = [
@@ -183,7 +182,7 @@ fn conform3_pipeline(c: &mut Criterion) {
             orthomesh::io::read_complex3(&example).unwrap(),
         ),
     ];
-    let opts = Options3 {
+    let opts = Options {
         allow_sites_outside: true,
         ..Default::default()
     };
@@ -193,7 +192,7 @@ fn conform3_pipeline(c: &mut Criterion) {
         let zero = vec![0.0; cx.points.len()];
         for b in orthomesh::backend::compiled() {
             g.bench_function(BenchmarkId::new(b.name(), name), |bench| {
-                bench.iter(|| conform3(&*b, cx, &opts).unwrap())
+                bench.iter(|| Mesher::new(&*b).options(opts.clone()).conform(cx).unwrap())
             });
             g.bench_function(
                 BenchmarkId::new(format!("raw-{}", b.name()), name),
@@ -237,7 +236,14 @@ fn conform_pipeline(c: &mut Criterion) {
                 g.bench_with_input(
                     BenchmarkId::new(b.name(), cx.segments.len()),
                     cx,
-                    |bench, cx| bench.iter(|| conform(&*b, cx, &allow()).unwrap()),
+                    |bench, cx| {
+                        bench.iter(|| {
+                            Mesher::new(&*b)
+                                .options(allow().clone())
+                                .conform(cx)
+                                .unwrap()
+                        })
+                    },
                 );
             }
         }

@@ -6,11 +6,12 @@
 
 use crate::backend::Backend;
 use crate::complex::Complex;
-use crate::conform::{conform, Options, Report};
+use crate::conform::{conform2, Report};
 use crate::error::{Error, Result};
 use crate::io::eclipse::CornerPointGrid;
 use crate::io::vtu::IntArray;
 use crate::mesh::Mesh;
+use crate::options::Options;
 use crate::FastMap;
 use serde::Serialize;
 use std::f64::consts::TAU;
@@ -904,7 +905,7 @@ pub fn build<B: Backend + ?Sized>(
             allow_sites_outside: allow,
             ..Default::default()
         };
-        match conform(backend, &cx, &options) {
+        match conform2(backend, &cx, &options) {
             Ok(out) => break (cx, out, outer_pieces),
             Err(Error::SegmentsMissTheirDuals { segments, .. }) if !give_up => {
                 let label = components(&cavity);

@@ -15,11 +15,12 @@
 
 use crate::backend::Backend;
 use crate::complex::{Complex3, Facet};
-use crate::conform3::{conform3, Link3, Mesh3, Options3, Report3};
+use crate::conform::{conform3, Link3, Mesh3, Report3};
 use crate::error::{Error, Result};
 use crate::geom::{cross_f, volume, Plane};
 use crate::hybrid::{ring_radii, site_radii, Region};
 use crate::io::eclipse::CornerPointGrid;
+use crate::options::Options;
 use serde::Serialize;
 use std::collections::HashMap;
 use std::f64::consts::TAU;
@@ -412,14 +413,15 @@ pub fn build<B: Backend + ?Sized>(
         conform3(
             backend,
             &cx,
-            &Options3 {
+            &Options {
                 allow_sites_outside: opts.allow_sites_outside,
                 // The walls' and the well's rectangles face cells centred on
                 // them: orthogonal links need their power centres at their
                 // centres, hence equal weights.
-                keep: crate::weights::Keep::Shared,
+                whole_polygons: crate::weights::Keep::Shared,
                 split_facets: opts.split_facets,
                 clip,
+                ..Default::default()
             },
         )
     };

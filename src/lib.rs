@@ -7,10 +7,11 @@
 //! (IMR 2002), with exact predicates and an exact certificate.
 //!
 //! ```
-//! use orthomesh::{backend::default_backend, conform, generate};
+//! use orthomesh::{default_backend, generate, Mesher};
 //! // A square cavity around a well polygon (its interior a hole).
 //! let input = generate::cavities(1, 1, 14.0);
-//! let out = conform::conform(&default_backend(), &input, &Default::default()).unwrap();
+//! let backend = default_backend();
+//! let out = Mesher::new(&backend).conform(&input).unwrap();
 //! assert!(out.report.certificate.conforms());
 //! assert_eq!(out.report.certificate.sites_outside, 0);
 //! let vtu = orthomesh::io::vtu::to_string(&out.mesh, &out.site_inside);
@@ -37,7 +38,7 @@ pub mod backend;
 pub mod certify;
 pub mod complex;
 pub mod conform;
-pub mod conform3;
+
 pub mod diagram;
 pub mod diagram3;
 pub mod domain;
@@ -51,6 +52,8 @@ pub mod io;
 pub mod layers;
 pub mod lp;
 pub mod mesh;
+pub mod mesher;
+pub mod options;
 pub mod progress;
 pub mod relocate;
 pub mod sites;
@@ -58,8 +61,12 @@ pub mod sites3;
 pub mod split;
 pub mod weights;
 
-pub use complex::Complex;
+pub use backend::{by_name, compiled, default_backend, Backend};
+pub use complex::{Complex, Complex3, Facet};
+pub use conform::{Dimension, Outcome, D2, D3};
 pub use error::{Error, Result};
+pub use mesher::{Input, Mesher};
+pub use options::Options;
 
 /// Hash maps keyed by indices, which are not chosen by an adversary: Fx
 /// hashing instead of SipHash, which dominated the adjacency lookups.

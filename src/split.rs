@@ -9,10 +9,10 @@
 
 use crate::backend::Backend;
 use crate::complex::Complex;
-use crate::conform::{conform, Options, Outcome};
+use crate::conform::{conform2, Outcome, SplitReport, SplitSegment, D2};
 use crate::error::{Error, Result};
 use crate::geom::orient;
-use serde::Serialize;
+use crate::options::Options;
 use std::cmp::Ordering;
 use std::collections::BTreeMap;
 
@@ -21,28 +21,6 @@ pub const MAX_ROUNDS: usize = 12;
 /// Pieces a segment is halved into before its pieces follow its
 /// surroundings.
 const REFINE_AFTER: usize = 4;
-
-/// What splitting did, for the report.
-#[derive(Debug, Clone, Serialize, Default)]
-pub struct SplitReport {
-    pub rounds: usize,
-    pub steiner_points: usize,
-    /// Input segments meshed as chains.
-    pub segments: Vec<SplitSegment>,
-}
-
-/// One input segment meshed as a chain.
-#[derive(Debug, Clone, Serialize)]
-pub struct SplitSegment {
-    /// The segment's id in the input.
-    pub id: i64,
-    /// Edges of its chain.
-    pub pieces: usize,
-    /// Largest distance of its Steiner points from the segment, over its
-    /// length: 0 when they lie on it exactly; else each is the double
-    /// nearest its midpoint (no double lies on the segment near there).
-    pub off_line: f64,
-}
 
 /// The points dividing segment a-b into `pieces` (a power of two) equal
 /// parts, in order from a: each exactly on the segment when the double
@@ -106,7 +84,7 @@ pub fn conform_splitting<B: Backend + ?Sized>(
     backend: &B,
     input: &Complex,
     opts: &Options,
-) -> Result<Outcome> {
+) -> Result<Outcome<D2>> {
     let mut cx = input.clone();
     // Per segment of `cx`, the input segment it is part of.
     let mut origin: Vec<i64> = cx.segment_ids.clone();
@@ -118,7 +96,7 @@ pub fn conform_splitting<B: Backend + ?Sized>(
         ..opts.clone()
     };
     for round in 0..=MAX_ROUNDS {
-        let missing = match conform(backend, &cx, &inner) {
+        let missing = match conform2(backend, &cx, &inner) {
             Ok(mut out) => {
                 out.report.split = Some(report(round, &split));
                 return Ok(out);
@@ -131,11 +109,11 @@ pub fn conform_splitting<B: Backend + ?Sized>(
             }
             Err(e) if opts.allow_sites_outside && round > 0 => {
                 // Still sites outside after the splits: the caller allows it.
-                let mut out = conform(backend, &cx, opts).map_err(|_| e)?;
+                let mut out = conform2(backend, &cx, opts).map_err(|_| e)?;
                 out.report.split = Some(report(round, &split));
                 return Ok(out);
             }
-            Err(_) if opts.allow_sites_outside => return conform(backend, &cx, opts),
+            Err(_) if opts.allow_sites_outside => return conform2(backend, &cx, opts),
             Err(e) => return Err(e),
         };
         let mut done_any = false;

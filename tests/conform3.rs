@@ -4,12 +4,12 @@
 
 use orthomesh::backend::compiled;
 use orthomesh::complex::{Complex3, Facet};
-use orthomesh::conform3::{conform3, Options3, Outcome3};
 use orthomesh::error::Error;
 use orthomesh::weights::Keep;
+use orthomesh::{Mesher, Options, Outcome, D3};
 use std::path::Path;
 
-fn write(stem: &str, out: &Outcome3) {
+fn write(stem: &str, out: &Outcome<D3>) {
     if let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") {
         let dir = Path::new(&dir);
         orthomesh::io::write_atomic(
@@ -31,7 +31,7 @@ fn stacked_boxes_keep_their_rectangles_whole() {
     for b in compiled() {
         for k in [1, 3] {
             let cx = orthomesh::generate::stacked_boxes(k);
-            let out = conform3(&*b, &cx, &Options3::default()).unwrap();
+            let out = Mesher::new(&*b).conform(&cx).unwrap();
             let r = &out.report;
             let c = &r.certificate;
             assert!(c.conforms(), "{c:?}");
@@ -80,11 +80,11 @@ fn stacked_boxes_clipped_at_bottom_and_top() {
         .position(|f| z(f).iter().all(|&x| x > lo && x < hi))
         .unwrap() as u32;
     for b in compiled() {
-        let opts = Options3 {
+        let opts = Options {
             clip: vec![at(lo), at(hi)],
             ..Default::default()
         };
-        let out = conform3(&*b, &cx, &opts).unwrap();
+        let out = Mesher::new(&*b).options(opts.clone()).conform(&cx).unwrap();
         let (r, c) = (&out.report, &out.report.certificate);
         assert!(c.conforms(), "{c:?}");
         assert_eq!(r.clip_facets.len(), 2);
@@ -94,26 +94,38 @@ fn stacked_boxes_clipped_at_bottom_and_top() {
         assert!((c.domain_volume - 6.0).abs() < 1e-12, "{c:?}");
         assert!(out.mesh.volumes.iter().all(|&v| v > 0.0));
         write("clipped", &out);
-        let opts = Options3 {
+        let opts = Options {
             clip: vec![inner],
             ..Default::default()
         };
-        let err = conform3(&*b, &cx, &opts).unwrap_err().to_string();
+        let err = Mesher::new(&*b)
+            .options(opts.clone())
+            .conform(&cx)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("both sides"), "{err}");
-        let opts = Options3 {
+        let opts = Options {
             clip: vec![999],
             ..Default::default()
         };
-        let err = conform3(&*b, &cx, &opts).unwrap_err().to_string();
+        let err = Mesher::new(&*b)
+            .options(opts.clone())
+            .conform(&cx)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("clip facet 1000 of"), "{err}");
         // A box cut at all its sides keeps nothing to conform to.
         let one = orthomesh::generate::stacked_boxes(1);
-        let opts = Options3 {
-            clip: orthomesh::conform3::hull_facets(&one),
+        let opts = Options {
+            clip: orthomesh::conform::hull_facets(&one),
             ..Default::default()
         };
         assert_eq!(opts.clip.len(), one.facets.len());
-        let err = conform3(&*b, &one, &opts).unwrap_err().to_string();
+        let err = Mesher::new(&*b)
+            .options(opts.clone())
+            .conform(&one)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("the sites left span no volume"), "{err}");
     }
 }
@@ -124,7 +136,7 @@ fn tetgen_example_plc_conforms() {
     let cx = orthomesh::io::read_complex3(&path).unwrap();
     for b in compiled() {
         // Sites of the faces that do not cross their duals stay outside.
-        match conform3(&*b, &cx, &Options3::default()) {
+        match Mesher::new(&*b).conform(&cx) {
             Err(Error::SitesOutsideCells { sites, crowding }) => {
                 assert!(!sites.is_empty() && !crowding.is_empty())
             }
@@ -136,13 +148,13 @@ fn tetgen_example_plc_conforms() {
             (Keep::Coplanar, false),
             (Keep::Auto, true),
         ] {
-            let opts = Options3 {
+            let opts = Options {
                 allow_sites_outside: true,
-                keep,
+                whole_polygons: keep,
                 split_facets,
                 ..Default::default()
             };
-            let out = conform3(&*b, &cx, &opts).unwrap();
+            let out = Mesher::new(&*b).options(opts.clone()).conform(&cx).unwrap();
             let r = &out.report;
             let c = &r.certificate;
             eprintln!("{}: {}", b.name(), serde_json::to_string_pretty(r).unwrap());
@@ -200,16 +212,16 @@ fn tetgen_example_plc_conforms() {
 fn tetgen_example_clipped_at_its_hull() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
     let cx = orthomesh::io::read_complex3(&path).unwrap();
-    let hull = orthomesh::conform3::hull_facets(&cx);
+    let hull = orthomesh::conform::hull_facets(&cx);
     // the outer box's facets (the inner boxes' face outwards of nothing)
     assert!(!hull.is_empty());
     for b in compiled() {
-        let opts = Options3 {
+        let opts = Options {
             allow_sites_outside: true,
             clip: hull.clone(),
             ..Default::default()
         };
-        let out = conform3(&*b, &cx, &opts).unwrap();
+        let out = Mesher::new(&*b).options(opts.clone()).conform(&cx).unwrap();
         let (r, c) = (&out.report, &out.report.certificate);
         println!(
             "{}: TetGen's example clipped at {} hull facets: {} of {} sites inside",
@@ -265,7 +277,7 @@ fn no_regular_triangulation_is_an_error_naming_facets() {
         }
     };
     for b in compiled() {
-        let e = conform3(&*b, &prism(true), &Options3::default()).unwrap_err();
+        let e = Mesher::new(&*b).conform(&prism(true)).unwrap_err();
         assert!(
             matches!(e, Error::NoRegularConstrainedTetrahedralisation { .. }),
             "{e}"
@@ -274,7 +286,7 @@ fn no_regular_triangulation_is_an_error_naming_facets() {
         // Folded the other way the prism is convex: meshed, and its
         // symmetry gives exactly distinct power vertices 1e-16 apart on
         // the axis, merged when written.
-        let out = conform3(&*b, &prism(false), &Options3::default()).unwrap();
+        let out = Mesher::new(&*b).conform(&prism(false)).unwrap();
         let c = &out.report.certificate;
         assert!(c.conforms() && c.sites_inside == c.domain_sites, "{c:?}");
         assert!(out.report.collapsed_vertices > 0);

@@ -33,10 +33,7 @@ fn complex<B: Backend>(b: &B, pts: Vec<(i8, i8)>, keep: Vec<bool>) -> Option<Com
 }
 
 /// The mesh's cell count and sites outside, or None for no area.
-fn check<B: Backend + ?Sized>(
-    b: &B,
-    cx: &Complex,
-) -> Result<Option<(usize, usize)>, TestCaseError> {
+fn check(b: &dyn Backend, cx: &Complex) -> Result<Option<(usize, usize)>, TestCaseError> {
     match run(b, cx, "proptest", true) {
         Ok(out) => {
             assert_certified(&out, "random complex");

@@ -105,7 +105,7 @@ fn backends_agree_on_the_shared_inputs() {
                 run(&**b, &cx, name, true).unwrap_or_else(|e| panic!("{name} on {}: {e}", b.name()))
             })
             .collect();
-        let key = |o: &orthomesh::conform::Outcome| {
+        let key = |o: &orthomesh::Outcome<orthomesh::D2>| {
             let c = &o.report.certificate;
             (
                 o.mesh.cells.len(),
@@ -222,11 +222,13 @@ fn split_segments_puts_every_site_inside_the_letter_a() {
     let b = default_backend();
     for name in ["A.poly", "lettre_A.edg"] {
         let input = read(name);
-        let opts = orthomesh::conform::Options {
+        let opts = orthomesh::Options {
             split_segments: true,
             ..Default::default()
         };
-        let out = orthomesh::conform::conform(&b, &input, &opts)
+        let out = orthomesh::Mesher::new(&b)
+            .options(opts)
+            .conform(&input)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_certified(&out, name);
         assert_eq!(out.report.certificate.sites_outside, 0, "{name}");
@@ -236,7 +238,7 @@ fn split_segments_puts_every_site_inside_the_letter_a() {
             split.steiner_points > 0 && split.steiner_points <= 8,
             "{split:?}"
         );
-        let vertices = out.domain.complex.points.len();
+        let vertices = out.constraints.points.len();
         assert_eq!(
             vertices,
             input.points.len() + split.steiner_points,
@@ -247,7 +249,7 @@ fn split_segments_puts_every_site_inside_the_letter_a() {
             // Every Steiner point lies within its rounding of the input segment.
             let k = input.segment_ids.iter().position(|&id| id == s.id).unwrap();
             let [i, j] = input.segments[k].map(|v| input.points[v as usize]);
-            let on = out.domain.complex.points[input.points.len()..]
+            let on = out.constraints.points[input.points.len()..]
                 .iter()
                 .filter(|p| {
                     let cross = (j[0] - i[0]) * (p[1] - i[1]) - (j[1] - i[1]) * (p[0] - i[0]);

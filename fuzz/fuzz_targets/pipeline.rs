@@ -4,7 +4,7 @@
 //! an uncertified mesh.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use orthomesh::{backend::pure::Pure, conform, Complex, Error};
+use orthomesh::{by_name, Complex, Error, Mesher, Options};
 
 fuzz_target!(|data: &[u8]| {
     if data.len() < 2 {
@@ -26,11 +26,12 @@ fuzz_target!(|data: &[u8]| {
         .map(|c| [c[0] as u32 % n, c[1] as u32 % n])
         .collect();
     let cx = Complex::new(points, segments);
-    let opts = conform::Options {
+    let opts = Options {
         allow_sites_outside: true,
         ..Default::default()
     };
-    match conform::conform(&Pure, &cx, &opts) {
+    let pure = by_name("pure").expect("fuzz/ builds the pure-Rust backend");
+    match Mesher::new(&*pure).options(opts).conform(&cx) {
         Ok(out) => assert!(out.report.certificate.conforms(), "{:?}", out.report.certificate),
         Err(Error::Backend(m)) => panic!("backend error on valid input: {m}"),
         Err(Error::Certificate(m)) if !m.contains("double precision") => panic!("certificate: {m}"),

@@ -2,8 +2,6 @@
 
 use clap::{Parser, Subcommand};
 use orthomesh::complex::Complex3;
-use orthomesh::conform::{conform, Options, Outcome};
-use orthomesh::conform3::{conform3, Options3, Outcome3};
 use orthomesh::error::{Error, Result};
 use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
 use orthomesh::hybrid3::{self, Hybrid3Options, Well3};
@@ -12,6 +10,7 @@ use orthomesh::{
     backend::{default_backend, Backend},
     io, Complex,
 };
+use orthomesh::{Mesher, Options, Outcome, D2, D3};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -247,18 +246,18 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                         "coplanar" => orthomesh::weights::Keep::Coplanar,
                         _ => orthomesh::weights::Keep::Auto,
                     };
-                    let backend = orthomesh::backend::by_name(backend.name())?;
-                    let opts = Options3 {
+                    let opts = Options {
                         allow_sites_outside,
-                        keep,
+                        whole_polygons: keep,
                         split_facets,
                         clip: if clip_hull {
-                            orthomesh::conform3::hull_facets(&cx)
+                            orthomesh::conform::hull_facets(&cx)
                         } else {
                             vec![]
                         },
+                        ..Default::default()
                     };
-                    let mut out = conform3(&*backend, &cx, &opts)?;
+                    let mut out = Mesher::new(&*backend).options(opts).conform(&cx)?;
                     if reproducible {
                         out.report.timing_ms = None;
                     }
@@ -289,8 +288,9 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 // a progress bar for long runs when someone watches
                 progress: (cx.segments.len() >= MANY_SEGMENTS && std::io::stderr().is_terminal())
                     .then_some(bar as Progress),
+                ..Default::default()
             };
-            let mut out = conform(backend, &cx, &opts)?;
+            let mut out = Mesher::new(backend).options(opts.clone()).conform(&cx)?;
             if opts.progress.is_some() {
                 eprintln!();
             }
@@ -566,7 +566,7 @@ fn summarise(what: &str, h: &hybrid::Hybrid) {
 
 /// Writes every output whole (temporary file, then rename), then a summary.
 fn write_all(
-    out: &Outcome,
+    out: &Outcome<D2>,
     cx: &Complex,
     input: &Path,
     vtu: &Path,
@@ -580,7 +580,7 @@ fn write_all(
     if let Some(p) = svg {
         texts.push((
             p.to_path_buf(),
-            io::svg::to_string(&out.mesh, &out.site_inside, &out.domain.complex),
+            io::svg::to_string(&out.mesh, &out.site_inside, &out.constraints),
         ));
     }
     if let Some(p) = report {
@@ -635,7 +635,7 @@ fn report_text<R: serde::Serialize>(report: &R, input: &Path) -> Result<String> 
 }
 
 fn write_all3(
-    out: &Outcome3,
+    out: &Outcome<D3>,
     cx: &Complex3,
     input: &Path,
     vtu: &Path,

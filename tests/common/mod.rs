@@ -2,8 +2,8 @@
 #![allow(dead_code)]
 
 use orthomesh::backend::Backend;
-use orthomesh::conform::{conform, Options, Outcome};
 use orthomesh::{io, Complex, Result};
+use orthomesh::{Mesher, Options, Outcome, D2};
 use std::path::{Path, PathBuf};
 
 /// A constraint set from the copy of the shared data in tests/data/pslg.
@@ -19,15 +19,13 @@ pub fn read(name: &str) -> Complex {
 
 /// Runs the pipeline; on success writes the mesh where the reader checks
 /// (scripts/test.sh) will find it.
-pub fn run<B: Backend + ?Sized>(b: &B, cx: &Complex, tag: &str, allow: bool) -> Result<Outcome> {
-    let out = conform(
-        b,
-        cx,
-        &Options {
+pub fn run(b: &dyn Backend, cx: &Complex, tag: &str, allow: bool) -> Result<Outcome<D2>> {
+    let out = Mesher::new(b)
+        .options(Options {
             allow_sites_outside: allow,
             ..Default::default()
-        },
-    )?;
+        })
+        .conform(cx)?;
     if let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") {
         let name = format!("{tag}-{}.vtu", b.name());
         io::write_atomic(
@@ -39,13 +37,13 @@ pub fn run<B: Backend + ?Sized>(b: &B, cx: &Complex, tag: &str, allow: bool) -> 
 }
 
 /// The invariants every returned mesh satisfies.
-pub fn assert_certified(out: &Outcome, tag: &str) {
+pub fn assert_certified(out: &Outcome<D2>, tag: &str) {
     assert_certified_to(out, tag, 1e-6);
 }
 
 /// As `assert_certified`, with the largest orthogonality defect allowed on
 /// the mesh as written (coordinates far from the origin resolve less).
-pub fn assert_certified_to(out: &Outcome, tag: &str, orthogonality: f64) {
+pub fn assert_certified_to(out: &Outcome<D2>, tag: &str, orthogonality: f64) {
     let c = &out.report.certificate;
     assert!(c.conforms(), "{tag}: certificate {c:?}");
     assert!(

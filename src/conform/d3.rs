@@ -2,11 +2,13 @@
 //! weights, sites, relocation, site diagram, certificate, mesh. Generic
 //! over the backend's 3D side.
 
+use super::{Outcome, D3};
 use crate::backend::Backend;
 use crate::diagram3::{Certificate3, Diagram3};
 use crate::error::{Error, Result};
 use crate::geom::Plane;
 use crate::geom::{cross, dot, q, sub, Q};
+use crate::options::Options;
 use crate::sites3::{self, Clip, Sites3};
 use crate::weights;
 use crate::weights::WeightsReport;
@@ -27,25 +29,6 @@ const SPLIT_ROUNDS: usize = 4;
 /// When a round's whole batch of Steiner points is rejected, its first
 /// points are tried one at a time (each a whole pipeline run).
 const SINGLE_TRIES: usize = 4;
-
-/// Choices of the caller.
-#[derive(Debug, Clone, Default)]
-pub struct Options3 {
-    /// Write the conforming mesh even when some sites lie outside their cells.
-    pub allow_sites_outside: bool,
-    /// How whole polygons stay whole (`Keep::Auto` unless the caller asks
-    /// for shared weights or coplanar lifts).
-    pub keep: weights::Keep,
-    /// Where faces miss their duals (system 3 infeasible), add Steiner
-    /// points inside them to their facets, round by round, until none
-    /// misses or no point can be added.
-    pub split_facets: bool,
-    /// Facets (0-based) that bound the domain with nothing beyond them
-    /// (each on the hull of the points): the cells are cut at their planes
-    /// by mirrored sites instead of meeting them as single faces, so
-    /// their triangles need not cross their duals.
-    pub clip: Vec<u32>,
-}
 
 /// A polyhedral mesh: the domain's cells.
 #[derive(Debug, Clone, Default)]
@@ -111,7 +94,7 @@ pub struct Report3 {
     pub whole_polygons_kept: weights::Keep,
     /// Points added inside faces that missed their duals (`split_facets`).
     pub steiner_points: Vec<[f64; 3]>,
-    /// Facets (ids from 1) the cells were cut at (`Options3::clip`).
+    /// Facets (ids from 1) the cells were cut at (`Options::clip`).
     pub clip_facets: Vec<i64>,
     pub segments: usize,
     pub points: usize,
@@ -131,22 +114,15 @@ pub struct Report3 {
     pub timing_ms: Option<f64>,
 }
 
-/// A certified 3D mesh and how it was made.
-#[derive(Debug, Clone)]
-pub struct Outcome3 {
-    pub mesh: Mesh3,
-    pub report: Report3,
-}
-
 /// Meshes a 3D complex.
 pub fn conform3<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex3,
-    opts: &Options3,
-) -> Result<Outcome3> {
+    opts: &Options,
+) -> Result<Outcome<D3>> {
     let start = Instant::now();
     let clips = clips(cx, &opts.clip)?;
-    let mut best = Attempt::run(backend, cx.clone(), opts.keep, &clips)?;
+    let mut best = Attempt::run(backend, cx.clone(), opts.whole_polygons, &clips)?;
     // Refinement rounds, each kept only when it leaves fewer sites
     // outside (measured: a round that does not tends to start a cascade of
     // new failing faces); when the whole batch does not, a single point
@@ -167,7 +143,7 @@ pub fn conform3<B: Backend + ?Sized>(
                 .flatten(),
         );
         let better = batches
-            .map(|b| best.split(backend, b, opts.keep, &clips))
+            .map(|b| best.split(backend, b, opts.whole_polygons, &clips))
             .find_map(|next| next.ok().filter(|next| next.outside < best.outside));
         match better {
             Some(next) => best = next,
@@ -226,7 +202,12 @@ pub fn conform3<B: Backend + ?Sized>(
         certificate,
         timing_ms: Some(start.elapsed().as_secs_f64() * 1e3),
     };
-    Ok(Outcome3 { mesh, report })
+    Ok(Outcome {
+        site_inside: mesh.site_inside.clone(),
+        mesh,
+        report,
+        constraints: split,
+    })
 }
 
 /// The pipeline from a complex to its relocated site diagram.
@@ -376,7 +357,7 @@ fn plane_sides(cx: &Complex3, f: usize) -> Option<([Q; 3], [Q; 3], bool, bool)> 
 }
 
 /// The facets with every input point on one side of their plane (on the
-/// hull), to be clipped at (`Options3::clip`).
+/// hull), to be clipped at (`Options::clip`).
 pub fn hull_facets(cx: &Complex3) -> Vec<u32> {
     (0..cx.facets.len())
         .filter(|&f| plane_sides(cx, f).is_some_and(|(_, _, above, below)| !(above && below)))

@@ -1,44 +1,20 @@
-//! The whole 2D pipeline: validate, domain, weights, sites, relocation,
-//! diagram, certificate. Generic over the backend.
+//! The 2D pipeline: validate, domain, weights, sites, relocation, diagram,
+//! certificate, mesh.
 
+use super::{peak_mib_since_last, Outcome, Stage, Timing, D2};
 use crate::backend::Backend;
 use crate::certify::{certify, Certificate};
 use crate::complex::Complex;
-use crate::domain::{self, Domain};
+use crate::domain;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
+use crate::options::Options;
 use crate::progress::Progress;
 use crate::relocate::relocate;
 use crate::sites::{Role, Sites};
 use crate::weights::{self, WeightsReport};
 use serde::Serialize;
 use std::time::Instant;
-
-/// Choices of the caller.
-#[derive(Debug, Clone, Default)]
-pub struct Options {
-    /// Write the conforming mesh even when some sites lie outside their cells.
-    pub allow_sites_outside: bool,
-    /// Also time the backend's raw regular triangulation of the input
-    /// vertices, for the report's speed ratio (outside the pipeline's time).
-    pub compare_with_raw: bool,
-    /// Called as stages end and as the LP's pieces are solved:
-    /// (what, done, of).
-    pub progress: Option<Progress>,
-    /// Where system 3 is infeasible, split the segments that miss their
-    /// duals at Steiner points and mesh again (`split`).
-    pub split_segments: bool,
-}
-
-/// A certified mesh and how it was made.
-#[derive(Debug, Clone)]
-pub struct Outcome {
-    pub mesh: Mesh,
-    pub domain: Domain,
-    pub report: Report,
-    /// Which mesh cells have their site strictly inside.
-    pub site_inside: Vec<bool>,
-}
 
 /// The report written next to the mesh.
 #[derive(Debug, Clone, Serialize, Default)]
@@ -75,48 +51,7 @@ pub struct Report {
     pub timing: Option<Timing>,
     /// Segments meshed as chains (`Options::split_segments`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub split: Option<crate::split::SplitReport>,
-}
-
-/// What each stage cost.
-#[derive(Debug, Clone, Serialize, Default)]
-pub struct Timing {
-    /// In order.
-    pub stages: Vec<Stage>,
-    pub total_ms: f64,
-    /// Largest resident memory of the process over the run (MiB; Linux).
-    pub peak_mib: Option<f64>,
-    /// The backend's raw regular triangulation of the same vertices, when
-    /// asked for (`Options::compare_with_raw`).
-    pub raw_triangulation_ms: Option<f64>,
-    /// total_ms / raw_triangulation_ms (the speed measure).
-    pub ratio_to_raw: Option<f64>,
-}
-
-/// One stage's time and the peak of resident memory while it ran.
-#[derive(Debug, Clone, Serialize)]
-pub struct Stage {
-    pub stage: String,
-    pub ms: f64,
-    pub peak_mib: Option<f64>,
-}
-
-/// Peak resident memory since the last call (MiB), then the peak is reset
-/// (Linux: VmHWM in /proc/self/status, reset through /proc/self/clear_refs).
-/// None where the system does not tell.
-pub fn peak_mib_since_last() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let kib: f64 = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmHWM:"))?
-        .trim()
-        .trim_end_matches("kB")
-        .trim()
-        .parse()
-        .ok()?;
-    // Best effort: without the reset, peaks only grow.
-    let _ = std::fs::write("/proc/self/clear_refs", "5");
-    Some(kib / 1024.0)
+    pub split: Option<SplitReport>,
 }
 
 struct Clock {
@@ -152,19 +87,13 @@ impl Clock {
 /// Stages `conform` reports (the clock's laps).
 const STAGES: usize = 7;
 
-/// Builds the certified conforming orthogonal mesh of a complex.
-pub fn conform<B: Backend + ?Sized>(
+/// Builds the certified conforming orthogonal mesh of a 2D complex, once
+/// (no Steiner points: `split` adds those).
+pub fn conform2<B: Backend + ?Sized>(
     backend: &B,
     input: &Complex,
     opts: &Options,
-) -> Result<Outcome> {
-    if opts.split_segments {
-        let once = Options {
-            split_segments: false,
-            ..opts.clone()
-        };
-        return crate::split::conform_splitting(backend, input, &once);
-    }
+) -> Result<Outcome<D2>> {
     let start = Instant::now();
     let mut clock = Clock::start(opts.progress);
     input.validate()?;
@@ -284,10 +213,32 @@ pub fn conform<B: Backend + ?Sized>(
     };
     Ok(Outcome {
         mesh,
-        domain: dom,
         report,
+        constraints: dom.complex,
         site_inside,
     })
+}
+
+/// What splitting did, for the report.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct SplitReport {
+    pub rounds: usize,
+    pub steiner_points: usize,
+    /// Input segments meshed as chains.
+    pub segments: Vec<SplitSegment>,
+}
+
+/// One input segment meshed as a chain.
+#[derive(Debug, Clone, Serialize)]
+pub struct SplitSegment {
+    /// The segment's id in the input.
+    pub id: i64,
+    /// Edges of its chain.
+    pub pieces: usize,
+    /// Largest distance of its Steiner points from the segment, over its
+    /// length: 0 when they lie on it exactly; else each is the double
+    /// nearest its midpoint (no double lies on the segment near there).
+    pub off_line: f64,
 }
 
 /// Smallest (distance from site to a face of its cell) / sqrt(cell area)
