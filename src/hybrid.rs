@@ -9,8 +9,7 @@ use crate::complex::Complex;
 use crate::conform::{conform2, Report};
 use crate::error::{Error, Result};
 use crate::io::eclipse::CornerPointGrid;
-use crate::io::vtu::IntArray;
-use crate::mesh::Mesh;
+use crate::mesh::{CellArray, CellMesh, Connection, Element, Mesh, Network};
 use crate::options::Options;
 use crate::FastMap;
 use serde::Serialize;
@@ -111,12 +110,11 @@ pub struct Hybrid {
 }
 
 impl Hybrid {
-    /// The TOUGH2 MESH text: an element per cell at its site and mid-depth
-    /// (z up), volume = area x thickness; a connection per interior face
-    /// with each site's distance to the face, the face's area (length x
-    /// mean thickness) and the gravity cosine from the depths.
-    pub fn tough(&self) -> Result<String> {
-        use crate::io::tough::{Connection, Element};
+    /// The two-point flux network: an element per cell at its site and
+    /// mid-depth (z up), volume = area x thickness; a connection per
+    /// interior face with each site's distance to the face, the face's area
+    /// (length x mean thickness) and the gravity cosine from the depths.
+    pub fn network(&self) -> Network {
         let m = &self.mesh;
         let node = |c: usize| [m.sites[c][0], m.sites[c][1], -self.depth[c]];
         let elements: Vec<Element> = (0..m.cells.len())
@@ -125,7 +123,7 @@ impl Hybrid {
                 node: node(c),
             })
             .collect();
-        let conns = crate::flow::connections(m)
+        let connections = crate::flow::connections(m)
             .into_iter()
             .map(|c| {
                 let [a, b] = c.cells.map(|x| x as usize);
@@ -133,27 +131,18 @@ impl Hybrid {
                 Connection::lateral([a, b], node(a), node(b), c.d, area)
             })
             .collect::<Vec<_>>();
-        crate::io::tough::to_string(&elements, &conns, "ROCK1")
+        Network {
+            elements,
+            connections,
+        }
     }
 
-    /// The .vtu text: polygons with cell data site, weight, region (0
-    /// reservoir, 1 transition, 2 well) and ijk (1-based; -1 elsewhere).
-    pub fn vtu(&self) -> String {
-        let region = IntArray {
-            name: "region",
-            components: 1,
-            values: self.region.iter().map(|&r| r as i64).collect(),
-        };
-        let ijk = IntArray {
-            name: "ijk",
-            components: 3,
-            values: self
-                .ijk
-                .iter()
-                .flat_map(|c| c.map_or([-1; 3], |c| c.map(|x| x as i64 + 1)))
-                .collect(),
-        };
-        crate::io::vtu::to_string_with(&self.mesh, &[region, ijk])
+    /// Polygons with cell data site, weight, region (0 reservoir, 1
+    /// transition, 2 well) and ijk (1-based; -1 elsewhere).
+    pub fn cells(&self) -> CellMesh {
+        let region = CellArray::int("region", 1, self.region.iter().map(|&r| r as i64).collect());
+        let ijk = CellArray::ijk(self.ijk.iter().copied());
+        self.mesh.cells_with(vec![region, ijk])
     }
 }
 

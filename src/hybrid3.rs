@@ -15,11 +15,12 @@
 
 use crate::backend::Backend;
 use crate::complex::{Complex3, Facet};
-use crate::conform::{conform3, Link3, Mesh3, Report3};
+use crate::conform::{conform3, Report3};
 use crate::error::{Error, Result};
 use crate::geom::{cross_f, volume, Plane};
 use crate::hybrid::{ring_radii, site_radii, Region};
 use crate::io::eclipse::CornerPointGrid;
+use crate::mesh::{CellArray, CellMesh, Cells, Link3, Mesh3};
 use crate::options::Options;
 use serde::Serialize;
 use std::collections::HashMap;
@@ -827,49 +828,22 @@ fn find_face(a: &[Vec<u32>], b: &[Vec<u32>]) -> Vec<u32> {
 }
 
 impl Hybrid3 {
-    /// VTU polyhedra with cell data site, weight, volume, region, ijk
+    /// Polyhedra with cell data site, weight, volume, region, ijk
     /// (1-based, -1 outside the grid).
-    pub fn vtu(&self) -> String {
-        use crate::io::vtu::{polyhedra, FloatArray, IntArray};
+    pub fn cells(&self) -> CellMesh {
         let m = &self.mesh;
-        let floats = [
-            FloatArray {
-                name: "site",
-                components: 3,
-                values: m.sites.iter().flatten().copied().collect(),
-            },
-            FloatArray {
-                name: "weight",
-                components: 1,
-                values: m.weights.clone(),
-            },
-            FloatArray {
-                name: "volume",
-                components: 1,
-                values: m.volumes.clone(),
-            },
-        ];
-        let ints = [
-            IntArray {
-                name: "region",
-                components: 1,
-                values: self.region.iter().map(|&r| r as i64).collect(),
-            },
-            IntArray {
-                name: "ijk",
-                components: 3,
-                values: self
-                    .ijk
-                    .iter()
-                    .flat_map(|c| {
-                        c.map_or([-1; 3], |[i, j, k]| {
-                            [i as i64 + 1, j as i64 + 1, k as i64 + 1]
-                        })
-                    })
-                    .collect(),
-            },
-        ];
-        polyhedra(&m.points, &m.cells, &floats, &ints, "region")
+        CellMesh {
+            points: m.points.clone(),
+            cells: Cells::Polyhedra(m.cells.clone()),
+            data: vec![
+                CellArray::float("site", 3, m.sites.iter().flatten().copied().collect()),
+                CellArray::float("weight", 1, m.weights.clone()),
+                CellArray::float("volume", 1, m.volumes.clone()),
+                CellArray::int("region", 1, self.region.iter().map(|&r| r as i64).collect()),
+                CellArray::ijk(self.ijk.iter().copied()),
+            ],
+            scalars: "region",
+        }
     }
 }
 

@@ -9,7 +9,7 @@
 use crate::error::{Error, Result};
 use crate::hybrid::Hybrid;
 use crate::io::eclipse::CornerPointGrid;
-use crate::io::tough::{Connection, Element};
+use crate::mesh::{CellArray, CellMesh, Cells, Connection, Element, Network};
 
 /// The layered mesh: points (x, y, z up), and per cell its faces, each a
 /// list of point ids counter-clockwise seen from outside.
@@ -223,61 +223,36 @@ fn planar(p: &[[f64; 3]]) -> bool {
 }
 
 impl Layered {
-    /// VTU with polyhedra (type 42), classic faces/faceoffsets layout; cell
-    /// data region, ijk (1-based, -1 outside the grid), layer (1-based).
-    pub fn vtu(&self, h: &Hybrid) -> String {
-        use crate::io::vtu::{polyhedra, FloatArray, IntArray};
-        let floats = [
-            FloatArray {
-                name: "site",
-                components: 3,
-                values: self.node.iter().flatten().copied().collect(),
-            },
-            FloatArray {
-                name: "weight",
-                components: 1,
-                values: self
-                    .origin
-                    .iter()
-                    .map(|&(c, _)| h.mesh.weights[c as usize])
-                    .collect(),
-            },
-        ];
-        let ints = [
-            IntArray {
-                name: "region",
-                components: 1,
-                values: self
-                    .origin
-                    .iter()
-                    .map(|&(c, _)| h.region[c as usize] as i64)
-                    .collect(),
-            },
-            IntArray {
-                name: "ijk",
-                components: 3,
-                values: self
-                    .origin
-                    .iter()
-                    .flat_map(|&(c, k)| match h.ijk[c as usize] {
-                        Some([i, j, _]) => [i as i64 + 1, j as i64 + 1, k as i64 + 1],
-                        None => [-1, -1, -1],
-                    })
-                    .collect(),
-            },
-            IntArray {
-                name: "layer",
-                components: 1,
-                values: self.origin.iter().map(|&(_, k)| k as i64 + 1).collect(),
-            },
-        ];
-        polyhedra(&self.points, &self.cells, &floats, &ints, "region")
+    /// Polyhedra with cell data site, weight, region, ijk (1-based, -1
+    /// outside the grid) and layer (1-based).
+    pub fn cells(&self, h: &Hybrid) -> CellMesh {
+        let of = |f: &dyn Fn(u32, usize) -> i64| -> Vec<i64> {
+            self.origin.iter().map(|&(c, k)| f(c, k)).collect()
+        };
+        let weights = self.origin.iter().map(|&(c, _)| h.mesh.weights[c as usize]);
+        let ijk = self
+            .origin
+            .iter()
+            .map(|&(c, k)| h.ijk[c as usize].map(|[i, j, _]| [i, j, k]));
+        CellMesh {
+            points: self.points.clone(),
+            cells: Cells::Polyhedra(self.cells.clone()),
+            data: vec![
+                CellArray::float("site", 3, self.node.iter().flatten().copied().collect()),
+                CellArray::float("weight", 1, weights.collect()),
+                CellArray::int("region", 1, of(&|c, _| h.region[c as usize] as i64)),
+                CellArray::ijk(ijk),
+                CellArray::int("layer", 1, of(&|_, k| k as i64 + 1)),
+            ],
+            scalars: "region",
+        }
     }
 
-    /// TOUGH2 MESH: lateral connections from the 2D faces in each layer
-    /// (area: face length x the mean thickness of the two cells), vertical
-    /// ones between a cell and the one below it (area: the cell's map area).
-    pub fn tough(&self, h: &Hybrid) -> Result<String> {
+    /// The two-point flux network: lateral connections from the 2D faces
+    /// in each layer (area: face length x the mean thickness of the two
+    /// cells), vertical ones between a cell and the one below it (area: the
+    /// cell's map area).
+    pub fn network(&self, h: &Hybrid) -> Network {
         let m = &h.mesh;
         let elements: Vec<Element> = self
             .volume
@@ -320,6 +295,9 @@ impl Layered {
                 });
             }
         }
-        crate::io::tough::to_string(&elements, &conns, "ROCK1")
+        Network {
+            elements,
+            connections: conns,
+        }
     }
 }

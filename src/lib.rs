@@ -14,7 +14,7 @@
 //! let out = Mesher::new(&backend).conform(&input).unwrap();
 //! assert!(out.report.certificate.conforms());
 //! assert_eq!(out.report.certificate.sites_outside, 0);
-//! let vtu = orthomesh::io::vtu::to_string(&out.mesh, &out.site_inside);
+//! let vtu = orthomesh::io::vtu::to_string(&out.mesh.cells(&out.site_inside));
 //! assert!(vtu.contains("UnstructuredGrid"));
 //! ```
 //!

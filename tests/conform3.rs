@@ -14,10 +14,10 @@ fn write(stem: &str, out: &Outcome<D3>) {
         let dir = Path::new(&dir);
         orthomesh::io::write_atomic(
             &dir.join(format!("conform3-{stem}.vtu")),
-            out.mesh.vtu().as_bytes(),
+            orthomesh::io::vtu::to_string(&out.mesh.cells()).as_bytes(),
         )
         .unwrap();
-        let tough = out.mesh.tough().unwrap();
+        let tough = orthomesh::io::tough::to_string(&out.mesh.network()).unwrap();
         orthomesh::io::write_atomic(
             &dir.join(format!("conform3-{stem}.tough")),
             tough.as_bytes(),

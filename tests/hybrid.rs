@@ -26,13 +26,21 @@ fn spe9_wells() -> Vec<WellInput> {
 }
 
 fn write(tag: &str, h: &orthomesh::hybrid::Hybrid) {
-    write_files(&format!("hybrid-{tag}"), &h.vtu(), &h.tough().unwrap());
+    write_files(
+        &format!("hybrid-{tag}"),
+        &orthomesh::io::vtu::to_string(&h.cells()),
+        &orthomesh::io::tough::to_string(&h.network()).unwrap(),
+    );
 }
 
 /// 2.5D meshes go to `layers-*` files: tests/readers.py validates them as
 /// polyhedra.
 fn write_layers(tag: &str, h: &orthomesh::hybrid::Hybrid, l: &orthomesh::layers::Layered) {
-    write_files(&format!("layers-{tag}"), &l.vtu(h), &l.tough(h).unwrap());
+    write_files(
+        &format!("layers-{tag}"),
+        &orthomesh::io::vtu::to_string(&l.cells(h)),
+        &orthomesh::io::tough::to_string(&l.network(h)).unwrap(),
+    );
 }
 
 fn write_files(stem: &str, vtu: &str, tough: &str) {
@@ -161,7 +169,7 @@ fn spe9_in_2_5d() {
             .iter()
             .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1)));
     }
-    let tough = l.tough(&h).unwrap();
+    let tough = orthomesh::io::tough::to_string(&l.network(&h)).unwrap();
     let conne = tough
         .lines()
         .skip_while(|l| *l != "CONNE")

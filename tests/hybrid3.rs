@@ -11,9 +11,12 @@ use std::path::Path;
 fn write(stem: &str, h: &Hybrid3) {
     if let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") {
         let dir = Path::new(&dir);
-        orthomesh::io::write_atomic(&dir.join(format!("hybrid3-{stem}.vtu")), h.vtu().as_bytes())
-            .unwrap();
-        let tough = h.mesh.tough().unwrap();
+        orthomesh::io::write_atomic(
+            &dir.join(format!("hybrid3-{stem}.vtu")),
+            orthomesh::io::vtu::to_string(&h.cells()).as_bytes(),
+        )
+        .unwrap();
+        let tough = orthomesh::io::tough::to_string(&h.mesh.network()).unwrap();
         orthomesh::io::write_atomic(&dir.join(format!("hybrid3-{stem}.tough")), tough.as_bytes())
             .unwrap();
     }

@@ -373,9 +373,9 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                 if reproducible {
                     h.report.transition.timing_ms = None;
                 }
-                let mut texts = vec![(output.clone(), h.vtu())];
+                let mut texts = vec![(output.clone(), io::vtu::to_string(&h.cells()))];
                 if let Some(p) = tough {
-                    texts.push((p, h.mesh.tough()?));
+                    texts.push((p, io::tough::to_string(&h.mesh.network())?));
                 }
                 if let Some(p) = &report {
                     texts.push((p.clone(), report_text(&h.report, &grid)?));
@@ -463,14 +463,14 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
                     g.nz,
                     l.split_faces
                 );
-                texts.push((output.clone(), l.vtu(&h)));
+                texts.push((output.clone(), io::vtu::to_string(&l.cells(&h))));
                 if let Some(p) = tough {
-                    texts.push((p, l.tough(&h)?));
+                    texts.push((p, io::tough::to_string(&l.network(&h))?));
                 }
             } else {
-                texts.push((output.clone(), h.vtu()));
+                texts.push((output.clone(), io::vtu::to_string(&h.cells())));
                 if let Some(p) = tough {
-                    texts.push((p, h.tough()?));
+                    texts.push((p, io::tough::to_string(&h.network())?));
                 }
             }
             if let Some(p) = svg {
@@ -525,13 +525,16 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
             let report =
                 serde_json::to_string_pretty(&h.report).map_err(|e| Error::Usage(e.to_string()))?;
             let texts = [
-                (out_dir.join("demo.vtu"), h.vtu()),
+                (out_dir.join("demo.vtu"), io::vtu::to_string(&h.cells())),
                 (
                     out_dir.join("demo.svg"),
                     io::svg::to_string(&h.mesh, &inside, &h.constraints),
                 ),
                 (out_dir.join("demo.json"), report + "\n"),
-                (out_dir.join("demo.mesh"), h.tough()?),
+                (
+                    out_dir.join("demo.mesh"),
+                    io::tough::to_string(&h.network())?,
+                ),
             ];
             write_texts(&texts, || {
                 summarise("built-in grid (15 x 15 cells, a fault)", &h);
@@ -575,7 +578,7 @@ fn write_all(
 ) -> Result<()> {
     let mut texts = vec![(
         vtu.to_path_buf(),
-        io::vtu::to_string(&out.mesh, &out.site_inside),
+        io::vtu::to_string(&out.mesh.cells(&out.site_inside)),
     )];
     if let Some(p) = svg {
         texts.push((
@@ -642,9 +645,9 @@ fn write_all3(
     tough: Option<&Path>,
     report: Option<&Path>,
 ) -> Result<()> {
-    let mut texts = vec![(vtu.to_path_buf(), out.mesh.vtu())];
+    let mut texts = vec![(vtu.to_path_buf(), io::vtu::to_string(&out.mesh.cells()))];
     if let Some(p) = tough {
-        texts.push((p.to_path_buf(), out.mesh.tough()?));
+        texts.push((p.to_path_buf(), io::tough::to_string(&out.mesh.network())?));
     }
     if let Some(p) = report {
         texts.push((p.to_path_buf(), report_text(&out.report, input)?));

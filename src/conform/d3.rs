@@ -8,6 +8,7 @@ use crate::diagram3::{Certificate3, Diagram3};
 use crate::error::{Error, Result};
 use crate::geom::Plane;
 use crate::geom::{cross, dot, q, sub, Q};
+use crate::mesh::{FacetFace, Link3, Mesh3};
 use crate::options::Options;
 use crate::sites3::{self, Clip, Sites3};
 use crate::weights;
@@ -29,55 +30,6 @@ const SPLIT_ROUNDS: usize = 4;
 /// When a round's whole batch of Steiner points is rejected, its first
 /// points are tried one at a time (each a whole pipeline run).
 const SINGLE_TRIES: usize = 4;
-
-/// A polyhedral mesh: the domain's cells.
-#[derive(Debug, Clone, Default)]
-pub struct Mesh3 {
-    pub points: Vec<[f64; 3]>,
-    /// Per cell, its faces as point ids counter-clockwise seen from outside.
-    pub cells: Vec<Vec<Vec<u32>>>,
-    /// Per cell: its site (rounded), weight (rounded), volume, and whether
-    /// the site lies strictly inside (exact).
-    pub sites: Vec<[f64; 3]>,
-    pub weights: Vec<f64>,
-    pub volumes: Vec<f64>,
-    pub site_inside: Vec<bool>,
-    /// Faces between two cells, once each.
-    pub links: Vec<Link3>,
-    /// Power vertices merged into a neighbour closer than the output
-    /// precision (`mesh::COLLAPSE`).
-    pub collapsed: usize,
-    /// Faces of the complex on the domain's boundary, with their cell.
-    pub facet_faces: Vec<FacetFace>,
-}
-
-/// A triangle or whole polygon of the complex with a domain cell on one
-/// side only: where the mesh meets what lies beyond (another mesh, a
-/// boundary condition).
-#[derive(Debug, Clone)]
-pub struct FacetFace {
-    /// Its facet (index into `Complex3::facets`).
-    pub facet: u32,
-    /// Its points (mesh ids), in the complex's order.
-    pub points: Vec<u32>,
-    pub cell: usize,
-    pub area: f64,
-    /// Distance from the cell's site to the face's plane.
-    pub d: f64,
-}
-
-/// A face between two cells: its area and the distances from each site to
-/// its plane (two-point flux: transmissibility ~ area / (d0 + d1)).
-#[derive(Debug, Clone)]
-pub struct Link3 {
-    pub cells: [usize; 2],
-    /// The face's points.
-    pub face: Vec<u32>,
-    pub area: f64,
-    pub d: [f64; 2],
-    /// Unit normal from cell 0 to cell 1.
-    pub normal: [f64; 3],
-}
 
 /// The report written next to the mesh.
 #[derive(Debug, Clone, Serialize, Default)]
@@ -548,91 +500,4 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
 /// A site's position.
 fn xyz(p: [f64; 4]) -> [f64; 3] {
     [p[0], p[1], p[2]]
-}
-
-impl Mesh3 {
-    /// Largest |cos| between a face's in-plane directions and the segment
-    /// joining its two sites.
-    pub fn orthogonality_defect(&self) -> f64 {
-        self.links
-            .iter()
-            .map(|l| self.link_defect(l))
-            .fold(0.0, f64::max)
-    }
-
-    /// Largest |cos| between this link's face's in-plane directions and
-    /// the segment joining its two sites (0 for a link without a face).
-    pub fn link_defect(&self, l: &Link3) -> f64 {
-        let (a, b) = (self.sites[l.cells[0]], self.sites[l.cells[1]]);
-        let d: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
-        let dot = |u: [f64; 3], w: [f64; 3]| u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
-        let Some((first, rest)) = l.face.split_first() else {
-            return 0.0;
-        };
-        let p0 = self.points[*first as usize];
-        rest.iter()
-            .map(|&v| {
-                let p = self.points[v as usize];
-                let e: [f64; 3] = std::array::from_fn(|k| p[k] - p0[k]);
-                dot(e, d).abs() / (dot(e, e) * dot(d, d)).sqrt()
-            })
-            .filter(|c| c.is_finite())
-            .fold(0.0, f64::max)
-    }
-
-    /// VTU polyhedra (type 42) with cell data site, weight, volume,
-    /// site_inside.
-    pub fn vtu(&self) -> String {
-        use crate::io::vtu::{polyhedra, FloatArray, IntArray};
-        let floats = [
-            FloatArray {
-                name: "site",
-                components: 3,
-                values: self.sites.iter().flatten().copied().collect(),
-            },
-            FloatArray {
-                name: "weight",
-                components: 1,
-                values: self.weights.clone(),
-            },
-            FloatArray {
-                name: "volume",
-                components: 1,
-                values: self.volumes.clone(),
-            },
-        ];
-        let ints = [IntArray {
-            name: "site_inside",
-            components: 1,
-            values: self.site_inside.iter().map(|&b| i64::from(b)).collect(),
-        }];
-        polyhedra(&self.points, &self.cells, &floats, &ints, "weight")
-    }
-
-    /// TOUGH2 MESH: an element per cell (node at its site), a connection
-    /// per face between cells (ISOT by the face normal's main axis; z up).
-    pub fn tough(&self) -> Result<String> {
-        use crate::io::tough::{Connection, Element};
-        let elements: Vec<Element> = self
-            .volumes
-            .iter()
-            .zip(&self.sites)
-            .map(|(&volume, &node)| Element { volume, node })
-            .collect();
-        let conns: Vec<Connection> = self
-            .links
-            .iter()
-            .map(|l| {
-                let axis = (0..3)
-                    .max_by(|&a, &b| l.normal[a].abs().total_cmp(&l.normal[b].abs()))
-                    .unwrap_or(0);
-                let (a, b) = (self.sites[l.cells[0]], self.sites[l.cells[1]]);
-                Connection {
-                    isot: axis as u8 + 1,
-                    ..Connection::lateral(l.cells, a, b, l.d, l.area)
-                }
-            })
-            .collect();
-        crate::io::tough::to_string(&elements, &conns, "ROCK1")
-    }
 }

@@ -6,7 +6,9 @@ mod d2;
 mod d3;
 
 pub use d2::{conform2, Report, SplitReport, SplitSegment};
-pub use d3::{conform3, hull_facets, FacetFace, Link3, Mesh3, Report3};
+pub use d3::{conform3, hull_facets, Report3};
+
+use crate::mesh::Mesh3;
 
 use crate::complex::{Complex, Complex3};
 use serde::Serialize;

@@ -4,50 +4,8 @@
 //! differ in a power diagram), the interface area and the gravity cosine.
 
 use crate::error::{Error, Result};
+use crate::mesh::Network;
 use std::fmt::Write;
-
-/// An element: volume and node position (x, y, z; z up).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Element {
-    pub volume: f64,
-    pub node: [f64; 3],
-}
-
-/// A connection between elements a and b.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Connection {
-    pub elements: [usize; 2],
-    /// Permeability index: 1, 2 or 3.
-    pub isot: u8,
-    pub d: [f64; 2],
-    pub area: f64,
-    /// Cosine of the angle between gravity and the line from a to b
-    /// (positive when b is below a).
-    pub cos_gravity: f64,
-}
-
-impl Connection {
-    /// A lateral connection between elements with nodes `na`, `nb` (z up):
-    /// permeability index 1 or 2 by the larger horizontal component, the
-    /// gravity cosine from the nodes.
-    pub fn lateral(
-        elements: [usize; 2],
-        na: [f64; 3],
-        nb: [f64; 3],
-        d: [f64; 2],
-        area: f64,
-    ) -> Connection {
-        let v = [nb[0] - na[0], nb[1] - na[1], nb[2] - na[2]];
-        let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        Connection {
-            elements,
-            isot: if v[0].abs() >= v[1].abs() { 1 } else { 2 },
-            d,
-            area,
-            cos_gravity: if len > 0.0 { -v[2] / len } else { 0.0 },
-        }
-    }
-}
 
 /// Element names: three characters (a letter, then letters or digits) and
 /// two digits, as TOUGH reads them: 26 x 36 x 36 x 100 names.
@@ -83,8 +41,12 @@ fn e10(x: f64) -> String {
     format!("{:>10}", if x < 0.0 { "-9.9E+99" } else { "9.9E+99" })
 }
 
-/// The MESH file text. All elements get rock type `rock` (5 characters).
-pub fn to_string(elements: &[Element], connections: &[Connection], rock: &str) -> Result<String> {
+/// The rock type every element gets.
+const ROCK: &str = "ROCK1";
+
+/// The MESH file text of a network; every element of rock type ROCK1.
+pub fn to_string(network: &Network) -> Result<String> {
+    let (elements, connections, rock) = (&network.elements, &network.connections, ROCK);
     let mut s = String::with_capacity(81 * (elements.len() + connections.len()) + 64);
     s.push_str("ELEME\n");
     let names: Vec<String> = (0..elements.len()).map(name).collect::<Result<_>>()?;
@@ -127,6 +89,7 @@ pub fn to_string(elements: &[Element], connections: &[Connection], rock: &str) -
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::{Connection, Element};
 
     #[test]
     fn names_are_unique_with_two_digits_last() {
@@ -163,7 +126,11 @@ mod tests {
             area: 10.0,
             cos_gravity: 0.0,
         };
-        let text = to_string(&[e.clone(), e], &[c], "ROCK1").unwrap();
+        let network = Network {
+            elements: vec![e.clone(), e],
+            connections: vec![c],
+        };
+        let text = to_string(&network).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(&lines[1][0..5], "A0000");
         assert_eq!(&lines[1][15..20], "ROCK1");

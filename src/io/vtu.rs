@@ -1,43 +1,61 @@
-//! VTK XML UnstructuredGrid (.vtu), classic layout, ASCII: polygons (type 7),
-//! counter-clockwise, z = 0. Doubles are written in their shortest
-//! round-trip form, so they read back exactly.
+//! VTK XML UnstructuredGrid (.vtu), classic layout, ASCII: polygons (type 7,
+//! counter-clockwise, z = 0) or polyhedra (type 42, faces/faceoffsets),
+//! with named cell arrays. Doubles are written in their shortest round-trip
+//! form, so they read back exactly.
 
-use crate::mesh::Mesh;
+use crate::mesh::{CellArray, CellMesh, Cells, Values};
 use std::fmt::Write;
 
-/// A cell array of integers with 1 or more components per cell.
-pub struct IntArray<'a> {
-    pub name: &'a str,
-    pub components: usize,
-    pub values: Vec<i64>,
+/// The .vtu text of a mesh. Polyhedra faces lose the vertices where they
+/// run straight on (see `corners`).
+pub fn to_string(mesh: &CellMesh) -> String {
+    let n = match &mesh.cells {
+        Cells::Polygons(c) => c.len(),
+        Cells::Polyhedra(c) => c.len(),
+    };
+    let mut s = String::with_capacity(64 * (mesh.points.len() + n));
+    begin(&mut s, &mesh.points, n);
+    s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+    match &mesh.cells {
+        Cells::Polygons(cells) => polygons(&mut s, cells),
+        Cells::Polyhedra(cells) => polyhedra(&mut s, &mesh.points, cells),
+    }
+    let _ = write!(
+        s,
+        "</DataArray>\n</Cells>\n<CellData Scalars=\"{}\">\n",
+        mesh.scalars
+    );
+    for a in &mesh.data {
+        array(&mut s, a);
+    }
+    s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+    s
 }
 
-/// A cell array of doubles with 1 or more components per cell.
-pub struct FloatArray<'a> {
-    pub name: &'a str,
-    pub components: usize,
-    pub values: Vec<f64>,
+/// Connectivity, offsets and types of polygons.
+fn polygons(s: &mut String, cells: &[Vec<u32>]) {
+    for c in cells {
+        let line: Vec<String> = c.iter().map(u32::to_string).collect();
+        let _ = writeln!(s, "{}", line.join(" "));
+    }
+    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+    let mut off = 0;
+    for c in cells {
+        off += c.len();
+        let _ = writeln!(s, "{off}");
+    }
+    s.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+    for _ in cells {
+        s.push_str("7\n");
+    }
 }
 
-/// The .vtu text of polyhedra (type 42), classic faces/faceoffsets
-/// layout: per cell its faces, each a list of point ids counter-clockwise
-/// seen from outside; with the given cell data (`scalars` names the
-/// active one). A vertex where a face runs straight on is left out of that
-/// face (see `corners`).
-pub fn polyhedra(
-    points: &[[f64; 3]],
-    cells: &[Vec<Vec<u32>>],
-    floats: &[FloatArray],
-    ints: &[IntArray],
-    scalars: &str,
-) -> String {
+/// Connectivity, offsets, types, faces and face offsets of polyhedra.
+fn polyhedra(s: &mut String, points: &[[f64; 3]], cells: &[Vec<Vec<u32>>]) {
     let cells: Vec<Vec<Vec<u32>>> = cells
         .iter()
         .map(|faces| faces.iter().map(|f| corners(points, f)).collect())
         .collect();
-    let mut s = String::new();
-    begin(&mut s, points, cells.len());
-    s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
     let mut offsets = vec![];
     let mut n = 0;
     for faces in &cells {
@@ -74,56 +92,55 @@ pub fn polyhedra(
     for o in face_offsets {
         let _ = writeln!(s, "{o}");
     }
-    let _ = write!(
-        s,
-        "</DataArray>\n</Cells>\n<CellData Scalars=\"{scalars}\">\n"
-    );
-    let floats = floats.iter().map(|a| {
-        let text = |x: &f64| format!("{x:e}");
-        (
-            "Float64",
-            a.name,
-            a.components,
-            a.values.iter().map(text).collect::<Vec<_>>(),
-        )
-    });
-    let ints = ints.iter().map(|a| {
-        let text = |x: &i64| x.to_string();
-        (
-            "Int64",
-            a.name,
-            a.components,
-            a.values.iter().map(text).collect::<Vec<_>>(),
-        )
-    });
-    for (ty, name, components, values) in floats.chain(ints) {
-        let _ = writeln!(
-            s,
-            "<DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{components}\" format=\"ascii\">"
-        );
-        for c in values.chunks(components) {
-            let _ = writeln!(s, "{}", c.join(" "));
-        }
-        s.push_str("</DataArray>\n");
-    }
-    s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
-    s
 }
 
-/// The .vtu text of a 2D mesh, with cell data `site` (3 components),
-/// `weight` (power(x) = |x - site|^2 - weight) and `site_inside` (0/1).
-pub fn to_string(mesh: &Mesh, site_inside: &[bool]) -> String {
-    let inside = IntArray {
-        name: "site_inside",
-        components: 1,
-        values: site_inside.iter().map(|&b| i64::from(b)).collect(),
+/// One cell array, a line per cell.
+fn array(s: &mut String, a: &CellArray) {
+    let ty = match a.values {
+        Values::Int(_) => "Int64",
+        Values::Float(_) | Values::Planar(_) => "Float64",
     };
-    to_string_with(mesh, &[inside])
+    let name = a.name;
+    match a.components {
+        Some(c) => {
+            let _ = writeln!(
+                s,
+                "<DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{c}\" format=\"ascii\">"
+            );
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                "<DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">"
+            );
+        }
+    }
+    let per = a.components.unwrap_or(1);
+    match &a.values {
+        Values::Float(v) => {
+            for c in v.chunks(per) {
+                let line: Vec<String> = c.iter().map(|x| format!("{x:e}")).collect();
+                let _ = writeln!(s, "{}", line.join(" "));
+            }
+        }
+        Values::Int(v) => {
+            for c in v.chunks(per) {
+                let line: Vec<String> = c.iter().map(i64::to_string).collect();
+                let _ = writeln!(s, "{}", line.join(" "));
+            }
+        }
+        Values::Planar(v) => {
+            for p in v {
+                let _ = writeln!(s, "{:e} {:e} 0", p[0], p[1]);
+            }
+        }
+    }
+    s.push_str("</DataArray>\n");
 }
 
 /// The file's start up to the points (written exactly), leaving the
 /// Points element open.
-pub(crate) fn begin(s: &mut String, points: &[[f64; 3]], cells: usize) {
+fn begin(s: &mut String, points: &[[f64; 3]], cells: usize) {
     let _ = write!(
         s,
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n\
@@ -138,54 +155,6 @@ pub(crate) fn begin(s: &mut String, points: &[[f64; 3]], cells: usize) {
             let _ = writeln!(s, "{:e} {:e} {:e}", p[0], p[1], p[2]);
         }
     }
-}
-
-/// The .vtu text of a 2D mesh with `site`, `weight` and the given arrays.
-pub fn to_string_with(mesh: &Mesh, arrays: &[IntArray]) -> String {
-    let mut s = String::with_capacity(64 * (mesh.points.len() + mesh.cells.len()));
-    let n_conn: usize = mesh.cells.iter().map(Vec::len).sum();
-    let points: Vec<[f64; 3]> = mesh.points.iter().map(|p| [p[0], p[1], 0.0]).collect();
-    begin(&mut s, &points, mesh.cells.len());
-    s.push_str("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    for c in &mesh.cells {
-        let line: Vec<String> = c.iter().map(u32::to_string).collect();
-        let _ = writeln!(s, "{}", line.join(" "));
-    }
-    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-    let mut off = 0;
-    for c in &mesh.cells {
-        off += c.len();
-        let _ = writeln!(s, "{off}");
-    }
-    debug_assert_eq!(off, n_conn);
-    s.push_str("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for _ in &mesh.cells {
-        s.push_str("7\n");
-    }
-    s.push_str("</DataArray>\n</Cells>\n<CellData Scalars=\"weight\">\n");
-    s.push_str(
-        "<DataArray type=\"Float64\" Name=\"site\" NumberOfComponents=\"3\" format=\"ascii\">\n",
-    );
-    for p in &mesh.sites {
-        let _ = writeln!(s, "{:e} {:e} 0", p[0], p[1]);
-    }
-    s.push_str("</DataArray>\n<DataArray type=\"Float64\" Name=\"weight\" format=\"ascii\">\n");
-    for w in &mesh.weights {
-        let _ = writeln!(s, "{w:e}");
-    }
-    for a in arrays {
-        let _ = write!(
-            s,
-            "</DataArray>\n<DataArray type=\"Int64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
-            a.name, a.components
-        );
-        for c in a.values.chunks(a.components) {
-            let line: Vec<String> = c.iter().map(i64::to_string).collect();
-            let _ = writeln!(s, "{}", line.join(" "));
-        }
-    }
-    s.push_str("</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
-    s
 }
 
 /// A face without the vertices where it runs straight on (to 1e-10 in
@@ -214,6 +183,7 @@ fn corners(points: &[[f64; 3]], face: &[u32]) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::Mesh;
 
     #[test]
     fn coordinates_read_back_exactly() {
@@ -225,7 +195,7 @@ mod tests {
             weights: vec![-0.0],
             ..Default::default()
         };
-        let text = to_string(&mesh, &[true]);
+        let text = to_string(&mesh.cells(&[true]));
         let line = text
             .lines()
             .find(|l| l.ends_with(" 0") && l.contains("e-300"))

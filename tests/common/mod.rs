@@ -30,7 +30,7 @@ pub fn run(b: &dyn Backend, cx: &Complex, tag: &str, allow: bool) -> Result<Outc
         let name = format!("{tag}-{}.vtu", b.name());
         io::write_atomic(
             &Path::new(&dir).join(name),
-            io::vtu::to_string(&out.mesh, &out.site_inside).as_bytes(),
+            orthomesh::io::vtu::to_string(&out.mesh.cells(&out.site_inside)).as_bytes(),
         )?;
     }
     Ok(out)

@@ -3,6 +3,7 @@
 //! ~1e-17; readers merge such points, so vertices closer than `COLLAPSE`
 //! times the mesh size are merged here (never two input vertices) and counted.
 
+use super::{CellArray, CellMesh, Cells, Values};
 use crate::backend::Triangulation;
 use crate::diagram::Diagram;
 use crate::error::{Error, Result};
@@ -255,5 +256,33 @@ impl Mesh {
         }
         self.faces.sort_unstable();
         unmatched
+    }
+}
+
+impl Mesh {
+    /// Polygons with cell data site, weight and site_inside (0/1).
+    pub fn cells(&self, site_inside: &[bool]) -> CellMesh {
+        let inside = site_inside.iter().map(|&b| i64::from(b)).collect();
+        self.cells_with(vec![CellArray::int("site_inside", 1, inside)])
+    }
+
+    /// Polygons with cell data site, weight and the given arrays.
+    pub fn cells_with(&self, arrays: Vec<CellArray>) -> CellMesh {
+        let mut data = vec![
+            CellArray::float("site", 3, vec![]),
+            CellArray {
+                name: "weight",
+                components: None,
+                values: Values::Float(self.weights.clone()),
+            },
+        ];
+        data[0].values = Values::Planar(self.sites.clone());
+        data.extend(arrays);
+        CellMesh {
+            points: self.points.iter().map(|p| [p[0], p[1], 0.0]).collect(),
+            cells: Cells::Polygons(self.cells.clone()),
+            data,
+            scalars: "weight",
+        }
     }
 }
