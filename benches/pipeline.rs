@@ -8,8 +8,8 @@
 use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
 use orthomesh::backend::{default_backend, Backend};
 use orthomesh::generate::{cavities, staggered_chains};
-use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
 use orthomesh::io::eclipse::{read_grid, read_wells};
+use orthomesh::reservoir::hybrid::{self, HybridOptions, WellAt, WellInput};
 use orthomesh::Complex;
 use orthomesh::{Mesher, Options};
 use std::time::{Duration, Instant};
@@ -253,7 +253,7 @@ fn conform_pipeline(c: &mut Criterion) {
 
 /// The SPE9 grid's top layer with all 26 wells of its deck (issue target:
 /// well under a second).
-fn spe9_hybrid() -> (orthomesh::io::eclipse::CornerPointGrid, Vec<WellInput>) {
+fn spe9_hybrid() -> (orthomesh::reservoir::CornerPointGrid, Vec<WellInput>) {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
     let grid = read_grid(&dir.join("SPE9.GRDECL")).unwrap();
     let (wells, _) = read_wells(&dir.join("SPE9_CP.DATA")).unwrap();

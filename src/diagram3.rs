@@ -443,10 +443,10 @@ mod tests {
         (wt, s, d, c)
     }
 
+    /// (TetGen's example runs through the pipeline in tests/conform3.rs.)
     #[test]
-    fn tetgen_example() {
-        let cx = crate::io::read_complex3(std::path::Path::new("tests/data/plc3d/example.poly"))
-            .unwrap();
+    fn stacked_boxes_certify() {
+        let cx = crate::generate::stacked_boxes(2);
         let (wt, s, d, c) = pipeline(&cx);
         eprintln!(
             "faces {} sites {} cells {} {:?}",

@@ -4,9 +4,9 @@
 //! Thiem's radial solution. Prints what it measures.
 
 use orthomesh::backend::default_backend;
-use orthomesh::flow::{boundary_faces, connections, pressures, stats, BoundaryFace};
-use orthomesh::hybrid::{build, HybridOptions, Region, WellAt, WellInput};
-use orthomesh::io::eclipse::CornerPointGrid;
+use orthomesh::reservoir::flow::{boundary_faces, connections, pressures, stats, BoundaryFace};
+use orthomesh::reservoir::hybrid::{build, HybridOptions, Region, WellAt, WellInput};
+use orthomesh::reservoir::CornerPointGrid;
 use std::f64::consts::TAU;
 
 /// Relative error of the pressure drop between the well's cells and

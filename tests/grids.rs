@@ -13,7 +13,7 @@ fn grid(name: &str) -> PathBuf {
 }
 
 /// Writes the corners of every cell as JSON where the reader check finds them.
-fn export(name: &str, g: &orthomesh::io::eclipse::CornerPointGrid) {
+fn export(name: &str, g: &orthomesh::reservoir::CornerPointGrid) {
     let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") else {
         return;
     };

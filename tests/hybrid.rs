@@ -3,8 +3,8 @@
 //! conforms, and the interfaces are orthogonal.
 
 use orthomesh::backend::default_backend;
-use orthomesh::hybrid::{build, HybridOptions, Region, WellAt, WellInput};
 use orthomesh::io::eclipse::{read_grid, read_wells};
+use orthomesh::reservoir::hybrid::{build, HybridOptions, Region, WellAt, WellInput};
 use std::path::Path;
 
 fn data(name: &str) -> std::path::PathBuf {
@@ -25,7 +25,7 @@ fn spe9_wells() -> Vec<WellInput> {
         .collect()
 }
 
-fn write(tag: &str, h: &orthomesh::hybrid::Hybrid) {
+fn write(tag: &str, h: &orthomesh::reservoir::hybrid::Hybrid) {
     write_files(
         &format!("hybrid-{tag}"),
         &orthomesh::io::vtu::to_string(&h.cells()),
@@ -35,7 +35,11 @@ fn write(tag: &str, h: &orthomesh::hybrid::Hybrid) {
 
 /// 2.5D meshes go to `layers-*` files: tests/readers.py validates them as
 /// polyhedra.
-fn write_layers(tag: &str, h: &orthomesh::hybrid::Hybrid, l: &orthomesh::layers::Layered) {
+fn write_layers(
+    tag: &str,
+    h: &orthomesh::reservoir::hybrid::Hybrid,
+    l: &orthomesh::reservoir::layers::Layered,
+) {
     write_files(
         &format!("layers-{tag}"),
         &orthomesh::io::vtu::to_string(&l.cells(h)),
@@ -92,7 +96,7 @@ fn spe9_top_layer_with_all_26_wells() {
 fn spe9_on_every_backend() {
     let g = read_grid(&data("SPE9.GRDECL")).unwrap();
     let opts = HybridOptions::default();
-    let key = |h: &orthomesh::hybrid::Hybrid| {
+    let key = |h: &orthomesh::reservoir::hybrid::Hybrid| {
         let r = &h.report;
         (
             r.cells,
@@ -140,7 +144,7 @@ fn spe9_in_2_5d() {
     let g = read_grid(&data("SPE9.GRDECL")).unwrap();
     let opts = HybridOptions::default();
     let h = build(&default_backend(), &g, &spe9_wells(), &opts).unwrap();
-    let l = orthomesh::layers::extrude(&h, &g).unwrap();
+    let l = orthomesh::reservoir::layers::extrude(&h, &g).unwrap();
     write_layers("spe9", &h, &l);
     assert_eq!(l.cells.len(), 15 * h.mesh.cells.len());
     // Volumes add up to the grid's (less the wellbores), to the precision
@@ -187,7 +191,7 @@ fn spe9_in_2_5d() {
 /// that ends next to the well: along the east sides of column I = 6 for
 /// J = 3..5, and a part far away along the north sides of row J = 9.
 fn faulted_grid() -> std::path::PathBuf {
-    let g = orthomesh::io::eclipse::CornerPointGrid::cartesian([11, 11, 2], [10.0, 10.0, 5.0]);
+    let g = orthomesh::reservoir::CornerPointGrid::cartesian([11, 11, 2], [10.0, 10.0, 5.0]);
     grdecl_file(
         "faulted",
         &g,
@@ -197,7 +201,7 @@ fn faulted_grid() -> std::path::PathBuf {
 
 /// Every anchor (reservoir centre, ring site across an interface) on its
 /// segment's dual line, every interface face orthogonal.
-fn assert_interfaces_orthogonal(r: &orthomesh::hybrid::HybridReport) {
+fn assert_interfaces_orthogonal(r: &orthomesh::reservoir::hybrid::HybridReport) {
     let w = &r.transition.weights;
     assert!(w.anchors > 0 && w.anchors_met == w.anchors, "{w:?}");
     assert!(
@@ -215,7 +219,7 @@ fn assert_interfaces_orthogonal(r: &orthomesh::hybrid::HybridReport) {
 /// Writes grid g (and `extra` keywords) as GRDECL in a temporary folder.
 fn grdecl_file(
     name: &str,
-    g: &orthomesh::io::eclipse::CornerPointGrid,
+    g: &orthomesh::reservoir::CornerPointGrid,
     extra: &str,
 ) -> std::path::PathBuf {
     use std::fmt::Write;
@@ -283,7 +287,7 @@ fn a_fault_through_a_cavity_is_a_chain_of_mesh_edges() {
         .sum();
     assert!((on_fault - 20.0).abs() < 1e-9, "{on_fault}");
     write("faulted", &h);
-    let l = orthomesh::layers::extrude(&h, &g).unwrap();
+    let l = orthomesh::reservoir::layers::extrude(&h, &g).unwrap();
     assert_eq!(l.cells.len(), 2 * h.mesh.cells.len());
     write_layers("faulted", &h, &l);
 }
@@ -311,7 +315,7 @@ fn distorted_corner_point_cells_get_orthogonal_interfaces_from_the_lp() {
 fn sheared_cells_get_orthogonal_interfaces_from_the_lp() {
     // Parallelogram cells: a centre is off the perpendicular bisectors of
     // its sides, so zero weights leave every cavity side non-orthogonal.
-    let mut g = orthomesh::io::eclipse::CornerPointGrid::cartesian([11, 11, 1], [10.0, 10.0, 5.0]);
+    let mut g = orthomesh::reservoir::CornerPointGrid::cartesian([11, 11, 1], [10.0, 10.0, 5.0]);
     for p in &mut g.coord {
         p[0] += 0.25 * p[1];
         p[3] += 0.25 * p[4];
@@ -329,7 +333,7 @@ fn sheared_cells_get_orthogonal_interfaces_from_the_lp() {
 
 #[test]
 fn a_fault_polyline_is_clipped_to_the_cavity_with_free_ends() {
-    let g = orthomesh::io::eclipse::CornerPointGrid::cartesian([12, 12, 1], [10.0, 10.0, 5.0]);
+    let g = orthomesh::reservoir::CornerPointGrid::cartesian([12, 12, 1], [10.0, 10.0, 5.0]);
     let well = WellInput::column("W", 5, 5, 0.1);
     // The middle vertex (70, 75) lies on a cavity side: the chain stops
     // short of it as it does where the line leaves the cavity.
@@ -377,7 +381,7 @@ fn a_cavity_that_cannot_grow_is_an_error_unless_allowed() {
 fn a_well_on_a_grid_line_and_one_inside_a_column() {
     // The first well sits exactly on a pillar (it touches four columns);
     // every well must keep its own column.
-    let g = orthomesh::io::eclipse::CornerPointGrid::cartesian([14, 14, 1], [10.0, 10.0, 5.0]);
+    let g = orthomesh::reservoir::CornerPointGrid::cartesian([14, 14, 1], [10.0, 10.0, 5.0]);
     let wells = [
         WellInput {
             name: "ON".into(),

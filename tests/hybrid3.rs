@@ -3,9 +3,9 @@
 //! cavity around it, and the flow check against Thiem's solution.
 
 use orthomesh::backend::compiled;
-use orthomesh::hybrid::Region;
-use orthomesh::hybrid3::{build, Hybrid3, Hybrid3Options, Well3};
-use orthomesh::io::eclipse::CornerPointGrid;
+use orthomesh::reservoir::hybrid::Region;
+use orthomesh::reservoir::hybrid3::{build, Hybrid3, Hybrid3Options, Well3};
+use orthomesh::reservoir::CornerPointGrid;
 use std::path::Path;
 
 fn write(stem: &str, h: &Hybrid3) {
@@ -153,7 +153,7 @@ fn steiner_points_bring_the_annuli_sites_in() {
 /// block's sides, against Thiem's radial solution. Prints what it measures.
 #[test]
 fn thiem_in_3d() {
-    use orthomesh::flow::{solve, Connection};
+    use orthomesh::reservoir::flow::{solve, Connection};
     let (n, h, dz, nz) = (15, 10.0, 4.0, 2);
     let g = CornerPointGrid::cartesian([n, n, nz], [h, h, dz]);
     let w = Well3 {

@@ -3,9 +3,9 @@
 use clap::{Parser, Subcommand};
 use orthomesh::complex::Complex3;
 use orthomesh::error::{Error, Result};
-use orthomesh::hybrid::{self, HybridOptions, WellAt, WellInput};
-use orthomesh::hybrid3::{self, Hybrid3Options, Well3};
 use orthomesh::progress::Progress;
+use orthomesh::reservoir::hybrid::{self, HybridOptions, WellAt, WellInput};
+use orthomesh::reservoir::hybrid3::{self, Hybrid3Options, Well3};
 use orthomesh::{
     backend::{default_backend, Backend},
     io, Complex,
@@ -456,7 +456,7 @@ fn run(cmd: Command, backend: &str) -> Result<()> {
             }
             let mut texts = vec![];
             if layers {
-                let l = orthomesh::layers::extrude(&h, &g)?;
+                let l = orthomesh::reservoir::layers::extrude(&h, &g)?;
                 eprintln!(
                     "2.5D: {} polyhedra over {} layers ({} top faces split where the horizon warps)",
                     l.cells.len(),

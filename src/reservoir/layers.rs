@@ -7,9 +7,9 @@
 //! fan from above and below) when the horizon warps them.
 
 use crate::error::{Error, Result};
-use crate::hybrid::Hybrid;
-use crate::io::eclipse::CornerPointGrid;
 use crate::mesh::{CellArray, CellMesh, Cells, Connection, Element, Network};
+use crate::reservoir::hybrid::Hybrid;
+use crate::reservoir::CornerPointGrid;
 
 /// The layered mesh: points (x, y, z up), and per cell its faces, each a
 /// list of point ids counter-clockwise seen from outside.
@@ -71,7 +71,7 @@ fn barycentric(x: [f64; 2], a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Option<[f6
 pub fn extrude(h: &Hybrid, g: &CornerPointGrid) -> Result<Layered> {
     let m = &h.mesh;
     let (nx, ny, nz) = (g.nx, g.ny, g.nz);
-    let view = crate::hybrid::map_view(g, h.report.layer);
+    let view = crate::reservoir::hybrid::map_view(g, h.report.layer);
     let depth = pillar_depths(g);
     // Which pillars are mesh points (same doubles), the others: the column.
     let mut at_pillar: crate::FastMap<[u64; 2], usize> = crate::FastMap::default();
@@ -266,7 +266,7 @@ impl Layered {
         }
         let thick = |e: usize| self.volume[e] / m.area(&m.cells[self.origin[e].0 as usize]);
         let mut conns = vec![];
-        let lateral = crate::flow::connections(m);
+        let lateral = crate::reservoir::flow::connections(m);
         for k in 0..=self.origin.iter().map(|o| o.1).max().unwrap_or(0) {
             for c in &lateral {
                 let (Some(&a), Some(&b)) =

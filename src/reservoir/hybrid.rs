@@ -8,9 +8,9 @@ use crate::backend::Backend;
 use crate::complex::Complex;
 use crate::conform::{conform2, Report};
 use crate::error::{Error, Result};
-use crate::io::eclipse::CornerPointGrid;
 use crate::mesh::{CellArray, CellMesh, Connection, Element, Mesh, Network};
 use crate::options::Options;
+use crate::reservoir::CornerPointGrid;
 use crate::FastMap;
 use serde::Serialize;
 use std::f64::consts::TAU;
@@ -123,7 +123,7 @@ impl Hybrid {
                 node: node(c),
             })
             .collect();
-        let connections = crate::flow::connections(m)
+        let connections = crate::reservoir::flow::connections(m)
             .into_iter()
             .map(|c| {
                 let [a, b] = c.cells.map(|x| x as usize);
@@ -151,9 +151,9 @@ impl Hybrid {
 /// sides of column I = 8 for J = 6..8 that ends inside the well's cavity.
 pub fn demo() -> (CornerPointGrid, Vec<WellInput>, HybridOptions) {
     let mut grid = CornerPointGrid::cartesian([15, 15, 1], [10.0, 10.0, 5.0]);
-    grid.faults.push(crate::io::eclipse::Fault {
+    grid.faults.push(crate::reservoir::Fault {
         name: "F1".into(),
-        faces: vec![crate::io::eclipse::FaultFace {
+        faces: vec![crate::reservoir::FaultFace {
             i: [7, 7],
             j: [5, 7],
             k: [0, 0],
@@ -187,8 +187,8 @@ pub struct HybridReport {
     /// Two-point transmissibilities (unit permeability): all connections,
     /// and those touching the transition or well regions (where none may be
     /// negative or non-orthogonal).
-    pub transmissibility: crate::flow::TransmissibilityStats,
-    pub transmissibility_near_wells: crate::flow::TransmissibilityStats,
+    pub transmissibility: crate::reservoir::flow::TransmissibilityStats,
+    pub transmissibility_near_wells: crate::reservoir::flow::TransmissibilityStats,
     /// Faces that are not shared by two cells nor on the outer boundary: 0
     /// for a conforming mesh (no hanging nodes).
     pub unmatched_faces: usize,
@@ -1134,7 +1134,7 @@ pub fn build<B: Backend + ?Sized>(
         };
         let key = format!("{}-{}", name(lo), name(hi));
         let v = mesh.face_defect([a, b, c, d]);
-        if ra != rb && v > crate::flow::ORTHOGONAL && interfaces.len() < 100 {
+        if ra != rb && v > crate::reservoir::flow::ORTHOGONAL && interfaces.len() < 100 {
             let cell = ijk[c as usize]
                 .or(ijk[d as usize])
                 .map(|x| x.map(|v| v + 1));
@@ -1146,9 +1146,9 @@ pub fn build<B: Backend + ?Sized>(
         }
     }
     defect.sort_by(|x, y| x.0.cmp(&y.0));
-    let conns = crate::flow::connections(&mesh);
-    let transmissibility = crate::flow::stats(&mesh, &conns, |_| true);
-    let transmissibility_near_wells = crate::flow::stats(&mesh, &conns, |c| {
+    let conns = crate::reservoir::flow::connections(&mesh);
+    let transmissibility = crate::reservoir::flow::stats(&mesh, &conns, |_| true);
+    let transmissibility_near_wells = crate::reservoir::flow::stats(&mesh, &conns, |c| {
         c.iter().any(|&x| region[x as usize] != Region::Reservoir)
     });
     let report = HybridReport {

@@ -1,0 +1,93 @@
+//! The corner-point grid model (Eclipse's COORD/ZCORN geometry), as the
+//! GRDECL reader gives it.
+
+/// A face of a fault: cells i1..=i2, j1..=j2, k1..=k2 (0-based) and the side.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaultFace {
+    pub i: [usize; 2],
+    pub j: [usize; 2],
+    pub k: [usize; 2],
+    /// 'X', 'Y' or 'Z' with a sign: +1 for X / X+ / I / I+, -1 for X- ...
+    pub axis: char,
+    pub sign: i8,
+}
+
+/// A named fault.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fault {
+    pub name: String,
+    pub faces: Vec<FaultFace>,
+}
+
+/// A corner-point grid.
+#[derive(Debug, Clone)]
+pub struct CornerPointGrid {
+    pub nx: usize,
+    pub ny: usize,
+    pub nz: usize,
+    /// Pillars (nx+1)(ny+1), index j (nx+1) + i: top (x, y, z), bottom (x, y, z).
+    pub coord: Vec<[f64; 6]>,
+    /// 8 nx ny nz depths (see `corner`).
+    pub zcorn: Vec<f64>,
+    /// Per cell i + nx (j + ny k).
+    pub actnum: Vec<bool>,
+    /// `X1 Y1 X0 Y0 X2 Y2`, when given (not applied).
+    pub mapaxes: Option<[f64; 6]>,
+    pub faults: Vec<Fault>,
+}
+
+impl CornerPointGrid {
+    /// A Cartesian block grid of nx x ny x nz cells of size dx, dy, dz,
+    /// all active, from the origin, depth increasing with k.
+    pub fn cartesian(n: [usize; 3], d: [f64; 3]) -> CornerPointGrid {
+        let [nx, ny, nz] = n;
+        let coord = (0..=ny)
+            .flat_map(|j| {
+                (0..=nx).map(move |i| {
+                    let (x, y) = (i as f64 * d[0], j as f64 * d[1]);
+                    [x, y, 0.0, x, y, nz as f64 * d[2]]
+                })
+            })
+            .collect();
+        let mut zcorn = vec![0.0; 8 * nx * ny * nz];
+        for k in 0..nz {
+            for b in 0..2 {
+                let z = (k + b) as f64 * d[2];
+                for r in 0..4 * nx * ny {
+                    zcorn[(2 * k + b) * 4 * nx * ny + r] = z;
+                }
+            }
+        }
+        CornerPointGrid {
+            nx,
+            ny,
+            nz,
+            coord,
+            zcorn,
+            actnum: vec![true; nx * ny * nz],
+            mapaxes: None,
+            faults: vec![],
+        }
+    }
+
+    pub fn cell_index(&self, i: usize, j: usize, k: usize) -> usize {
+        i + self.nx * (j + self.ny * k)
+    }
+
+    pub fn active(&self, i: usize, j: usize, k: usize) -> bool {
+        self.actnum[self.cell_index(i, j, k)]
+    }
+
+    /// Corner c of cell (i, j, k), numbered as resdata does:
+    /// c = di + 2 dj + 4 b (b = 1 at the bottom). x, y come from the
+    /// corner's pillar, interpolated linearly at the corner's depth.
+    pub fn corner(&self, i: usize, j: usize, k: usize, c: usize) -> [f64; 3] {
+        let (di, dj, b) = (c & 1, (c >> 1) & 1, c >> 2);
+        let (nx, ny) = (self.nx, self.ny);
+        let z = self.zcorn[((((2 * k + b) * ny + j) * 2 + dj) * nx + i) * 2 + di];
+        let p = self.coord[(j + dj) * (nx + 1) + i + di];
+        let (dz, t) = (p[5] - p[2], z - p[2]);
+        let f = if dz != 0.0 { t / dz } else { 0.0 };
+        [p[0] + f * (p[3] - p[0]), p[1] + f * (p[4] - p[1]), z]
+    }
+}
