@@ -8,9 +8,28 @@ use std::path::{Path, PathBuf};
 
 /// Top-level modules from the bottom up: a module may use those before it.
 const LAYERS: &[&str] = &[
-    "error", "progress", "geom", "complex", "generate", "backend", "lp", "domain", "sites",
-    "weights", "options", "sites3", "diagram", "diagram3", "relocate", "mesh", "certify",
-    "conform", "split", "mesher", "reservoir", "io",
+    "error",
+    "progress",
+    "geom",
+    "complex",
+    "generate",
+    "backend",
+    "lp",
+    "domain",
+    "sites",
+    "weights",
+    "options",
+    "sites3",
+    "diagram",
+    "diagram3",
+    "relocate",
+    "mesh",
+    "certify",
+    "conform",
+    "split",
+    "mesher",
+    "reservoir",
+    "io",
 ];
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -27,7 +46,12 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 /// The top-level module a source file belongs to (None: lib.rs, the CLI).
 fn module_of(src: &Path, file: &Path) -> Option<String> {
     let rel = file.strip_prefix(src).unwrap();
-    let first = rel.components().next()?.as_os_str().to_string_lossy().into_owned();
+    let first = rel
+        .components()
+        .next()?
+        .as_os_str()
+        .to_string_lossy()
+        .into_owned();
     let name = first.trim_end_matches(".rs").to_string();
     (name != "lib" && name != "bin").then_some(name)
 }

@@ -1,16 +1,13 @@
-//! The orthomesh command line.
+//! The orthomesh command line: each subcommand parses its arguments, calls
+//! the library, and writes every output whole or none.
 
-use clap::{Parser, Subcommand};
-use orthomesh::complex::Complex3;
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use orthomesh::error::{Error, Result};
 use orthomesh::progress::Progress;
-use orthomesh::reservoir::hybrid::{self, HybridOptions, WellAt, WellInput};
-use orthomesh::reservoir::hybrid3::{self, Hybrid3Options, Well3};
-use orthomesh::{
-    backend::{default_backend, Backend},
-    io, Complex,
-};
-use orthomesh::{Mesher, Options, Outcome, D2, D3};
+use orthomesh::reservoir::{self as hybrid, HybridOptions, WellAt, WellInput};
+use orthomesh::reservoir::{hybrid3, Hybrid3Options, Well3};
+use orthomesh::weights::Keep;
+use orthomesh::{io, Backend, Complex, Complex3, Mesher, Options, Outcome, D2, D3};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -37,8 +34,14 @@ struct Cli {
     command: Command,
     /// Triangulation backend: cgal (default when compiled in) or pure
     /// (feature pure-rust).
-    #[arg(long, global = true, default_value_t = default_backend().name().to_string())]
+    #[arg(long, global = true, default_value_t = orthomesh::default_backend().name().to_string(),
+          value_parser = clap::builder::PossibleValuesParser::new(backend_names()))]
     backend: String,
+}
+
+/// The names of the backends compiled in.
+fn backend_names() -> Vec<&'static str> {
+    orthomesh::compiled().iter().map(|b| b.name()).collect()
 }
 
 #[derive(Subcommand)]
@@ -52,47 +55,7 @@ enum Command {
     /// mesh edge. 3D: the domain is the region the facets enclose minus the
     /// volume holes; every facet triangle (or rectangle kept whole) becomes
     /// exactly one face of the polyhedral cells (VTU type 42).
-    Conform {
-        /// Input file: .poly (2D or 3D), .edg (2D segments), .smesh (3D).
-        input: PathBuf,
-        #[command(flatten)]
-        out: Outputs,
-        /// 3D: also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
-        #[arg(long, value_name = "MESH")]
-        tough: Option<PathBuf>,
-        /// Write the conforming mesh even when some sites cannot be inside
-        /// their cells (the report counts them; the picture shows them red).
-        #[arg(long)]
-        allow_sites_outside: bool,
-        /// Where some segments cannot cross their dual edges (system 3
-        /// infeasible), split them at Steiner points, as few as needed for
-        /// every site to lie in its cell: they become chains of mesh edges
-        /// (listed in the report) instead of single edges.
-        #[arg(long)]
-        split_segments: bool,
-        /// 3D: how polygons kept whole keep their lifts coplanar: shared
-        /// (one weight per group of polygons joined at vertices, so that
-        /// each polygon's power centre is its circumcentre: orthogonal links
-        /// to cells centred on it), coplanar (docs/method.md's equality rows,
-        /// exact: more freedom), or auto (shared, then coplanar where
-        /// shared weights leave no solution).
-        #[arg(long, value_name = "WAY", default_value = "auto",
-              value_parser = ["auto", "shared", "coplanar"])]
-        whole_polygons: String,
-        /// 3D: where facet triangles miss their dual edges (so that a site
-        /// stays outside its cell), add Steiner points inside the facets at
-        /// the triangles' power centres, round by round while fewer sites
-        /// stay outside; the points are listed in the report.
-        #[arg(long)]
-        split_facets: bool,
-        /// 3D: facets on the convex hull (every point on one side) bound
-        /// the mesh with nothing beyond: cut the cells at their planes
-        /// (mirrored sites) instead of making each one face. Their
-        /// triangles then need not cross their duals; the report lists
-        /// them (clip_facets).
-        #[arg(long)]
-        clip_hull: bool,
-    },
+    Conform(ConformArgs),
     /// Hybrid reservoir mesh of one layer of a corner-point grid: reservoir
     /// cells, radial meshes around vertical wells, and conforming orthogonal
     /// transition meshes in cavities between them.
@@ -100,91 +63,153 @@ enum Command {
     /// Wells come from the deck (WELSPECS head column, COMPDAT diameter) and
     /// from --well options. Cell data: region (0 reservoir, 1 transition,
     /// 2 well), ijk (1-based; -1 outside the reservoir grid), site, weight.
-    Hybrid {
-        /// The corner-point grid (Eclipse GRDECL).
-        #[arg(long, value_name = "GRID.grdecl")]
-        grid: PathBuf,
-        /// A deck whose WELSPECS/COMPDAT give wells.
-        #[arg(long, value_name = "CASE.DATA")]
-        deck: Option<PathBuf>,
-        /// A vertical well in column I, J (1-based, as in the deck), with a
-        /// wellbore radius in grid units (default: the deck's, else 0.1).
-        #[arg(long = "well", value_name = "NAME:I:J[:RADIUS]")]
-        wells: Vec<String>,
-        /// A vertical well at map position X, Y.
-        #[arg(long = "well-xy", value_name = "NAME:X:Y[:RADIUS]")]
-        wells_xy: Vec<String>,
-        /// A fault as a map polyline: its parts inside cavities become
-        /// constraint chains (FAULTS in the grid are used too).
-        #[arg(long = "fault", value_name = "X1,Y1,X2,Y2[,...]")]
-        faults: Vec<String>,
-        /// The layer whose map view is meshed (1-based).
-        #[arg(long, default_value_t = 1)]
-        layer: usize,
-        /// 2.5D: map the mesh onto every layer of the grid and write
-        /// polyhedra (type 42) and, with --tough, vertical connections too.
-        #[arg(long)]
-        layers: bool,
-        /// Rings of each radial mesh.
-        #[arg(long, default_value_t = 12)]
-        rings: usize,
-        /// Sectors of each radial mesh.
-        #[arg(long, default_value_t = 32)]
-        sectors: usize,
-        /// Outer radius of the radial meshes, in shortest sides of the well's
-        /// cell (default 1.9; with --3d, 1.0).
-        #[arg(long)]
-        outer: Option<f64>,
-        /// True 3D: one well (--well NAME:I:J[:RADIUS[:DIP:AZIMUTH]], dip from
-        /// vertical and azimuth clockwise from +y in degrees) through a
-        /// Cartesian block grid, its radial mesh over the grid's layers, and
-        /// a 3D transition mesh (polyhedra) in the cavity of the 3 x 3
-        /// columns around it.
-        #[arg(long = "3d")]
-        three_d: bool,
-        /// Layers of cells added to each cavity around what the radial mesh reaches.
-        #[arg(long, default_value_t = 0)]
-        margin: usize,
-        /// Write the mesh even when some transition sites cannot be inside
-        /// their cells once the cavities have grown as far as they can.
-        #[arg(long)]
-        allow_sites_outside: bool,
-        /// 3D: where facet triangles miss their dual edges (so that a site
-        /// stays outside its cell), add Steiner points inside the facets at
-        /// the triangles' power centres, round by round while fewer sites
-        /// stay outside; the points are listed in the report.
-        #[arg(long)]
-        split_facets: bool,
-        /// Also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
-        #[arg(long, value_name = "MESH")]
-        tough: Option<PathBuf>,
-        #[command(flatten)]
-        out: Outputs,
-    },
+    Hybrid(HybridArgs),
     /// Write a synthetic input of any size as a .poly file (benchmarks,
     /// scale tests): `mixed N` is N x N separate cavities with wells,
     /// faults and non-Gabriel chains (about 33 N^2 segments, all needing
     /// the LP); `cavities N` is N x N cavities sharing sides, wells at
     /// radius 14 (zero weights).
-    Generate {
-        /// mixed or cavities
-        kind: String,
-        /// Cavities per side.
-        n: usize,
-        #[arg(short, long, value_name = "FILE.poly")]
-        output: PathBuf,
-    },
+    Generate(GenerateArgs),
     /// Mesh built-in data (a cavity around a well) and write mesh, picture
     /// and report into a directory.
-    Demo {
-        /// Where to write demo.vtu, demo.svg and demo.json.
-        #[arg(long, default_value = "orthomesh-demo")]
-        out_dir: PathBuf,
-    },
+    Demo(DemoArgs),
+}
+
+#[derive(Args)]
+struct ConformArgs {
+    /// Input file: .poly (2D or 3D), .edg (2D segments), .smesh (3D).
+    input: PathBuf,
+    #[command(flatten)]
+    out: Outputs,
+    /// 3D: also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
+    #[arg(long, value_name = "MESH")]
+    tough: Option<PathBuf>,
+    /// Write the conforming mesh even when some sites cannot be inside
+    /// their cells (the report counts them; the picture shows them red).
+    #[arg(long)]
+    allow_sites_outside: bool,
+    /// Where some segments cannot cross their dual edges (system 3
+    /// infeasible), split them at Steiner points, as few as needed for
+    /// every site to lie in its cell: they become chains of mesh edges
+    /// (listed in the report) instead of single edges.
+    #[arg(long)]
+    split_segments: bool,
+    /// 3D: how polygons kept whole keep their lifts coplanar: shared
+    /// (one weight per group of polygons joined at vertices, so that
+    /// each polygon's power centre is its circumcentre: orthogonal links
+    /// to cells centred on it), coplanar (docs/method.md's equality rows,
+    /// exact: more freedom), or auto (shared, then coplanar where
+    /// shared weights leave no solution).
+    #[arg(long, value_name = "WAY", value_enum, default_value_t = Keep::Auto)]
+    whole_polygons: Keep,
+    /// 3D: where facet triangles miss their dual edges (so that a site
+    /// stays outside its cell), add Steiner points inside the facets at
+    /// the triangles' power centres, round by round while fewer sites
+    /// stay outside; the points are listed in the report.
+    #[arg(long)]
+    split_facets: bool,
+    /// 3D: facets on the convex hull (every point on one side) bound
+    /// the mesh with nothing beyond: cut the cells at their planes
+    /// (mirrored sites) instead of making each one face. Their
+    /// triangles then need not cross their duals; the report lists
+    /// them (clip_facets).
+    #[arg(long)]
+    clip_hull: bool,
+}
+
+#[derive(Args)]
+struct HybridArgs {
+    /// The corner-point grid (Eclipse GRDECL).
+    #[arg(long, value_name = "GRID.grdecl")]
+    grid: PathBuf,
+    /// A deck whose WELSPECS/COMPDAT give wells.
+    #[arg(long, value_name = "CASE.DATA")]
+    deck: Option<PathBuf>,
+    /// A vertical well in column I, J (1-based, as in the deck), with a
+    /// wellbore radius in grid units (default: the deck's, else 0.1).
+    #[arg(long = "well", value_name = "NAME:I:J[:RADIUS]")]
+    wells: Vec<String>,
+    /// A vertical well at map position X, Y.
+    #[arg(long = "well-xy", value_name = "NAME:X:Y[:RADIUS]")]
+    wells_xy: Vec<String>,
+    /// A fault as a map polyline: its parts inside cavities become
+    /// constraint chains (FAULTS in the grid are used too).
+    #[arg(long = "fault", value_name = "X1,Y1,X2,Y2[,...]")]
+    faults: Vec<String>,
+    /// The layer whose map view is meshed (1-based).
+    #[arg(long, default_value_t = 1)]
+    layer: usize,
+    /// 2.5D: map the mesh onto every layer of the grid and write
+    /// polyhedra (type 42) and, with --tough, vertical connections too.
+    #[arg(long)]
+    layers: bool,
+    /// Rings of each radial mesh.
+    #[arg(long, default_value_t = 12)]
+    rings: usize,
+    /// Sectors of each radial mesh.
+    #[arg(long, default_value_t = 32)]
+    sectors: usize,
+    /// Outer radius of the radial meshes, in shortest sides of the well's
+    /// cell (default 1.9; with --3d, 1.0).
+    #[arg(long)]
+    outer: Option<f64>,
+    /// True 3D: one well (--well NAME:I:J[:RADIUS[:DIP:AZIMUTH]], dip from
+    /// vertical and azimuth clockwise from +y in degrees) through a
+    /// Cartesian block grid, its radial mesh over the grid's layers, and
+    /// a 3D transition mesh (polyhedra) in the cavity of the 3 x 3
+    /// columns around it.
+    #[arg(long = "3d", conflicts_with_all = ["deck", "wells_xy", "faults", "layers", "margin", "svg"])]
+    three_d: bool,
+    /// Layers of cells added to each cavity around what the radial mesh reaches.
+    #[arg(long, default_value_t = 0)]
+    margin: usize,
+    /// Write the mesh even when some transition sites cannot be inside
+    /// their cells once the cavities have grown as far as they can.
+    #[arg(long)]
+    allow_sites_outside: bool,
+    /// 3D: where facet triangles miss their dual edges (so that a site
+    /// stays outside its cell), add Steiner points inside the facets at
+    /// the triangles' power centres, round by round while fewer sites
+    /// stay outside; the points are listed in the report.
+    #[arg(long, requires = "three_d")]
+    split_facets: bool,
+    /// Also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
+    #[arg(long, value_name = "MESH")]
+    tough: Option<PathBuf>,
+    #[command(flatten)]
+    out: Outputs,
+}
+
+/// Synthetic inputs.
+#[derive(Clone, Copy, ValueEnum)]
+enum Kind {
+    /// Separate cavities with wells, faults and chains (the LP).
+    Mixed,
+    /// Cavities sharing sides, wells at radius 14 (zero weights).
+    Cavities,
+}
+
+#[derive(Args)]
+struct GenerateArgs {
+    /// What to generate.
+    #[arg(value_enum)]
+    kind: Kind,
+    /// Cavities per side.
+    #[arg(value_parser = clap::value_parser!(u16).range(1..=1000))]
+    n: u16,
+    #[arg(short, long, value_name = "FILE.poly")]
+    output: PathBuf,
+}
+
+#[derive(Args)]
+struct DemoArgs {
+    /// Where to write demo.vtu, demo.svg and demo.json.
+    #[arg(long, default_value = "orthomesh-demo")]
+    out_dir: PathBuf,
 }
 
 /// Where the results go.
-#[derive(clap::Args)]
+#[derive(Args)]
 struct Outputs {
     /// Output mesh (.vtu: polygons with cell data site and weight).
     #[arg(short, long, value_name = "MESH.vtu")]
@@ -202,8 +227,19 @@ struct Outputs {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    match run(cli.command, &cli.backend) {
+    // Usage errors exit 1 like every other error (help and version: 0).
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if e.use_stderr() => {
+            eprint!("orthomesh: {}", e.render());
+            return ExitCode::FAILURE;
+        }
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+    };
+    match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("orthomesh: error: {e}");
@@ -212,336 +248,293 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cmd: Command, backend: &str) -> Result<()> {
-    let backend = orthomesh::backend::by_name(backend)?;
+fn run(cli: Cli) -> Result<()> {
+    let backend = orthomesh::by_name(&cli.backend)?;
     let backend = &*backend;
-    match cmd {
-        Command::Conform {
-            input,
-            out:
-                Outputs {
-                    output,
-                    svg,
-                    report,
-                    reproducible,
-                },
-            allow_sites_outside,
-            split_segments,
-            whole_polygons,
-            split_facets,
-            clip_hull,
-            tough,
-        } => {
-            let cx = match io::read_input(&input)? {
-                io::Input::Plane(cx) => cx,
-                io::Input::Space(cx) => {
-                    if svg.is_some() || split_segments {
-                        return Err(Error::Usage(
-                            "--svg and --split-segments are for 2D inputs (--split-facets in 3D)"
-                                .into(),
-                        ));
-                    }
-                    let keep = match whole_polygons.as_str() {
-                        "shared" => orthomesh::weights::Keep::Shared,
-                        "coplanar" => orthomesh::weights::Keep::Coplanar,
-                        _ => orthomesh::weights::Keep::Auto,
-                    };
-                    let opts = Options {
-                        allow_sites_outside,
-                        whole_polygons: keep,
-                        split_facets,
-                        clip: if clip_hull {
-                            orthomesh::conform::hull_facets(&cx)
-                        } else {
-                            vec![]
-                        },
-                        ..Default::default()
-                    };
-                    let mut out = Mesher::new(&*backend).options(opts).conform(&cx)?;
-                    if reproducible {
-                        out.report.timing_ms = None;
-                    }
-                    return write_all3(
-                        &out,
-                        &cx,
-                        &input,
-                        &output,
-                        tough.as_deref(),
-                        report.as_deref(),
-                    );
-                }
-            };
-            if tough.is_some() {
-                return Err(Error::Usage(
-                    "--tough is for 3D inputs (and for `hybrid`)".into(),
-                ));
-            }
-            if whole_polygons != "auto" || split_facets || clip_hull {
-                return Err(Error::Usage(
-                    "--whole-polygons, --split-facets and --clip-hull are for 3D inputs".into(),
-                ));
-            }
-            let opts = Options {
-                allow_sites_outside,
-                split_segments,
-                compare_with_raw: true,
-                // a progress bar for long runs when someone watches
-                progress: (cx.segments.len() >= MANY_SEGMENTS && std::io::stderr().is_terminal())
-                    .then_some(bar as Progress),
-                ..Default::default()
-            };
-            let mut out = Mesher::new(backend).options(opts.clone()).conform(&cx)?;
-            if opts.progress.is_some() {
-                eprintln!();
-            }
-            let timing = if reproducible {
-                out.report.timing.take()
-            } else {
-                out.report.timing.clone()
-            };
-            write_all(
-                &out,
-                &cx,
-                &input,
-                &output,
-                svg.as_deref(),
-                report.as_deref(),
-            )?;
-            if let Some(t) = timing {
-                eprintln!(
-                    "{:.1} ms total (raw triangulation {:.2} ms), peak memory {:.0} MiB",
-                    t.total_ms,
-                    t.raw_triangulation_ms.unwrap_or(f64::NAN),
-                    t.peak_mib.unwrap_or(f64::NAN)
-                );
-            }
-            Ok(())
-        }
-        Command::Hybrid {
-            grid,
-            deck,
-            wells,
-            wells_xy,
-            faults,
-            layer,
-            layers,
-            rings,
-            sectors,
-            outer,
-            margin,
-            allow_sites_outside,
-            split_facets,
-            tough,
-            three_d,
-            out:
-                Outputs {
-                    output,
-                    svg,
-                    report,
-                    reproducible,
-                },
-        } => {
-            let g = io::eclipse::read_grid(&grid)?;
-            if split_facets && !three_d {
-                return Err(Error::Usage("--split-facets is for --3d".into()));
-            }
-            if three_d {
-                if deck.is_some()
-                    || !wells_xy.is_empty()
-                    || !faults.is_empty()
-                    || layers
-                    || margin > 0
-                {
-                    return Err(Error::Usage(
-                        "--3d takes one --well (no deck, --well-xy, faults, --layers or --margin yet)".into(),
-                    ));
-                }
-                let [spec] = wells.as_slice() else {
-                    return Err(Error::Usage("--3d takes exactly one --well".into()));
-                };
-                let w = well3_spec(spec)?;
-                let backend = orthomesh::backend::by_name(backend.name())?;
-                let opts = Hybrid3Options {
-                    rings,
-                    sectors,
-                    outer: outer.unwrap_or(1.0),
-                    allow_sites_outside,
-                    split_facets,
-                    ..Default::default()
-                };
-                let mut h = hybrid3::build(&*backend, &g, &w, &opts)?;
-                if reproducible {
-                    h.report.transition.timing_ms = None;
-                }
-                let mut texts = vec![(output.clone(), io::vtu::to_string(&h.cells()))];
-                if let Some(p) = tough {
-                    texts.push((p, io::tough::to_string(&h.mesh.network())?));
-                }
-                if let Some(p) = &report {
-                    texts.push((p.clone(), report_text(&h.report, &grid)?));
-                }
-                if svg.is_some() {
-                    return Err(Error::Usage("--svg draws 2D meshes only".into()));
-                }
-                write_texts(&texts, || {
-                    let r = &h.report;
-                    let c = &r.transition.certificate;
-                    eprintln!(
-                        "3D hybrid: {} reservoir, {} transition, {} well cells; {} connections, {} non-orthogonal; \
-                         certificate: faces {}/{} vertices {}/{} volume {:.6e} of {:.6e} sites-inside {}/{}",
-                        r.cells[0], r.cells[1], r.cells[2], r.connections, r.non_orthogonal,
-                        c.faces_exact, c.faces, c.vertices_exact, c.vertices, c.cells_volume, c.domain_volume,
-                        c.sites_inside, c.domain_sites
-                    );
-                })?;
-                return Ok(());
-            }
-            let mut list: Vec<WellInput> = vec![];
-            if let Some(deck) = &deck {
-                let (found, missing) = io::eclipse::read_wells(deck)?;
-                for m in missing {
-                    eprintln!(
-                        "note: {}: include {m} not found (not needed for wells)",
-                        deck.display()
-                    );
-                }
-                for w in found {
-                    list.push(WellInput {
-                        name: w.name,
-                        at: WellAt::Column(w.i, w.j),
-                        radius: w.radius.unwrap_or(DEFAULT_WELL_RADIUS),
-                    });
-                }
-            }
-            for spec in &wells {
-                let (name, a, b, r) = well_spec(spec)?;
-                let (i, j) = (one_based(a, spec)?, one_based(b, spec)?);
-                list.retain(|w| w.name != name);
-                list.push(WellInput {
-                    name,
-                    at: WellAt::Column(i, j),
-                    radius: r,
-                });
-            }
-            for spec in &wells_xy {
-                let (name, x, y, r) = well_spec(spec)?;
-                list.retain(|w| w.name != name);
-                list.push(WellInput {
-                    name,
-                    at: WellAt::Xy([x, y]),
-                    radius: r,
-                });
-            }
-            if layer == 0 {
-                return Err(Error::Usage("--layer is 1-based".into()));
-            }
-            let opts = HybridOptions {
-                layer: layer - 1,
-                rings,
-                sectors,
-                outer: outer.unwrap_or(1.9),
-                margin,
-                // a progress bar when there are many wells and someone watches
-                fault_lines: faults.iter().map(|f| polyline(f)).collect::<Result<_>>()?,
-                allow_sites_outside,
-                progress: (list.len() >= MANY_WELLS && std::io::stderr().is_terminal())
-                    .then_some(bar as fn(&str, usize, usize)),
-            };
-            let mut h = hybrid::build(backend, &g, &list, &opts)?;
-            if opts.progress.is_some() {
-                eprintln!();
-            }
-            if reproducible {
-                h.report.transition.timing = None;
-            }
-            let mut texts = vec![];
-            if layers {
-                let l = orthomesh::reservoir::layers::extrude(&h, &g)?;
-                eprintln!(
-                    "2.5D: {} polyhedra over {} layers ({} top faces split where the horizon warps)",
-                    l.cells.len(),
-                    g.nz,
-                    l.split_faces
-                );
-                texts.push((output.clone(), io::vtu::to_string(&l.cells(&h))));
-                if let Some(p) = tough {
-                    texts.push((p, io::tough::to_string(&l.network(&h))?));
-                }
-            } else {
-                texts.push((output.clone(), io::vtu::to_string(&h.cells())));
-                if let Some(p) = tough {
-                    texts.push((p, io::tough::to_string(&h.network())?));
-                }
-            }
-            if let Some(p) = svg {
-                let inside = vec![true; h.mesh.cells.len()];
-                texts.push((p, io::svg::to_string(&h.mesh, &inside, &h.constraints)));
-            }
-            if let Some(p) = report {
-                let text = serde_json::to_string_pretty(&h.report)
-                    .map_err(|e| Error::Usage(e.to_string()))?;
-                texts.push((p, text + "\n"));
-            }
-            write_texts(&texts, || {
-                let r = &h.report;
-                summarise(&format!("{}, layer {layer}", grid.display()), &h);
-                for (pair, d) in &r.orthogonality_defect {
-                    eprintln!("orthogonality defect {pair}: {d:.2e}");
-                }
-            })?;
-            Ok(())
-        }
-        Command::Generate { kind, n, output } => {
-            if n == 0 || n > 1000 {
-                return Err(Error::Usage("generate: N is from 1 to 1000".into()));
-            }
-            let cx = match kind.as_str() {
-                "mixed" => orthomesh::generate::mixed(n, n, 7),
-                "cavities" => orthomesh::generate::cavities(n, n, 14.0),
-                k => {
-                    return Err(Error::Usage(format!(
-                        "generate: unknown kind '{k}' (mixed or cavities)"
-                    )))
-                }
-            };
-            io::write_atomic(&output, io::poly::to_string(&cx).as_bytes())?;
+    match cli.command {
+        Command::Conform(a) => match io::read_input(&a.input)? {
+            io::Input::Plane(cx) => conform2(backend, &cx, a),
+            io::Input::Space(cx) => conform3(backend, &cx, a),
+        },
+        Command::Hybrid(a) if a.three_d => hybrid_3d(backend, a),
+        Command::Hybrid(a) => hybrid_2d(backend, a),
+        Command::Generate(a) => generate(a),
+        Command::Demo(a) => demo(backend, a),
+    }
+}
+
+/// `conform` on a 2D complex.
+fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
+    if a.tough.is_some() {
+        return Err(Error::Usage(
+            "--tough is for 3D inputs (and for `hybrid`)".into(),
+        ));
+    }
+    if a.whole_polygons != Keep::Auto || a.split_facets || a.clip_hull {
+        return Err(Error::Usage(
+            "--whole-polygons, --split-facets and --clip-hull are for 3D inputs".into(),
+        ));
+    }
+    let watched = cx.segments.len() >= MANY_SEGMENTS && std::io::stderr().is_terminal();
+    let opts = Options {
+        allow_sites_outside: a.allow_sites_outside,
+        split_segments: a.split_segments,
+        compare_with_raw: true,
+        // a progress bar for long runs when someone watches
+        progress: watched.then_some(bar as Progress),
+        ..Default::default()
+    };
+    let mut out = Mesher::new(backend).options(opts).conform(cx)?;
+    finish_bar();
+    let timing = if a.out.reproducible {
+        out.report.timing.take()
+    } else {
+        out.report.timing.clone()
+    };
+    let o = &a.out;
+    write_all(
+        &out,
+        cx,
+        &a.input,
+        &o.output,
+        o.svg.as_deref(),
+        o.report.as_deref(),
+    )?;
+    if let Some(t) = timing {
+        eprintln!(
+            "{:.1} ms total (raw triangulation {:.2} ms), peak memory {:.0} MiB",
+            t.total_ms,
+            t.raw_triangulation_ms.unwrap_or(f64::NAN),
+            t.peak_mib.unwrap_or(f64::NAN)
+        );
+    }
+    Ok(())
+}
+
+/// `conform` on a 3D complex.
+fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> {
+    if a.out.svg.is_some() || a.split_segments {
+        return Err(Error::Usage(
+            "--svg and --split-segments are for 2D inputs (--split-facets in 3D)".into(),
+        ));
+    }
+    let opts = Options {
+        allow_sites_outside: a.allow_sites_outside,
+        whole_polygons: a.whole_polygons,
+        split_facets: a.split_facets,
+        clip: if a.clip_hull {
+            orthomesh::conform::hull_facets(cx)
+        } else {
+            vec![]
+        },
+        ..Default::default()
+    };
+    let mut out = Mesher::new(backend).options(opts).conform(cx)?;
+    if a.out.reproducible {
+        out.report.timing_ms = None;
+    }
+    let o = &a.out;
+    write_all3(
+        &out,
+        cx,
+        &a.input,
+        &o.output,
+        a.tough.as_deref(),
+        o.report.as_deref(),
+    )
+}
+
+/// `hybrid --3d`: one well through a Cartesian block.
+fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
+    let g = io::eclipse::read_grid(&a.grid)?;
+    let [spec] = a.wells.as_slice() else {
+        return Err(Error::Usage("--3d takes exactly one --well".into()));
+    };
+    let w = well3_spec(spec)?;
+    let opts = Hybrid3Options {
+        rings: a.rings,
+        sectors: a.sectors,
+        outer: a.outer.unwrap_or(1.0),
+        allow_sites_outside: a.allow_sites_outside,
+        split_facets: a.split_facets,
+        ..Default::default()
+    };
+    let mut h = hybrid3::build(backend, &g, &w, &opts)?;
+    if a.out.reproducible {
+        h.report.transition.timing_ms = None;
+    }
+    let mut texts = vec![(a.out.output.clone(), io::vtu::to_string(&h.cells()))];
+    if let Some(p) = a.tough {
+        texts.push((p, io::tough::to_string(&h.mesh.network())?));
+    }
+    if let Some(p) = &a.out.report {
+        texts.push((p.clone(), report_text(&h.report, &a.grid)?));
+    }
+    write_texts(&texts, || {
+        let r = &h.report;
+        let c = &r.transition.certificate;
+        eprintln!(
+            "3D hybrid: {} reservoir, {} transition, {} well cells; {} connections, {} non-orthogonal; \
+             certificate: faces {}/{} vertices {}/{} volume {:.6e} of {:.6e} sites-inside {}/{}",
+            r.cells[0], r.cells[1], r.cells[2], r.connections, r.non_orthogonal,
+            c.faces_exact, c.faces, c.vertices_exact, c.vertices, c.cells_volume, c.domain_volume,
+            c.sites_inside, c.domain_sites
+        );
+    })
+}
+
+/// The wells of a 2D hybrid: the deck's, then --well and --well-xy (a
+/// name given again replaces the earlier well).
+fn wells_2d(a: &HybridArgs) -> Result<Vec<WellInput>> {
+    let mut list: Vec<WellInput> = vec![];
+    if let Some(deck) = &a.deck {
+        let (found, missing) = io::eclipse::read_wells(deck)?;
+        for m in missing {
             eprintln!(
-                "wrote {}: {} vertices, {} segments, {} holes",
-                output.display(),
-                cx.points.len(),
-                cx.segments.len(),
-                cx.holes.len()
+                "note: {}: include {m} not found (not needed for wells)",
+                deck.display()
             );
-            Ok(())
         }
-        Command::Demo { out_dir } => {
-            let (g, wells, opts) = hybrid::demo();
-            let h = hybrid::build(backend, &g, &wells, &opts)?;
-            std::fs::create_dir_all(&out_dir).map_err(|e| Error::Io {
-                path: out_dir.clone(),
-                message: e.to_string(),
-            })?;
-            let inside = vec![true; h.mesh.cells.len()];
-            let report =
-                serde_json::to_string_pretty(&h.report).map_err(|e| Error::Usage(e.to_string()))?;
-            let texts = [
-                (out_dir.join("demo.vtu"), io::vtu::to_string(&h.cells())),
-                (
-                    out_dir.join("demo.svg"),
-                    io::svg::to_string(&h.mesh, &inside, &h.constraints),
-                ),
-                (out_dir.join("demo.json"), report + "\n"),
-                (
-                    out_dir.join("demo.mesh"),
-                    io::tough::to_string(&h.network())?,
-                ),
-            ];
-            write_texts(&texts, || {
-                summarise("built-in grid (15 x 15 cells, a fault)", &h);
-            })?;
-            Ok(())
+        for w in found {
+            list.push(WellInput {
+                name: w.name,
+                at: WellAt::Column(w.i, w.j),
+                radius: w.radius.unwrap_or(DEFAULT_WELL_RADIUS),
+            });
         }
     }
+    for spec in &a.wells {
+        let (name, x, y, r) = well_spec(spec)?;
+        let (i, j) = (one_based(x, spec)?, one_based(y, spec)?);
+        list.retain(|w| w.name != name);
+        list.push(WellInput {
+            name,
+            at: WellAt::Column(i, j),
+            radius: r,
+        });
+    }
+    for spec in &a.wells_xy {
+        let (name, x, y, r) = well_spec(spec)?;
+        list.retain(|w| w.name != name);
+        list.push(WellInput {
+            name,
+            at: WellAt::Xy([x, y]),
+            radius: r,
+        });
+    }
+    Ok(list)
+}
+
+/// `hybrid` in 2D (one layer in map view) or 2.5D (`--layers`).
+fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
+    let g = io::eclipse::read_grid(&a.grid)?;
+    let list = wells_2d(&a)?;
+    if a.layer == 0 {
+        return Err(Error::Usage("--layer is 1-based".into()));
+    }
+    let watched = list.len() >= MANY_WELLS && std::io::stderr().is_terminal();
+    let opts = HybridOptions {
+        layer: a.layer - 1,
+        rings: a.rings,
+        sectors: a.sectors,
+        outer: a.outer.unwrap_or(1.9),
+        margin: a.margin,
+        fault_lines: a
+            .faults
+            .iter()
+            .map(|f| polyline(f))
+            .collect::<Result<_>>()?,
+        allow_sites_outside: a.allow_sites_outside,
+        // a progress bar when there are many wells and someone watches
+        progress: watched.then_some(bar as Progress),
+    };
+    let mut h = hybrid::build(backend, &g, &list, &opts)?;
+    finish_bar();
+    if a.out.reproducible {
+        h.report.transition.timing = None;
+    }
+    let mut texts = vec![];
+    if a.layers {
+        let l = orthomesh::reservoir::extrude(&h, &g)?;
+        eprintln!(
+            "2.5D: {} polyhedra over {} layers ({} top faces split where the horizon warps)",
+            l.cells.len(),
+            g.nz,
+            l.split_faces
+        );
+        texts.push((a.out.output.clone(), io::vtu::to_string(&l.cells(&h))));
+        if let Some(p) = a.tough {
+            texts.push((p, io::tough::to_string(&l.network(&h))?));
+        }
+    } else {
+        texts.push((a.out.output.clone(), io::vtu::to_string(&h.cells())));
+        if let Some(p) = a.tough {
+            texts.push((p, io::tough::to_string(&h.network())?));
+        }
+    }
+    if let Some(p) = a.out.svg {
+        let inside = vec![true; h.mesh.cells.len()];
+        texts.push((p, io::svg::to_string(&h.mesh, &inside, &h.constraints)));
+    }
+    if let Some(p) = a.out.report {
+        let text =
+            serde_json::to_string_pretty(&h.report).map_err(|e| Error::Usage(e.to_string()))?;
+        texts.push((p, text + "\n"));
+    }
+    let layer = a.layer;
+    write_texts(&texts, || {
+        summarise(&format!("{}, layer {layer}", a.grid.display()), &h);
+        for (pair, d) in &h.report.orthogonality_defect {
+            eprintln!("orthogonality defect {pair}: {d:.2e}");
+        }
+    })
+}
+
+/// `generate`: a synthetic input as a .poly file.
+fn generate(a: GenerateArgs) -> Result<()> {
+    let n = usize::from(a.n);
+    let cx = match a.kind {
+        Kind::Mixed => orthomesh::generate::mixed(n, n, 7),
+        Kind::Cavities => orthomesh::generate::cavities(n, n, 14.0),
+    };
+    io::write_atomic(&a.output, io::poly::to_string(&cx).as_bytes())?;
+    eprintln!(
+        "wrote {}: {} vertices, {} segments, {} holes",
+        a.output.display(),
+        cx.points.len(),
+        cx.segments.len(),
+        cx.holes.len()
+    );
+    Ok(())
+}
+
+/// `demo`: the built-in hybrid mesh, its picture, report and TOUGH MESH.
+fn demo(backend: &dyn Backend, a: DemoArgs) -> Result<()> {
+    let (g, wells, opts) = hybrid::demo();
+    let h = hybrid::build(backend, &g, &wells, &opts)?;
+    let out_dir = a.out_dir;
+    std::fs::create_dir_all(&out_dir).map_err(|e| Error::Io {
+        path: out_dir.clone(),
+        message: e.to_string(),
+    })?;
+    let inside = vec![true; h.mesh.cells.len()];
+    let report =
+        serde_json::to_string_pretty(&h.report).map_err(|e| Error::Usage(e.to_string()))?;
+    let texts = [
+        (out_dir.join("demo.vtu"), io::vtu::to_string(&h.cells())),
+        (
+            out_dir.join("demo.svg"),
+            io::svg::to_string(&h.mesh, &inside, &h.constraints),
+        ),
+        (out_dir.join("demo.json"), report + "\n"),
+        (
+            out_dir.join("demo.mesh"),
+            io::tough::to_string(&h.network())?,
+        ),
+    ];
+    write_texts(&texts, || {
+        summarise("built-in grid (15 x 15 cells, a fault)", &h);
+    })
 }
 
 /// What the hybrid mesh came to, on standard error.
@@ -696,15 +689,29 @@ const MANY_WELLS: usize = 50;
 /// From this many segments on, `conform` shows one.
 const MANY_SEGMENTS: usize = 20_000;
 
-/// One line redrawn in place: stage, bar, count.
+/// The progress bar (`Progress` is a plain function, so the bar is global).
+static BAR: std::sync::OnceLock<indicatif::ProgressBar> = std::sync::OnceLock::new();
+
+/// Shows stage and count on the bar.
 fn bar(stage: &str, done: usize, of: usize) {
-    let width = 30;
-    let full = (done * width).checked_div(of).unwrap_or(width);
-    eprint!(
-        "\r{stage:<28} [{}{}] {done}/{of}   ",
-        "#".repeat(full),
-        " ".repeat(width - full)
-    );
+    let b = BAR.get_or_init(|| {
+        let b = indicatif::ProgressBar::new(0);
+        let style = indicatif::ProgressStyle::with_template("{msg:<28} [{bar:30}] {pos}/{len}")
+            .expect("a valid template")
+            .progress_chars("#  ");
+        b.set_style(style);
+        b
+    });
+    b.set_length(of as u64);
+    b.set_position(done as u64);
+    b.set_message(stage.to_string());
+}
+
+/// Clears the bar, if one was shown.
+fn finish_bar() {
+    if let Some(b) = BAR.get() {
+        b.finish_and_clear();
+    }
 }
 
 /// Wellbore radius when neither the deck nor the option gives one.

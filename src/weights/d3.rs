@@ -263,7 +263,7 @@ fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<Face> {
 }
 
 /// How whole polygons keep their lifts coplanar.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Keep {
     /// Shared weights, and coplanar lifts where shared weights leave no
