@@ -1,0 +1,296 @@
+//! The transition stage: the constraint complex of the cavities (their
+//! sides, faults inside them, the wells' outer polygons with holes) meshed
+//! by the 2D core; where system 3 is infeasible the cavities beside the
+//! failing segments grow by a ring of cells and the problem is redone.
+
+use super::map::{clip_to_cavity, distance_to_polygon, fault_edges, to_segment};
+use super::wells::{polygon_point, radial_site, site_radii, Placed};
+use super::{HybridOptions, Layer};
+use crate::backend::Backend;
+use crate::complex::Complex;
+use crate::conform::{conform2, Outcome, D2};
+use crate::error::{Error, Result};
+use crate::options::Options;
+use crate::FastMap;
+
+/// Times a cavity may grow before system 3's infeasibility is an error.
+const MAX_GROWTH: usize = 4;
+
+/// The transition problem of the current cavities.
+struct Built {
+    cx: Complex,
+    /// Per segment, the cavity column it bounds.
+    owner: Vec<usize>,
+    /// Pieces of cavity sides on the mesh's outer boundary.
+    outer_pieces: Vec<(u32, u32)>,
+    fault_segments: usize,
+}
+
+/// The certified transition mesh and what it took.
+pub(super) struct Transition {
+    pub(super) cx: Complex,
+    pub(super) out: Outcome<D2>,
+    pub(super) outer_pieces: Vec<(u32, u32)>,
+    pub(super) fault_segments: usize,
+    /// Cavities grown because system 3 was infeasible.
+    pub(super) notes: Vec<String>,
+}
+
+/// Pieces for a side that may be split: none longer than its distance to
+/// the nearest well polygon, so that it stays Gabriel.
+fn pieces_near_wells(placed: &[Placed], pp: [f64; 2], pq: [f64; 2]) -> usize {
+    let gap = placed
+        .iter()
+        .map(|w| to_segment(w.centre, [pp, pq]) - w.radii.last().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    let len = (pq[0] - pp[0]).hypot(pq[1] - pp[1]);
+    ((len / gap.max(len / 64.0)).ceil() as usize).clamp(1, 64)
+}
+
+/// The side u - v cut into equal pieces (new vertices in between).
+fn split(cx: &mut Complex, u: u32, v: u32, pieces: usize) -> Vec<(u32, u32)> {
+    let (pu, pv) = (cx.points[u as usize], cx.points[v as usize]);
+    let mut ids = vec![u];
+    for piece in 1..pieces {
+        let t = piece as f64 / pieces as f64;
+        cx.points
+            .push([pu[0] + t * (pv[0] - pu[0]), pu[1] + t * (pv[1] - pu[1])]);
+        ids.push(cx.points.len() as u32 - 1);
+    }
+    ids.push(v);
+    ids.windows(2).map(|w| (w[0], w[1])).collect()
+}
+
+/// The constraint complex of the cavities: column sides between a cavity
+/// column and anything else (anchored at the reservoir site across), faults
+/// inside cavities, and the wells' outer polygons (anchored at the radial
+/// sites across), with a hole at each well.
+fn complex(
+    layer: &Layer,
+    placed: &[Placed],
+    cavity: &[bool],
+    well_column: &[usize],
+    opts: &HybridOptions,
+) -> Built {
+    let (grid, k, view, nx, ny) = (layer.grid, layer.k, &layer.view, layer.nx, layer.ny);
+    let col = |i: usize, j: usize| layer.col(i, j);
+    let quad_points = |i: usize, j: usize| layer.quad_points(i, j);
+    let m = opts.sectors;
+    let typical_side = placed.iter().map(|w| w.reach).fold(f64::INFINITY, f64::min);
+    let mut cx = Complex::default();
+    let mut owner = vec![]; // per segment, the cavity column it bounds
+    let mut anchors = vec![]; // per segment, the site across it
+    let mut outer_pieces: Vec<(u32, u32)> = vec![]; // on the outer boundary
+    let mut fault_segments = 0;
+    let mut vid: FastMap<u32, u32> = FastMap::default();
+    let mut vertex = |cx: &mut Complex, p: u32| -> u32 {
+        *vid.entry(p).or_insert_with(|| {
+            cx.points.push(view.pillar[p as usize]);
+            cx.points.len() as u32 - 1
+        })
+    };
+    for j in 0..ny {
+        for i in 0..nx {
+            if !cavity[col(i, j)] {
+                continue;
+            }
+            let sides = [
+                ((i, j.wrapping_sub(1)), (view.pid(i, j), view.pid(i + 1, j))),
+                ((i + 1, j), (view.pid(i + 1, j), view.pid(i + 1, j + 1))),
+                ((i, j + 1), (view.pid(i + 1, j + 1), view.pid(i, j + 1))),
+                ((i.wrapping_sub(1), j), (view.pid(i, j + 1), view.pid(i, j))),
+            ];
+            for ((a, b), (p, q)) in sides {
+                if a < nx && b < ny && cavity[col(a, b)] {
+                    continue;
+                }
+                let (u, v) = (vertex(&mut cx, p), vertex(&mut cx, q));
+                // A side on the mesh's outer boundary (no cell across)
+                // may take extra vertices: split it into pieces no
+                // longer than its distance to the nearest well polygon,
+                // so that a well near the edge does not make system 3
+                // infeasible.
+                let outer_side = !(a < nx && b < ny && grid.active(a, b, k));
+                let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
+                let pieces = if outer_side {
+                    pieces_near_wells(placed, pp, pq)
+                } else {
+                    1
+                };
+                // The reservoir cell across: its site should be on the
+                // dual line of each piece (orthogonal interface).
+                let across = (!outer_side).then(|| view.centroid(a, b));
+                for (from, to) in split(&mut cx, u, v, pieces) {
+                    cx.segments.push([from, to]);
+                    anchors.push(across);
+                    owner.push(col(i, j));
+                    if outer_side {
+                        outer_pieces.push((from, to));
+                    }
+                }
+            }
+        }
+    }
+    // Faults: pillar edges between two cavity columns become chains of
+    // segments with free ends inside the cavity (sides between a cavity
+    // column and another already are segments).
+    let mut seen_fault_edges = crate::FastSet::default();
+    for (p, q, a, b) in fault_edges(grid, k, &view) {
+        let in_cavity = |c: (usize, usize)| c.0 < nx && c.1 < ny && cavity[col(c.0, c.1)];
+        if in_cavity(a) && in_cavity(b) && seen_fault_edges.insert((p.min(q), p.max(q))) {
+            // Inside a cavity a fault side may take extra vertices (cells
+            // on both sides are transition cells): pieces no longer than
+            // its distance to the nearest well polygon.
+            let (u, v) = (vertex(&mut cx, p), vertex(&mut cx, q));
+            let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
+            for (from, to) in split(&mut cx, u, v, pieces_near_wells(placed, pp, pq)) {
+                cx.segments.push([from, to]);
+                anchors.push(None);
+                owner.push(col(a.0, a.1));
+                fault_segments += 1;
+            }
+        }
+    }
+    // Fault polylines: the parts inside cavities, pulled back a quarter
+    // cell from where they leave one, so that they end inside it.
+    let boundary_sides: Vec<[[f64; 2]; 2]> = cx
+        .segments
+        .iter()
+        .map(|s| [cx.points[s[0] as usize], cx.points[s[1] as usize]])
+        .collect();
+    let cavity_column_at = |x: [f64; 2]| {
+        (0..nx * ny)
+            .find(|&c| cavity[c] && distance_to_polygon(x, &quad_points(c % nx, c / nx)) == 0.0)
+    };
+    let in_cavity_at = |x: [f64; 2]| cavity_column_at(x).is_some();
+    for line in &opts.fault_lines {
+        for chain in clip_to_cavity(line, &boundary_sides, &in_cavity_at, 0.5 * typical_side) {
+            // the cavity the chain is in, should it need to grow
+            let home = cavity_column_at(chain[0]).unwrap_or(well_column[0]);
+            let mut prev: Option<u32> = None;
+            for x in chain {
+                cx.points.push(x);
+                let id = cx.points.len() as u32 - 1;
+                if let Some(p) = prev {
+                    let pieces = pieces_near_wells(placed, cx.points[p as usize], x);
+                    for (from, to) in split(&mut cx, p, id, pieces) {
+                        cx.segments.push([from, to]);
+                        anchors.push(None);
+                        owner.push(home);
+                        fault_segments += 1;
+                    }
+                }
+                prev = Some(id);
+            }
+        }
+    }
+    for (w, &c) in placed.iter().zip(well_column) {
+        let r = *w.radii.last().unwrap();
+        // the outer ring's sites, across the chords
+        let rho = *site_radii(&w.radii, m).last().unwrap();
+        let first = cx.points.len() as u32;
+        for s in 0..m {
+            cx.points.push(polygon_point(w.centre, r, s, m));
+        }
+        for s in 0..m {
+            cx.segments
+                .push([first + s as u32, first + ((s + 1) % m) as u32]);
+            anchors.push(Some(radial_site(w.centre, rho, s, m)));
+            owner.push(c);
+        }
+        cx.holes.push(w.centre);
+    }
+    let cx = Complex {
+        holes: cx.holes,
+        anchors,
+        ..Complex::new(cx.points, cx.segments)
+    };
+    Built {
+        cx,
+        owner,
+        outer_pieces,
+        fault_segments,
+    }
+}
+
+/// The transition mesh, the cavities grown (at most MAX_GROWTH times)
+/// while system 3 is infeasible.
+pub(super) fn solve<B: Backend + ?Sized>(
+    backend: &B,
+    layer: &Layer,
+    placed: &[Placed],
+    cavity: &mut Vec<bool>,
+    opts: &HybridOptions,
+    tell: &dyn Fn(&str, usize, usize),
+) -> Result<Transition> {
+    let well_column: Vec<usize> = placed
+        .iter()
+        .map(|w| layer.col(w.column.0, w.column.1))
+        .collect();
+    let mut notes = vec![];
+    let mut give_up = false;
+    loop {
+        let Built {
+            cx,
+            owner,
+            outer_pieces,
+            fault_segments,
+        } = complex(layer, placed, cavity, &well_column, opts);
+        tell("transition mesh (attempt)", notes.len() + 1, MAX_GROWTH + 1);
+        let allow = opts.allow_sites_outside && give_up;
+        let options = Options {
+            allow_sites_outside: allow,
+            ..Default::default()
+        };
+        match conform2(backend, &cx, &options) {
+            Ok(out) => {
+                return Ok(Transition {
+                    cx,
+                    out,
+                    outer_pieces,
+                    fault_segments,
+                    notes,
+                })
+            }
+            Err(Error::SegmentsMissTheirDuals { segments, .. }) if !give_up => {
+                let label = layer.components(cavity);
+                let grown: crate::FastSet<usize> =
+                    segments.iter().map(|&s| label[owner[s as usize]]).collect();
+                let names: Vec<String> = placed
+                    .iter()
+                    .zip(&well_column)
+                    .filter(|(_, &c)| grown.contains(&label[c]))
+                    .map(|(w, _)| w.name.clone())
+                    .collect();
+                let before = cavity.clone();
+                layer.grow(cavity, &|c| grown.contains(&label[c]));
+                let changed = *cavity != before;
+                notes.push(if changed {
+                    format!(
+                        "system 3 infeasible for {} segments: the cavity around {} grew by a ring of cells",
+                        segments.len(),
+                        if names.is_empty() { "no well".to_string() } else { names.join(", ") }
+                    )
+                } else {
+                    format!(
+                        "system 3 infeasible for {} segments and the cavity cannot grow (grid edge or inactive cells){}",
+                        segments.len(),
+                        if opts.allow_sites_outside { ": sites outside their cells allowed" } else { "" }
+                    )
+                });
+                give_up = !changed || notes.len() >= MAX_GROWTH;
+                if give_up && !opts.allow_sites_outside {
+                    return Err(Error::SitesOutsideCells {
+                        sites: vec![format!(
+                            "{}; segments {:?} cannot cross their dual edges",
+                            notes.last().expect("just pushed"),
+                            segments
+                        )],
+                        crowding: vec![],
+                    });
+                }
+            }
+            Err(e) => return Err(e),
+        }
+    }
+}
