@@ -187,6 +187,15 @@ pub fn mixed(nx: usize, ny: usize, seed: u64) -> Complex {
     cx
 }
 
+/// A fixed pseudo-random number in [0, 1) for each key (splitmix64):
+/// reproducible, so output is deterministic.
+pub fn scatter(key: u64) -> f64 {
+    let mut z = key.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    (z ^ (z >> 31)) as f64 / 2f64.powi(64)
+}
+
 /// Boxes stacked along z, sharing their horizontal rectangles: the 4 (k + 1)
 /// corners of [0, 2] x [0, 1] x [0, k] and their rectangles (a 3D complex
 /// whose faces are all kept whole).

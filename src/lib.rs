@@ -40,7 +40,6 @@ pub mod complex;
 pub mod conform;
 
 pub mod diagram;
-pub mod diagram3;
 pub mod domain;
 pub mod error;
 pub mod generate;
@@ -54,7 +53,6 @@ pub mod progress;
 pub mod relocate;
 pub mod reservoir;
 pub mod sites;
-pub mod sites3;
 pub mod split;
 pub mod weights;
 

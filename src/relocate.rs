@@ -332,7 +332,7 @@ pub fn relocate<B: Backend + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sites::scatter;
+    use crate::generate::scatter;
     use crate::sites::tests::sites_on_tracks;
 
     #[test]

@@ -4,13 +4,13 @@
 
 use super::{Outcome, D3};
 use crate::backend::Backend;
-use crate::diagram3::{Certificate3, Diagram3};
+use crate::diagram::{Certificate3, Diagram3};
 use crate::error::{Error, Result};
 use crate::geom::Plane;
 use crate::geom::{cross, dot, q, sub, Q};
 use crate::mesh::{FacetFace, Link3, Mesh3};
 use crate::options::Options;
-use crate::sites3::{self, Clip, Sites3};
+use crate::sites::{self, Clip, Sites3};
 use crate::weights;
 use crate::weights::WeightsReport;
 use crate::{complex::Complex3, domain::Simplices3};
@@ -203,7 +203,7 @@ impl Attempt {
     ) -> Result<Attempt> {
         let sc = cx.triangulate(backend)?;
         let wt = weights::solve3(backend, &cx, &sc, keep)?;
-        let mut s = sites3::place(&cx, &wt)?;
+        let mut s = sites::place3(&cx, &wt)?;
         if !clips.is_empty() {
             s = s.clipped(&cx, &wt, clips.to_vec());
             if !s.span_volume() {
@@ -262,7 +262,7 @@ fn steiner_points(
         let (Some(f), 3) = (face.facet, face.vertices.len()) else {
             continue;
         };
-        if sites3::clip_of(clips, face.facet).is_some() {
+        if sites::clip_of(clips, face.facet).is_some() {
             continue;
         }
         let Some((c, _)) = weights::face_centre(cx, &wt.w, &face.vertices) else {

@@ -805,7 +805,7 @@ mod tests {
 
     #[test]
     fn flips_from_the_constrained_triangulation_give_the_regular_one() {
-        use crate::sites::scatter;
+        use crate::generate::scatter;
         let n = 400;
         let p: Vec<[f64; 2]> = (0..n as u64)
             .map(|i| [scatter(2 * i) * 100.0, scatter(2 * i + 1) * 100.0])

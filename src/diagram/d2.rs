@@ -482,7 +482,7 @@ mod tests {
     fn flips_around_moved_sites_give_the_regular_triangulation() {
         use crate::backend::Backend;
         let backend = crate::backend::default_backend();
-        let r = crate::sites::scatter;
+        let r = crate::generate::scatter;
         let mut pts: Vec<[f64; 2]> = (0..300)
             .map(|i| [r(2 * i) * 100.0, r(2 * i + 1) * 100.0])
             .collect();

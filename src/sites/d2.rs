@@ -10,6 +10,7 @@
 
 use crate::backend::Triangulation;
 use crate::complex::Complex;
+use crate::generate::scatter;
 use crate::geom::{det3, det3_q, orient, q, qp, Iv, QPoint, Q};
 use crate::{FastMap, FastSet};
 use std::cmp::Ordering;
@@ -72,15 +73,6 @@ const MIN_DUAL: f64 = 1e-3;
 
 /// Fractions tried in turn for a vertex site that is outside its cell.
 const VERTEX_FRACS: [f64; 5] = [0.5, 0.25, 0.75, 0.125, 0.875];
-
-/// A fixed pseudo-random number in [0, 1) for each key (splitmix64):
-/// reproducible, so output is deterministic.
-pub(crate) fn scatter(key: u64) -> f64 {
-    let mut z = key.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    (z ^ (z >> 31)) as f64 / 2f64.powi(64)
-}
 
 /// Power centre of three weighted double points in doubles (placement
 /// heuristics and mesh coordinates; never a decision). Scaled by a power of

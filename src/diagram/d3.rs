@@ -10,7 +10,7 @@ use crate::backend::{Backend, Tetrahedralisation};
 use crate::complex::Complex3;
 use crate::error::{Error, Result};
 use crate::geom::{det3_f, dot_f, f, is_pos, newell, norm2, q, sub, Q};
-use crate::sites3::Sites3;
+use crate::sites::Sites3;
 use crate::weights::Weights3;
 use serde::Serialize;
 use std::collections::{HashMap, HashSet};
@@ -242,7 +242,7 @@ impl Diagram3 {
         let mut vertices: Vec<u32> = vec![];
         for (fi, face) in wt.faces.iter().enumerate() {
             vertices.extend(&face.vertices);
-            if crate::sites3::clip_of(&s.clips, face.facet).is_some() {
+            if crate::sites::clip_of(&s.clips, face.facet).is_some() {
                 // cut by mirrors: the domain's cells share them out
                 continue;
             }
@@ -395,7 +395,7 @@ fn boundary_volume(cx: &Complex3, wt: &Weights3, s: &Sites3, d: &Diagram3) -> f6
     let mut vol = 0.0;
     for (fi, face) in wt.faces.iter().enumerate() {
         // away from the domain: towards the outer site, or the clip's normal
-        let d: [f64; 3] = if let Some(c) = crate::sites3::clip_of(&s.clips, face.facet) {
+        let d: [f64; 3] = if let Some(c) = crate::sites::clip_of(&s.clips, face.facet) {
             c.n.clone().map(|x| f(&x))
         } else {
             let Some([a, b]) = s.of_face[fi] else {
@@ -437,7 +437,7 @@ mod tests {
         let b = &compiled()[0];
         let sc = cx.triangulate(b.as_ref()).unwrap();
         let wt = crate::weights::solve3(b.as_ref(), cx, &sc, Default::default()).unwrap();
-        let s = crate::sites3::place(cx, &wt).unwrap();
+        let s = crate::sites::place3(cx, &wt).unwrap();
         let d = Diagram3::build(b.as_ref(), cx, &s).unwrap();
         let c = d.certify(cx, &wt, &s);
         (wt, s, d, c)
