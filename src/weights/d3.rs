@@ -23,6 +23,8 @@
 //! centred on it, as the hybrid's walls need). When whole polygons leave no
 //! solution, fewer are kept and the LP tried again.
 
+use super::coplanar::Relations;
+use super::Keep;
 use crate::backend::{Backend, Tetrahedralisation};
 use crate::error::{Error, Result};
 use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
@@ -196,7 +198,7 @@ fn kept_whole(cx: &Complex3) -> Vec<bool> {
 /// coordinates d = a + s (b - a) + t (c - a) (a coordinate projection
 /// keeps them), the lift must be the same combination:
 /// D (|d|^2 - |a|^2) = S (|b|^2 - |a|^2) + T (|c|^2 - |a|^2), s = S / D.
-fn cocircular(cx: &Complex3, axis: usize, a: u32, b: u32, c: u32, d: u32) -> bool {
+pub(super) fn cocircular(cx: &Complex3, axis: usize, a: u32, b: u32, c: u32, d: u32) -> bool {
     let p = |v: u32| cx.points[v as usize];
     let f = |v: u32| drop_axis(axis, p(v)).map(q);
     let (fa, fb, fc, fd) = (f(a), f(b), f(c), f(d));
@@ -262,186 +264,9 @@ fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<Face> {
     out
 }
 
-/// How whole polygons keep their lifts coplanar.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum Keep {
-    /// Shared weights, and coplanar lifts where shared weights leave no
-    /// solution even with every facet triangulated, or HiGHS fails on them
-    /// (measured on TetGen's example: shared weights bring more sites
-    /// inside, see docs/limitations.md).
-    #[default]
-    Auto,
-    /// Each polygon's vertices beyond its first three get the weights that
-    /// put their lifts on the plane through the first three lifts (the
-    /// equality rows of docs/method.md section 6, made exact): the most freedom.
-    Coplanar,
-    /// The vertices of whole polygons joined through common vertices share
-    /// one weight: every polygon's power centre is its circumcentre, which
-    /// an orthogonal interface with a neighbour cell centred on it needs
-    /// (the hybrid's walls).
-    Shared,
-}
-
-impl Keep {
-    /// The ways tried in turn (shared weights are a special case of
-    /// coplanar lifts, so coplanar lifts after them can only add
-    /// solutions; shared weights after coplanar lifts are there for HiGHS
-    /// failures).
-    fn ways(self) -> &'static [Keep] {
-        match self {
-            Keep::Auto => &[Keep::Shared, Keep::Coplanar],
-            Keep::Coplanar => &[Keep::Coplanar, Keep::Shared],
-            Keep::Shared => &[Keep::Shared],
-        }
-    }
-}
-
-impl std::fmt::Display for Keep {
-    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        f.write_str(match self {
-            Keep::Auto => "auto",
-            Keep::Coplanar => "coplanar",
-            Keep::Shared => "shared-weight",
-        })
-    }
-}
-
-/// Exact linear relations between weights, solved for some of them (the
-/// dependent ones) in terms of the others (free): the LP sees only the
-/// free weights, and the dependent ones are recomputed exactly from the
-/// LP's, so that every whole polygon's lift is exactly planar.
-struct Relations {
-    /// (dependent weight, its combination of free weights).
-    dependent: Vec<(usize, Vec<(usize, Q)>)>,
-    /// Per weight, its index in `dependent`.
-    of: Vec<Option<usize>>,
-}
-
-impl Relations {
-    fn new(n: usize, dependent: Vec<(usize, Vec<(usize, Q)>)>) -> Relations {
-        let mut of = vec![None; n];
-        for (k, (d, _)) in dependent.iter().enumerate() {
-            of[*d] = Some(k);
-        }
-        Relations { dependent, of }
-    }
-
-    fn shared(n: usize, faces: &[Face]) -> Relations {
-        let tie = ties(n, faces);
-        let dependent = (0..n)
-            .filter(|&v| tie[v] as usize != v)
-            .map(|v| (v, vec![(tie[v] as usize, Q::from(1))]))
-            .collect();
-        Relations::new(n, dependent)
-    }
-
-    /// Polygon vertex d with affine coordinates (r, s, t) over the first
-    /// three a, b, c lifts onto their plane when w_d = r w_a + s w_b + t w_c
-    /// (the squared norms agree because the vertices are cocircular). The
-    /// relations of all polygons, reduced by exact Gauss-Jordan elimination.
-    fn coplanar(cx: &Complex3, faces: &[Face]) -> Relations {
-        type Sparse = std::collections::BTreeMap<usize, Q>;
-        // a += x b, zeros dropped
-        let axpy = |a: &mut Sparse, x: &Q, b: &Sparse| {
-            for (c, y) in b {
-                *a.entry(*c).or_insert_with(|| Q::from(0)) += x * y;
-            }
-            a.retain(|_, v| *v != 0);
-        };
-        let mut pivots: Vec<(usize, Sparse)> = vec![];
-        for f in faces.iter().filter(|f| f.vertices.len() > 3) {
-            let vs = &f.vertices;
-            let p = |v: u32| cx.points[v as usize];
-            let axis = plane_axis(p(vs[0]), p(vs[1]), p(vs[2])).expect("polygons span a plane");
-            let fl = |v: u32| drop_axis(axis, p(v)).map(q);
-            let det = |x: &[Q; 2], y: &[Q; 2], o: &[Q; 2]| {
-                (&x[0] - &o[0]) * (&y[1] - &o[1]) - (&x[1] - &o[1]) * (&y[0] - &o[0])
-            };
-            let (a, b, c) = (fl(vs[0]), fl(vs[1]), fl(vs[2]));
-            let big = det(&b, &c, &a);
-            for &d in &vs[3..] {
-                let fd = fl(d);
-                let s = det(&fd, &c, &a) / &big;
-                let t = det(&b, &fd, &a) / &big;
-                let r = Q::from(1) - &s - &t;
-                let mut row = Sparse::new();
-                for (v, x) in [(d, Q::from(1)), (vs[0], -r), (vs[1], -s), (vs[2], -t)] {
-                    axpy(&mut row, &x, &Sparse::from([(v as usize, Q::from(1))]));
-                }
-                for (pc, prow) in &pivots {
-                    if let Some(x) = row.get(pc).cloned() {
-                        axpy(&mut row, &-x, prow);
-                    }
-                }
-                // pivot on the last weight of the row
-                let Some((&pc, pv)) = row.iter().next_back() else {
-                    continue; // implied by the others
-                };
-                let pv = pv.clone();
-                row.values_mut().for_each(|x| *x /= &pv);
-                for (_, prow) in pivots.iter_mut() {
-                    if let Some(x) = prow.get(&pc).cloned() {
-                        axpy(prow, &-x, &row);
-                    }
-                }
-                pivots.push((pc, row));
-            }
-        }
-        let dependent = pivots
-            .into_iter()
-            .map(|(pc, row)| {
-                let combo = row
-                    .into_iter()
-                    .filter(|(c, _)| *c != pc)
-                    .map(|(c, x)| (c, -x))
-                    .collect();
-                (pc, combo)
-            })
-            .collect();
-        Relations::new(cx.points.len(), dependent)
-    }
-
-    fn free(&self) -> Vec<bool> {
-        self.of.iter().map(Option::is_none).collect()
-    }
-
-    /// Rows over free weights only (dependent ones replaced by their
-    /// combinations, in doubles: the LP's answer is checked exactly).
-    fn substitute(&self, rows: &mut [Row]) {
-        for r in rows {
-            let mut merged: Vec<(usize, f64)> = vec![];
-            let mut add = |c: usize, x: f64| match merged.iter_mut().find(|t| t.0 == c) {
-                Some(t) => t.1 += x,
-                None => merged.push((c, x)),
-            };
-            for &(c, x) in &r.terms {
-                match self.of.get(c).copied().flatten() {
-                    Some(k) => {
-                        for (f, y) in &self.dependent[k].1 {
-                            add(*f, x * crate::geom::f(y));
-                        }
-                    }
-                    None => add(c, x),
-                }
-            }
-            r.terms = merged;
-        }
-    }
-
-    /// The LP's weights as exact rationals, the dependent ones recomputed.
-    fn exact(&self, w: &[f64]) -> Vec<Q> {
-        let mut out: Vec<Q> = w.iter().map(|&x| q(x)).collect();
-        for (d, combo) in &self.dependent {
-            out[*d] = combo.iter().map(|(c, x)| x * &out[*c]).sum();
-        }
-        out
-    }
-}
-
 /// Per vertex, the vertex whose weight it shares (the smallest of the
 /// whole polygons joined to it; itself when on none).
-fn ties(n: usize, faces: &[Face]) -> Vec<u32> {
+pub(super) fn ties(n: usize, faces: &[Face]) -> Vec<u32> {
     let mut rep: Vec<u32> = (0..n as u32).collect();
     fn root(rep: &mut [u32], mut v: u32) -> u32 {
         while rep[v as usize] != v {
