@@ -600,6 +600,30 @@ fn slivers(p: &[[f64; 2]], t: &Triangulation) -> Vec<u32> {
 /// The lazy global form: a supporting plane per segment and per isolated
 /// vertex, with rows for the points near it; rows are added where RT(w)
 /// disagrees. A restricted LP that is infeasible proves the full one so.
+/// What the LP's infeasibility of system 1 means: no regular constrained
+/// triangulation (the segments last missing, or all), unless triangles far
+/// thinner than its tolerances make it no verdict at all.
+fn sys1_verdict(dom: &Domain, last_missing: Vec<u32>) -> Error {
+    let cx = &dom.complex;
+    let thin = slivers(&cx.points, &dom.cdt);
+    if !thin.is_empty() {
+        let ids: Vec<i64> = thin.iter().map(|&v| cx.vertex_ids[v as usize]).collect();
+        return Error::Lp(format!(
+            "cannot decide whether a regular constrained triangulation exists: the LP finds none, \
+             but triangles of nearly collinear vertices are beyond its precision (vertices {ids:?})"
+        ));
+    }
+    // Infeasible on a subset of the rows: infeasible outright.
+    let ids = if last_missing.is_empty() {
+        (0..cx.segments.len() as u32).collect()
+    } else {
+        last_missing
+    };
+    Error::NoRegularConstrainedTriangulation {
+        segments: ids.iter().map(|&s| cx.segment_ids[s as usize]).collect(),
+    }
+}
+
 fn global<B: Backend + ?Sized>(
     backend: &B,
     dom: &Domain,
@@ -659,27 +683,7 @@ fn global<B: Backend + ?Sized>(
             anchor_rows(&mut sys, cx, units);
         }
         let (found, w, rt) = match attempt(backend, dom, &sys, true, &mut report)? {
-            Attempt::Sys1Infeasible => {
-                // The verdict is the LP's, in floating point: triangles far
-                // thinner than its tolerances make it no verdict at all.
-                let thin = slivers(&cx.points, &dom.cdt);
-                if !thin.is_empty() {
-                    let ids: Vec<i64> = thin.iter().map(|&v| cx.vertex_ids[v as usize]).collect();
-                    return Err(Error::Lp(format!(
-                        "cannot decide whether a regular constrained triangulation exists: the LP finds none, \
-                         but triangles of nearly collinear vertices are beyond its precision (vertices {ids:?})"
-                    )));
-                }
-                // Infeasible on a subset of the rows: infeasible outright.
-                let ids = if last_missing.is_empty() {
-                    (0..cx.segments.len() as u32).collect()
-                } else {
-                    last_missing
-                };
-                return Err(Error::NoRegularConstrainedTriangulation {
-                    segments: ids.iter().map(|&s| cx.segment_ids[s as usize]).collect(),
-                });
-            }
+            Attempt::Sys1Infeasible => return Err(sys1_verdict(dom, last_missing)),
             // Elastic: system 3 is infeasible on a subset of its rows, hence
             // outright; keep these weights.
             Attempt::Found(f) if f.sys3_failed.is_empty() || !f.lp_sys3 => {
