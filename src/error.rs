@@ -11,35 +11,66 @@ pub type Result<T> = std::result::Result<T, Error>;
 #[derive(Debug)]
 pub enum Error {
     /// A file could not be read or written.
-    Io { path: PathBuf, message: String },
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        message: String,
+    },
     /// A file does not parse; `line` is 1-based.
     Parse {
+        /// The file.
         path: PathBuf,
+        /// The line (1-based).
         line: usize,
+        /// What is wrong there.
         message: String,
     },
     /// Vertices with NaN or infinite coordinates.
-    NonFinite { vertices: Vec<i64> },
+    NonFinite {
+        /// Their ids.
+        vertices: Vec<i64>,
+    },
     /// Pairs of vertices at the same position.
-    DuplicateVertices { pairs: Vec<(i64, i64)> },
+    DuplicateVertices {
+        /// Their ids.
+        pairs: Vec<(i64, i64)>,
+    },
     /// Segments whose two ends are the same vertex.
-    ZeroLengthSegments { segments: Vec<i64> },
+    ZeroLengthSegments {
+        /// Their ids.
+        segments: Vec<i64>,
+    },
     /// Pairs of segments joining the same two vertices.
-    RepeatedSegments { pairs: Vec<(i64, i64)> },
+    RepeatedSegments {
+        /// Their ids.
+        pairs: Vec<(i64, i64)>,
+    },
     /// Pairs of segments that cross, overlap or touch other than at a shared endpoint.
-    CrossingSegments { pairs: Vec<(i64, i64)> },
+    CrossingSegments {
+        /// Their ids.
+        pairs: Vec<(i64, i64)>,
+    },
     /// (vertex, segment): a vertex inside a segment.
-    VertexOnSegment { pairs: Vec<(i64, i64)> },
+    VertexOnSegment {
+        /// Their ids.
+        pairs: Vec<(i64, i64)>,
+    },
     /// Coordinates whose squares do not fit in a double (weights are squared lengths).
     OutOfRange(String),
     /// The input has no area to mesh (fewer than 3 points, all collinear, empty domain).
     Degenerate(String),
     /// System 1 infeasible: no regular constrained triangulation exists.
-    NoRegularConstrainedTriangulation { segments: Vec<i64> },
+    NoRegularConstrainedTriangulation {
+        /// The segments (ids) the LP could not make faces.
+        segments: Vec<i64>,
+    },
     /// 3D system 1 infeasible: no regular triangulation contains the
     /// facets' triangles (facet ids) and the isolated points (vertex ids).
     NoRegularConstrainedTetrahedralisation {
+        /// Facet ids.
         facets: Vec<i64>,
+        /// Vertex ids.
         vertices: Vec<i64>,
     },
     /// System 3 infeasible: these segments cannot cross their dual edges, so
@@ -47,13 +78,17 @@ pub enum Error {
     /// `lp_error`: None when the LP proved it; else why the LP gave no answer
     /// (zero weights were then used).
     SegmentsMissTheirDuals {
+        /// Their ids.
         segments: Vec<i64>,
+        /// Why the LP gave no answer, if it did not.
         lp_error: Option<String>,
     },
     /// Sites that could not be brought into their own cells; `crowding`:
     /// the segments whose sites they lie beyond (or their own).
     SitesOutsideCells {
+        /// Each site, with why.
         sites: Vec<String>,
+        /// The segments (ids) in the way.
         crowding: Vec<i64>,
     },
     /// The LP solver failed (not an infeasibility verdict).
@@ -66,12 +101,20 @@ pub enum Error {
     Usage(String),
     /// 3D input: pairs of facets (ids from 1) that meet other than in shared
     /// edges and vertices.
-    CrossingFacets { pairs: Vec<(i64, i64)> },
+    CrossingFacets {
+        /// Facet ids.
+        pairs: Vec<(i64, i64)>,
+    },
     /// 3D input: facets that are not planar polygons (named in the message).
     BadFacets(String),
     /// 3D input: what is wrong inside one facet (numbered from 1 in file
     /// order), its edges numbered from 1 in file order.
-    InFacet { facet: i64, error: Box<Error> },
+    InFacet {
+        /// The facet (id from 1).
+        facet: i64,
+        /// What is wrong in its plane.
+        error: Box<Error>,
+    },
     /// Each way a build was tried (how, and why it failed).
     Tried(Vec<(String, Error)>),
 }

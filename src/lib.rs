@@ -22,46 +22,55 @@
 //! |---|---|---|
 //! | `cgal` | yes | CGAL backend (`Regular_triangulation_2`, exact kernels) via a C++ shim |
 //!
-//! Inputs come from files ([`io::read_complex`]: Triangle `.poly`, CGAL `.edg`) or are
-//! built in code ([`Complex::new`], [`generate`]).
-//!
-//! Pipeline stages, one module each: [`complex`] (input and validation),
-//! [`domain`], [`weights`] (LP), [`sites`], [`relocate`], [`diagram`],
-//! [`mesh`], [`certify`]; [`conform`] runs them in order. Reservoir meshes:
-//! [`hybrid`] (corner-point layer, radial wells, cavities, faults),
-//! [`layers`] (2.5D), [`flow`] (two-point flux check); readers and writers
-//! in [`io`] (Triangle, CGAL, Eclipse, VTU, SVG, TOUGH2).
+//! Inputs come from files ([`io::read_input`]: Triangle `.poly`, CGAL `.edg`,
+//! TetGen `.poly`/`.smesh`) or are built in code ([`Complex::new`],
+//! [`generate`]). A [`Mesher`] on a [`Backend`] runs the pipeline (domain,
+//! weights, sites, relocation, diagram, certificate, mesh: docs/method.md)
+//! in either dimension and returns an [`Outcome`]: the mesh, its report and
+//! certificate. Reservoir meshes (corner-point grids, wells, faults; 2D,
+//! 2.5D and 3D) are in [`reservoir`]; readers and writers in [`io`].
 
 #![deny(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod backend;
-pub mod certify;
-pub mod complex;
-pub mod conform;
-
-pub mod diagram;
-pub mod domain;
-pub mod error;
+mod certify;
+mod complex;
+mod conform;
+mod diagram;
+mod domain;
+mod error;
 pub mod generate;
-pub mod geom;
+mod geom;
 pub mod io;
-pub mod lp;
-pub mod mesh;
-pub mod mesher;
-pub mod options;
-pub mod progress;
-pub mod relocate;
+mod lp;
+mod mesh;
+mod mesher;
+mod options;
+mod progress;
+mod relocate;
 pub mod reservoir;
-pub mod sites;
-pub mod split;
-pub mod weights;
+mod sites;
+mod split;
+mod weights;
 
 pub use backend::{by_name, compiled, default_backend, Backend};
+pub use certify::{Certificate, Certificate3};
 pub use complex::{Complex, Complex3, Facet};
-pub use conform::{Dimension, Outcome, D2, D3};
+pub use conform::{
+    hull_facets, Dimension, Outcome, Report, Report3, SplitReport, SplitSegment, Stage, Timing, D2,
+    D3,
+};
+pub use domain::Simplices3;
 pub use error::{Error, Result};
+pub use geom::{q, Q};
+pub use mesh::{
+    CellArray, CellMesh, Cells, Connection, Element, FacetFace, Link3, Mesh, Mesh3, Network, Values,
+};
 pub use mesher::{Input, Mesher};
 pub use options::Options;
+pub use progress::Progress;
+pub use weights::{Keep, WeightsReport};
 
 /// Hash maps keyed by indices, which are not chosen by an adversary: Fx
 /// hashing instead of SipHash, which dominated the adjacency lookups.

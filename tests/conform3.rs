@@ -3,9 +3,9 @@
 //! exactly; output read back by vtk (tests/readers.py: `conform3-*`).
 
 use orthomesh::backend::compiled;
-use orthomesh::complex::{Complex3, Facet};
-use orthomesh::error::Error;
-use orthomesh::weights::Keep;
+use orthomesh::Error;
+use orthomesh::Keep;
+use orthomesh::{Complex3, Facet};
 use orthomesh::{Mesher, Options, Outcome, D3};
 use std::path::Path;
 
@@ -57,7 +57,7 @@ fn stacked_boxes_keep_their_rectangles_whole() {
 #[test]
 fn stacked_boxes_clipped_at_bottom_and_top() {
     let cx = orthomesh::generate::stacked_boxes(3);
-    let z = |f: &orthomesh::complex::Facet| -> Vec<f64> {
+    let z = |f: &orthomesh::Facet| -> Vec<f64> {
         f.polygons
             .iter()
             .flatten()
@@ -117,7 +117,7 @@ fn stacked_boxes_clipped_at_bottom_and_top() {
         // A box cut at all its sides keeps nothing to conform to.
         let one = orthomesh::generate::stacked_boxes(1);
         let opts = Options {
-            clip: orthomesh::conform::hull_facets(&one),
+            clip: orthomesh::hull_facets(&one),
             ..Default::default()
         };
         assert_eq!(opts.clip.len(), one.facets.len());
@@ -212,7 +212,7 @@ fn tetgen_example_plc_conforms() {
 fn tetgen_example_clipped_at_its_hull() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
     let cx = orthomesh::io::read_complex3(&path).unwrap();
-    let hull = orthomesh::conform::hull_facets(&cx);
+    let hull = orthomesh::hull_facets(&cx);
     // the outer box's facets (the inner boxes' face outwards of nothing)
     assert!(!hull.is_empty());
     for b in compiled() {

@@ -4,8 +4,8 @@
 #![cfg(feature = "cgal")]
 
 use orthomesh::backend::{Backend, Cgal, Triangulation};
-use orthomesh::geom::Q;
 use orthomesh::Error;
+use orthomesh::Q;
 
 fn random(n: usize, seed: u64) -> Vec<f64> {
     let mut u = orthomesh::generate::uniform(seed);
@@ -91,7 +91,7 @@ fn exact_rational_input() {
 
 #[test]
 fn every_throw_in_the_shim_is_an_error() {
-    let backend_error = |r: orthomesh::error::Result<Triangulation>, what: &str| match r {
+    let backend_error = |r: orthomesh::Result<Triangulation>, what: &str| match r {
         Err(Error::Backend(m)) => assert!(m.contains(what), "{m}"),
         other => panic!("expected a backend error with '{what}', got {other:?}"),
     };
@@ -160,7 +160,7 @@ fn regular_triangulation_3_batch_and_throws() {
 #[test]
 fn regular_triangulation_3_of_exact_rationals() {
     use orthomesh::backend::Backend;
-    use orthomesh::geom::{q, Q};
+    use orthomesh::{q, Q};
     // A unit cube's corners and its centre at weight 1/3: 6 pyramids, 12
     // tetrahedra. Halfway from the centre to the bottom face the lower hull
     // of the lifts is at (3/4 - 1/3 + 1) / 2 = 17/24; a point there with

@@ -312,32 +312,3 @@ fn tetgen_example_plc_reads_and_validates() {
     let e = orthomesh::io::read_complex(&path).unwrap_err().to_string();
     assert!(e.contains("dimension 3") && e.contains("TetGen"), "{e}");
 }
-
-/// TetGen's example PLC: 3D weights whose regular triangulation has every
-/// facet (rectangles whole, other facets as triangles), checked exactly.
-#[test]
-fn tetgen_example_plc_gets_weights() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
-    let cx = orthomesh::io::read_complex3(&path).unwrap();
-    for b in orthomesh::backend::compiled() {
-        let sc = cx.triangulate(&*b).unwrap();
-        let out = orthomesh::weights::solve3(&*b, &cx, &sc, Default::default()).unwrap();
-        eprintln!(
-            "{}: {} faces, {} whole polygons, report {:?}, sys3 failed {:?}",
-            b.name(),
-            out.faces.len(),
-            out.whole_polygons,
-            out.report,
-            out.sys3_failed
-        );
-        assert!(out.rt.hidden.is_empty());
-        let tris = out.rt.triangle_apexes();
-        for f in out.faces.iter().filter(|f| f.vertices.len() == 3) {
-            let mut t = [f.vertices[0], f.vertices[1], f.vertices[2]];
-            t.sort_unstable();
-            assert!(tris.contains_key(&t), "{t:?}");
-        }
-        assert!(out.whole_polygons > 0);
-    }
-}

@@ -9,6 +9,7 @@ use std::collections::HashMap;
 /// per tetrahedron the one across the face opposite each vertex.
 #[derive(Debug, Clone, Default)]
 pub struct Tetrahedralisation {
+    /// Positively oriented tetrahedra (input indices).
     pub tets: Vec<[u32; 4]>,
     /// Input indices that are not vertices (hidden by their weights).
     pub hidden: Vec<u32>,

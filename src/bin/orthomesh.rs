@@ -2,12 +2,12 @@
 //! the library, and writes every output whole or none.
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use orthomesh::error::{Error, Result};
-use orthomesh::progress::Progress;
 use orthomesh::reservoir::{self as hybrid, HybridOptions, WellAt, WellInput};
 use orthomesh::reservoir::{hybrid3, Hybrid3Options, Well3};
-use orthomesh::weights::Keep;
+use orthomesh::Keep;
+use orthomesh::Progress;
 use orthomesh::{io, Backend, Complex, Complex3, Mesher, Options, Outcome, D2, D3};
+use orthomesh::{Error, Result};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -323,7 +323,7 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
         whole_polygons: a.whole_polygons,
         split_facets: a.split_facets,
         clip: if a.clip_hull {
-            orthomesh::conform::hull_facets(cx)
+            orthomesh::hull_facets(cx)
         } else {
             vec![]
         },

@@ -27,10 +27,12 @@ pub struct Certificate {
     pub cells_tile_domain: bool,
     /// Every domain site strictly inside its own cell (exact).
     pub sites_inside_cells: bool,
+    /// Sites not strictly inside their cells.
     pub sites_outside: usize,
     /// Edges of the site triangulation checked for regularity, and the
     /// predicates (over the whole run) that needed exact rationals.
     pub checked_edges: usize,
+    /// Predicates the filters could not decide (decided in rationals).
     pub exact_evaluations: usize,
     /// Relative difference of the summed cell areas and the domain area, as written.
     pub area_relative_error: f64,

@@ -15,7 +15,9 @@ type VertexOnSegment = (u32, usize);
 /// A 2D simplicial complex of constraints, with the ids its file gave.
 #[derive(Debug, Clone, Default)]
 pub struct Complex {
+    /// The vertices.
     pub points: Vec<[f64; 2]>,
+    /// Segments as vertex index pairs.
     pub segments: Vec<[u32; 2]>,
     /// Triangle-style hole points: the region around each is not meshed.
     pub holes: Vec<[f64; 2]>,

@@ -27,6 +27,7 @@ pub struct Facet {
 /// A 3D complex of constraints, with the ids its file gave.
 #[derive(Debug, Clone, Default)]
 pub struct Complex3 {
+    /// The vertices.
     pub points: Vec<[f64; 3]>,
     /// The id of each point in the input file.
     pub vertex_ids: Vec<i64>,

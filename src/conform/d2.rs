@@ -19,20 +19,33 @@ use std::time::Instant;
 /// The report written next to the mesh.
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct Report {
+    /// The backend's name.
     pub backend: String,
+    /// Input vertices.
     pub vertices: usize,
+    /// Input segments.
     pub segments: usize,
+    /// Input hole points.
     pub holes: usize,
+    /// What the reader or the domain changed and the user should know.
     pub notes: Vec<String>,
+    /// The domain's area.
     pub domain_area: f64,
+    /// Convex hull edges added where the segments enclose nothing.
     pub hull_edges_added: usize,
+    /// Input vertices outside the domain, dropped.
     pub dropped_vertices: usize,
+    /// Input segments outside the domain, dropped.
     pub dropped_segments: usize,
+    /// What the weights step did.
     pub weights: WeightsReport,
     /// Segments (input ids) that do not cross their dual edge.
     pub segments_missing_dual: Vec<i64>,
+    /// Sites placed.
     pub sites: usize,
+    /// Extra sites of free ends and isolated vertices.
     pub vertex_sites: usize,
+    /// Rounds of relocation.
     pub relocation_rounds: usize,
     /// Rounds whose site triangulation had to be built in exact rationals
     /// (the one from rounded sites failed its exact check).
@@ -40,10 +53,15 @@ pub struct Report {
     /// Smallest distance from a domain site to its cell's boundary, divided
     /// by the square root of the cell's area (0 when some site is outside).
     pub min_site_margin: f64,
+    /// Sites outside their cells, each with why.
     pub sites_outside: Vec<String>,
+    /// Cells in the mesh.
     pub cells: usize,
+    /// Vertices in the mesh.
     pub mesh_vertices: usize,
+    /// Vertices merged with a neighbour closer than the output precision.
     pub collapsed_vertices: usize,
+    /// The exact certificate.
     pub certificate: Certificate,
     /// Time and memory: they differ from run to run, everything else in
     /// the report does not (the CLI's `--reproducible` leaves this out).
@@ -222,7 +240,9 @@ pub fn conform2<B: Backend + ?Sized>(
 /// What splitting did, for the report.
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct SplitReport {
+    /// Rounds of splitting.
     pub rounds: usize,
+    /// Steiner points added in all.
     pub steiner_points: usize,
     /// Input segments meshed as chains.
     pub segments: Vec<SplitSegment>,

@@ -34,13 +34,18 @@ const SINGLE_TRIES: usize = 4;
 /// The report written next to the mesh.
 #[derive(Debug, Clone, Serialize, Default)]
 pub struct Report3 {
+    /// The backend's name.
     pub backend: String,
+    /// Always 3.
     pub dimension: usize,
+    /// Input vertices.
     pub vertices: usize,
+    /// Input facets.
     pub facets: usize,
     /// Faces of the complex: triangles (facets split in their planes),
     /// polygons kept whole, dangling segments, isolated points.
     pub triangles: usize,
+    /// Polygons kept whole (one face each).
     pub whole_polygons: usize,
     /// How they were kept: coplanar lifts, or shared weights.
     pub whole_polygons_kept: weights::Keep,
@@ -48,21 +53,33 @@ pub struct Report3 {
     pub steiner_points: Vec<[f64; 3]>,
     /// Facets (ids from 1) the cells were cut at (`Options::clip`).
     pub clip_facets: Vec<i64>,
+    /// Dangling segments.
     pub segments: usize,
+    /// Isolated points.
     pub points: usize,
+    /// What the weights step did.
     pub weights: WeightsReport,
     /// Faces (facet ids) that do not cross their dual edge: their sites
     /// cannot be brought near them.
     pub facets_missing_dual: Vec<i64>,
+    /// Sites placed.
     pub sites: usize,
+    /// Sites beyond two per face (edges and vertices that need more).
     pub extra_sites: usize,
+    /// Rounds of relocation.
     pub relocation_rounds: usize,
+    /// Domain sites outside their cells.
     pub sites_outside: usize,
+    /// Cells in the mesh.
     pub cells: usize,
+    /// Vertices in the mesh.
     pub mesh_vertices: usize,
+    /// Vertices merged with a neighbour closer than the output precision.
     pub collapsed_vertices: usize,
+    /// The exact certificate.
     pub certificate: Certificate3,
     #[serde(skip_serializing_if = "Option::is_none")]
+    /// Time of the whole run (left out with `--reproducible`).
     pub timing_ms: Option<f64>,
 }
 

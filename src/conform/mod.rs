@@ -62,6 +62,7 @@ pub struct Outcome<D: Dimension> {
 pub struct Timing {
     /// In order.
     pub stages: Vec<Stage>,
+    /// The whole run.
     pub total_ms: f64,
     /// Largest resident memory of the process over the run (MiB; Linux).
     pub peak_mib: Option<f64>,
@@ -75,8 +76,11 @@ pub struct Timing {
 /// One stage's time and the peak of resident memory while it ran.
 #[derive(Debug, Clone, Serialize)]
 pub struct Stage {
+    /// Its name.
     pub stage: String,
+    /// Its time.
     pub ms: f64,
+    /// The peak of resident memory while it ran (MiB).
     pub peak_mib: Option<f64>,
 }
 

@@ -50,19 +50,24 @@ pub struct Certificate3 {
     /// Triangles and whole polygons that are exactly one face of the
     /// diagram (with exactly their vertices), of all.
     pub faces_exact: usize,
+    /// Faces of the complex (triangles and whole polygons) in the domain.
     pub faces: usize,
     /// Dangling segments that are exactly one edge.
     pub segments_exact: usize,
+    /// Constraint segments.
     pub segments: usize,
     /// Input vertices that are power vertices.
     pub vertices_exact: usize,
+    /// Input vertices.
     pub vertices: usize,
     /// Sites of domain cells strictly inside their own cell (exact), of all.
     pub sites_inside: usize,
+    /// Sites whose cells are in the domain.
     pub domain_sites: usize,
     /// Sum of the domain cells' volumes and the volume the domain's
     /// boundary faces enclose (doubles).
     pub cells_volume: f64,
+    /// The domain's volume.
     pub domain_volume: f64,
     /// Largest |cos| between a face's in-plane directions and the segment
     /// joining its two sites, on the output as written (`conform3` fills it).

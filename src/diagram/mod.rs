@@ -6,4 +6,4 @@ mod d2;
 mod d3;
 
 pub use d2::{repair, repair_around, star_ccw, Diagram, EdgeTests};
-pub use d3::{Cell, Certificate3, Diagram3};
+pub use d3::{Certificate3, Diagram3};

@@ -14,11 +14,17 @@ use crate::geom::Simplices;
 /// (index into `Complex3::facets`).
 #[derive(Debug, Clone, Default)]
 pub struct Simplices3 {
+    /// Facet triangles.
     pub triangles: Vec<[u32; 3]>,
+    /// Per triangle, its facet.
     pub triangle_facet: Vec<u32>,
+    /// Segments on no triangle.
     pub segments: Vec<[u32; 2]>,
+    /// Per segment, its facet.
     pub segment_facet: Vec<u32>,
+    /// Points on no triangle or segment.
     pub points: Vec<u32>,
+    /// Per point, its facet.
     pub point_facet: Vec<u32>,
 }
 

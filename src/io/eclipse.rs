@@ -398,10 +398,15 @@ pub fn read_grid(path: &Path) -> Result<CornerPointGrid> {
 /// inclusive) and the wellbore radius from COMPDAT's diameter, when given.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Well {
+    /// Its name.
     pub name: String,
+    /// Head column I (0-based).
     pub i: usize,
+    /// Head column J (0-based).
     pub j: usize,
+    /// Completed layers (0-based, inclusive) from COMPDAT.
     pub k: Option<[usize; 2]>,
+    /// Wellbore radius from COMPDAT's diameter.
     pub radius: Option<f64>,
 }
 

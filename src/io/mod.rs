@@ -15,7 +15,9 @@ use std::path::{Path, PathBuf};
 /// A constraint complex of either dimension.
 #[derive(Debug, Clone)]
 pub enum Input {
+    /// A 2D complex.
     Plane(Complex),
+    /// A 3D complex.
     Space(crate::complex::Complex3),
 }
 

@@ -12,7 +12,9 @@ use std::path::Path;
 /// Which of TetGen's two PLC formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
+    /// A `.poly` file: nodes, facets, holes.
     Poly,
+    /// A `.smesh` file: the same, nodes possibly in a `.node` file.
     Smesh,
 }
 

@@ -79,26 +79,33 @@ pub struct WeightsReport {
     pub(crate) deadline: Option<std::time::Instant>,
     /// "zero", "local", or "global".
     pub method: String,
+    /// LP solves in all.
     pub lp_solves: usize,
     /// Independent LPs the local form split into (solved in parallel).
     pub lp_pieces: usize,
     /// Largest LP solved (rows, columns).
     pub lp_rows: usize,
+    /// Largest LP's columns.
     pub lp_cols: usize,
+    /// HiGHS' status of the last solve.
     pub lp_status: String,
     /// Phase-1 margin (dimensionless), when an LP ran.
     pub margin: Option<f64>,
     /// The k of |w_i| <= k l_i^2 that gave a positive margin (None: unbounded).
     pub bound_k: Option<f64>,
+    /// Rounds of the lazy global form.
     pub global_rounds: usize,
     /// How many weights were LP unknowns (the others stayed zero).
     pub free_weights: usize,
+    /// Largest |weight|.
     pub max_abs_weight: f64,
+    /// Whether every constraint crosses its dual (checked exactly).
     pub system3_feasible: bool,
     /// Why the LP gave no answer, when zero weights had to do.
     pub lp_error: Option<String>,
     /// Segments with an anchor, and those whose anchor is on the dual line.
     pub anchors: usize,
+    /// Anchors on their segments' dual lines.
     pub anchors_met: usize,
 }
 

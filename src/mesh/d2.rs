@@ -106,13 +106,16 @@ const MEASURE: f64 = 1e-7;
 /// A polygonal mesh with one site and weight per cell.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
+    /// The vertices.
     pub points: Vec<[f64; 2]>,
     /// Counter-clockwise polygons.
     pub cells: Vec<Vec<u32>>,
     /// Interior faces [a, b, left cell, right cell]: the cell on the left
     /// of a -> b and the one on its right.
     pub faces: Vec<[u32; 4]>,
+    /// Per cell, its site.
     pub sites: Vec<[f64; 2]>,
+    /// Per cell, its weight.
     pub weights: Vec<f64>,
     /// Exact vertices merged into a neighbour closer than COLLAPSE x size.
     pub collapsed: usize,

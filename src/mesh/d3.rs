@@ -6,14 +6,18 @@ use super::{CellArray, CellMesh, Cells, Connection, Element, Network};
 /// A polyhedral mesh: the domain's cells.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh3 {
+    /// The vertices.
     pub points: Vec<[f64; 3]>,
     /// Per cell, its faces as point ids counter-clockwise seen from outside.
     pub cells: Vec<Vec<Vec<u32>>>,
     /// Per cell: its site (rounded), weight (rounded), volume, and whether
     /// the site lies strictly inside (exact).
     pub sites: Vec<[f64; 3]>,
+    /// Per cell, its weight.
     pub weights: Vec<f64>,
+    /// Per cell, its volume.
     pub volumes: Vec<f64>,
+    /// Per cell, whether its site is strictly inside (exact).
     pub site_inside: Vec<bool>,
     /// Faces between two cells, once each.
     pub links: Vec<Link3>,
@@ -33,7 +37,9 @@ pub struct FacetFace {
     pub facet: u32,
     /// Its points (mesh ids), in the complex's order.
     pub points: Vec<u32>,
+    /// Its cell.
     pub cell: usize,
+    /// Its area.
     pub area: f64,
     /// Distance from the cell's site to the face's plane.
     pub d: f64,
@@ -43,10 +49,13 @@ pub struct FacetFace {
 /// its plane (two-point flux: transmissibility ~ area / (d0 + d1)).
 #[derive(Debug, Clone)]
 pub struct Link3 {
+    /// The two cells.
     pub cells: [usize; 2],
     /// The face's points.
     pub face: Vec<u32>,
+    /// Its area.
     pub area: f64,
+    /// Distances from each site to the face's plane.
     pub d: [f64; 2],
     /// Unit normal from cell 0 to cell 1.
     pub normal: [f64; 3],

@@ -8,6 +8,6 @@ mod d3;
 mod network;
 
 pub use cells::{CellArray, CellMesh, Cells, Values};
-pub use d2::{Collapsed, Mesh, COLLAPSE};
+pub use d2::{Collapsed, Mesh};
 pub use d3::{FacetFace, Link3, Mesh3};
 pub use network::{Connection, Element, Network};

@@ -12,8 +12,11 @@ use serde::Serialize;
 /// unit permeability: area / (d1 + d2).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Connection {
+    /// The two cells.
     pub cells: [u32; 2],
+    /// The face's length (area in 3D).
     pub area: f64,
+    /// Distances from each site to the face.
     pub d: [f64; 2],
 }
 
@@ -21,9 +24,13 @@ pub struct Connection {
 /// distance to it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BoundaryFace {
+    /// Its cell.
     pub cell: u32,
+    /// Its end points.
     pub points: [u32; 2],
+    /// Its length.
     pub area: f64,
+    /// Distance from the cell's site to it.
     pub d: f64,
 }
 
@@ -75,14 +82,18 @@ pub fn boundary_faces(mesh: &Mesh) -> Vec<BoundaryFace> {
 /// whose face is not orthogonal to the line between their sites.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct TransmissibilityStats {
+    /// Connections in all.
     pub connections: usize,
+    /// Those with a negative transmissibility.
     pub negative: usize,
+    /// Those whose face is not orthogonal to the link (defect above ORTHOGONAL).
     pub non_orthogonal: usize,
 }
 
 /// |cos| above which a connection counts as non-orthogonal.
 pub const ORTHOGONAL: f64 = 1e-6;
 
+/// Transmissibility counts over the connections whose cells `which` accepts.
 pub fn stats(
     mesh: &Mesh,
     conns: &[Connection],

@@ -4,26 +4,35 @@
 /// A face of a fault: cells i1..=i2, j1..=j2, k1..=k2 (0-based) and the side.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FaultFace {
+    /// Columns I (first, last).
     pub i: [usize; 2],
+    /// Columns J (first, last).
     pub j: [usize; 2],
+    /// Layers K (first, last).
     pub k: [usize; 2],
     /// 'X', 'Y' or 'Z' with a sign: +1 for X / X+ / I / I+, -1 for X- ...
     pub axis: char,
+    /// +1 or -1: the side of the cells the face is on.
     pub sign: i8,
 }
 
 /// A named fault.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Fault {
+    /// Its name.
     pub name: String,
+    /// Its faces.
     pub faces: Vec<FaultFace>,
 }
 
 /// A corner-point grid.
 #[derive(Debug, Clone)]
 pub struct CornerPointGrid {
+    /// Columns along x.
     pub nx: usize,
+    /// Columns along y.
     pub ny: usize,
+    /// Layers.
     pub nz: usize,
     /// Pillars (nx+1)(ny+1), index j (nx+1) + i: top (x, y, z), bottom (x, y, z).
     pub coord: Vec<[f64; 6]>,
@@ -33,6 +42,7 @@ pub struct CornerPointGrid {
     pub actnum: Vec<bool>,
     /// `X1 Y1 X0 Y0 X2 Y2`, when given (not applied).
     pub mapaxes: Option<[f64; 6]>,
+    /// Faults (FAULTS).
     pub faults: Vec<Fault>,
 }
 
@@ -70,10 +80,12 @@ impl CornerPointGrid {
         }
     }
 
+    /// The index of cell (i, j, k) in ACTNUM's order.
     pub fn cell_index(&self, i: usize, j: usize, k: usize) -> usize {
         i + self.nx * (j + self.ny * k)
     }
 
+    /// Whether cell (i, j, k) is active.
     pub fn active(&self, i: usize, j: usize, k: usize) -> bool {
         self.actnum[self.cell_index(i, j, k)]
     }

@@ -15,12 +15,15 @@ use crate::reservoir::CornerPointGrid;
 /// list of point ids counter-clockwise seen from outside.
 #[derive(Debug, Clone, Default)]
 pub struct Layered {
+    /// The vertices.
     pub points: Vec<[f64; 3]>,
+    /// Per cell, its faces.
     pub cells: Vec<Vec<Vec<u32>>>,
     /// Per cell: the 2D cell and the layer.
     pub origin: Vec<(u32, usize)>,
     /// Per cell: volume, node (site at mid-depth).
     pub volume: Vec<f64>,
+    /// Per cell, its node: the site at mid-depth.
     pub node: Vec<[f64; 3]>,
     /// Top faces split into triangles because the horizon is not planar there.
     pub split_faces: usize,

@@ -8,5 +8,5 @@ mod d3;
 
 #[cfg(test)]
 pub(crate) use d2::tests;
-pub use d2::{centre_f64, Def, Role, Sites};
-pub use d3::{clip_of, place as place3, Clip, Line, Sites3};
+pub use d2::{Role, Sites};
+pub use d3::{clip_of, place as place3, Clip, Sites3};

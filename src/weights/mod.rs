@@ -9,8 +9,8 @@ mod d2;
 mod d3;
 
 pub use crate::lp::WeightsReport;
-pub use d2::{anchor_offset, solve, sys3_failures, Weights};
-pub use d3::{face_centre, solve as solve3, Face, Weights3};
+pub use d2::solve;
+pub use d3::{face_centre, solve as solve3, Weights3};
 pub(crate) use d3::{fan, sorted3};
 
 /// How whole polygons keep their lifts coplanar.

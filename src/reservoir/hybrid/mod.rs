@@ -28,14 +28,18 @@ use serde::Serialize;
 /// Where a well is: a grid column (0-based) or a map position.
 #[derive(Debug, Clone, PartialEq)]
 pub enum WellAt {
+    /// Column (i, j).
     Column(usize, usize),
+    /// Map position.
     Xy([f64; 2]),
 }
 
 /// A vertical well.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WellInput {
+    /// Its name.
     pub name: String,
+    /// Where it is.
     pub at: WellAt,
     /// Wellbore radius.
     pub radius: f64,
@@ -59,6 +63,7 @@ pub struct HybridOptions {
     pub layer: usize,
     /// Rings and sectors of each radial mesh.
     pub rings: usize,
+    /// Sectors of each radial mesh.
     pub sectors: usize,
     /// Outer radius of the radial meshes, as a multiple of the shortest side
     /// of the well's cell.
@@ -97,8 +102,11 @@ impl Default for HybridOptions {
 /// Which part of the hybrid mesh a cell belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum Region {
+    /// A corner-point cell outside the cavities.
     Reservoir = 0,
+    /// A cell of the transition mesh.
     Transition = 1,
+    /// A cell of a radial well mesh.
     Well = 2,
 }
 
@@ -107,6 +115,7 @@ pub enum Region {
 pub struct Hybrid {
     /// Cells, sites, weights; faces between cells.
     pub mesh: Mesh,
+    /// Per cell, its region.
     pub region: Vec<Region>,
     /// The reservoir cell (i, j, k), 0-based, for reservoir cells.
     pub ijk: Vec<Option<[usize; 3]>>,
@@ -115,7 +124,9 @@ pub struct Hybrid {
     /// Per cell: thickness and mid-depth (the reservoir cell's own; the
     /// layer's mean for transition and well cells).
     pub thickness: Vec<f64>,
+    /// Per cell, its mid-depth.
     pub depth: Vec<f64>,
+    /// What the build did.
     pub report: HybridReport,
 }
 
@@ -181,10 +192,15 @@ pub fn demo() -> (CornerPointGrid, Vec<WellInput>, HybridOptions) {
 /// What the report says about the hybrid mesh.
 #[derive(Debug, Clone, Serialize)]
 pub struct HybridReport {
+    /// The layer meshed (0-based).
     pub layer: usize,
+    /// The wells' names.
     pub wells: Vec<String>,
+    /// Cavities (connected).
     pub cavities: usize,
+    /// Columns in cavities.
     pub cavity_cells: usize,
+    /// Cells per region: reservoir, transition, well.
     pub cells: [usize; 3],
     /// Largest |cos| between a face and its two sites' segment, per pair
     /// of regions: reservoir-reservoir, reservoir-transition,
@@ -198,6 +214,7 @@ pub struct HybridReport {
     /// and those touching the transition or well regions (where none may be
     /// negative or non-orthogonal).
     pub transmissibility: crate::reservoir::flow::TransmissibilityStats,
+    /// The same over the connections near the wells.
     pub transmissibility_near_wells: crate::reservoir::flow::TransmissibilityStats,
     /// Faces that are not shared by two cells nor on the outer boundary: 0
     /// for a conforming mesh (no hanging nodes).

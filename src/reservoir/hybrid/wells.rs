@@ -183,4 +183,5 @@ pub(super) fn polygon_point(c: [f64; 2], r: f64, s: usize, m: usize) -> [f64; 2]
 /// Most rings and sectors a radial mesh may have (more is a typo, and
 /// would not fit in memory: rings x sectors cells per well).
 pub const MAX_RINGS: usize = 1000;
+/// Most sectors a radial mesh may have.
 pub const MAX_SECTORS: usize = 4096;

@@ -34,18 +34,26 @@ use serde::Serialize;
 /// of 2^-16 or finer) for exact rectangles on its outer surface.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Well3 {
+    /// Its name.
     pub name: String,
+    /// Its column I (0-based).
     pub i: usize,
+    /// Its column J (0-based).
     pub j: usize,
+    /// Wellbore radius.
     pub radius: f64,
+    /// Dip from vertical (degrees).
     pub dip: f64,
+    /// Azimuth clockwise from +y (degrees).
     pub azimuth: f64,
 }
 
 /// Choices of the radial mesh.
 #[derive(Debug, Clone)]
 pub struct Hybrid3Options {
+    /// Rings of the radial mesh.
     pub rings: usize,
+    /// Sectors of the radial mesh.
     pub sectors: usize,
     /// Outer radius of the radial mesh, in the well cell's shorter sides
     /// (as in 2D; it may reach into the cavity's other columns). Measured
@@ -54,6 +62,7 @@ pub struct Hybrid3Options {
     /// gives 0.16%, 1.3 gives 3.9%; as in 2D, the well polygon belongs near the cavity's sides but
     /// not at them.
     pub outer: f64,
+    /// Write the mesh even when some transition sites stay outside their cells.
     pub allow_sites_outside: bool,
     /// Steiner points in the top and bottom annuli where their triangles
     /// miss their duals (`Options3::split_facets`).
@@ -82,10 +91,13 @@ impl Default for Hybrid3Options {
 /// cells, all as polyhedra with one point numbering.
 #[derive(Debug, Clone)]
 pub struct Hybrid3 {
+    /// Cells, sites, weights; faces between cells.
     pub mesh: Mesh3,
+    /// Per cell, its region.
     pub region: Vec<Region>,
     /// Per cell, its grid cell (reservoir cells).
     pub ijk: Vec<Option<[usize; 3]>>,
+    /// What the build did.
     pub report: Hybrid3Report,
 }
 
@@ -94,10 +106,12 @@ pub struct Hybrid3 {
 pub struct Hybrid3Report {
     /// Cells per region: reservoir, transition, well.
     pub cells: [usize; 3],
+    /// The transition mesh's own report.
     pub transition: Report3,
     /// Connections between cells, and those whose two sites are not on the
     /// normal of their face (|cos| above 1e-6).
     pub connections: usize,
+    /// Connections whose face is not orthogonal to the link.
     pub non_orthogonal: usize,
 }
 
