@@ -1,16 +1,6 @@
 //! The entry point of the library: a `Mesher` on a backend, with options,
 //! meshes a 2D `Complex` or a 3D `Complex3` into a certified conforming
 //! orthogonal mesh.
-//!
-//! ```
-//! use orthomesh::{default_backend, generate, Mesher};
-//! // A square cavity around a well polygon (its interior a hole).
-//! let input = generate::cavities(1, 1, 14.0);
-//! let backend = default_backend();
-//! let out = Mesher::new(&backend).conform(&input).unwrap();
-//! assert!(out.report.certificate.conforms());
-//! assert_eq!(out.report.certificate.sites_outside, 0);
-//! ```
 
 use crate::backend::Backend;
 use crate::complex::{Complex, Complex3};
@@ -19,6 +9,16 @@ use crate::error::Result;
 use crate::options::Options;
 
 /// Meshes constraint complexes on one backend with one set of options.
+///
+/// ```
+/// use orthomesh::{default_backend, generate, Mesher};
+/// // A square cavity around a well polygon (its interior a hole).
+/// let input = generate::cavities(1, 1, 14.0);
+/// let backend = default_backend();
+/// let out = Mesher::new(&backend).conform(&input).unwrap();
+/// assert!(out.report.certificate.conforms());
+/// assert_eq!(out.report.certificate.sites_outside, 0);
+/// ```
 pub struct Mesher<'a> {
     backend: &'a dyn Backend,
     options: Options,
