@@ -105,7 +105,7 @@ fn ratios() {
     eprintln!(
         "{:<34} {:>9} {:>12.1}  {}",
         format!("{}/SPE9 top layer, 26 wells (hybrid)", b.name()),
-        h.as_ref().map_or(0, |h| h.report.transition.segments),
+        h.as_ref().map_or(0, |h| h.report.transition.input.segments),
         t.elapsed().as_secs_f64() * 1e3,
         match &h {
             Ok(h) => format!(

@@ -58,8 +58,8 @@ pub use backend::{by_name, compiled, default_backend, Backend};
 pub use certify::{Certificate, Certificate3};
 pub use complex::{Complex, Complex3, Facet};
 pub use conform::{
-    hull_facets, Dimension, Outcome, Report, Report3, SplitReport, SplitSegment, Stage, Timing, D2,
-    D3,
+    hull_facets, Dimension, InputReport2, InputReport3, Outcome, Report, SitesReport2,
+    SitesReport3, SplitReport, SplitSegment, Stage, Timing, D2, D3,
 };
 pub use domain::Simplices3;
 pub use error::{Error, Result};

@@ -35,7 +35,7 @@ fn stacked_boxes_keep_their_rectangles_whole() {
             let r = &out.report;
             let c = &r.certificate;
             assert!(c.conforms(), "{c:?}");
-            assert_eq!(r.whole_polygons, cx.facets.len());
+            assert_eq!(r.input.whole_polygons, cx.facets.len());
             assert_eq!(
                 (c.faces_exact, c.vertices_exact),
                 (cx.facets.len(), cx.points.len())
@@ -87,7 +87,7 @@ fn stacked_boxes_clipped_at_bottom_and_top() {
         let out = Mesher::new(&*b).options(opts.clone()).conform(&cx).unwrap();
         let (r, c) = (&out.report, &out.report.certificate);
         assert!(c.conforms(), "{c:?}");
-        assert_eq!(r.clip_facets.len(), 2);
+        assert_eq!(r.input.clip_facets.len(), 2);
         assert_eq!(c.faces, cx.facets.len() - 2);
         assert_eq!(c.sites_inside, c.domain_sites, "{r:?}");
         assert!((c.cells_volume - 6.0).abs() < 1e-12, "{c:?}");
@@ -160,22 +160,22 @@ fn tetgen_example_plc_conforms() {
             eprintln!("{}: {}", b.name(), serde_json::to_string_pretty(r).unwrap());
             assert!(c.conforms());
             assert_eq!(c.faces_exact, c.faces);
-            assert_eq!(c.vertices_exact, r.vertices);
+            assert_eq!(c.vertices_exact, r.input.vertices);
             // the outer box (2 x 2 x 5) less the two inner boxes (volume holes)
             let volume = 20.0 - 1.5 * 1.25 * 0.5 - 1.5 * 1.5 * 0.5;
             assert!((c.domain_volume - volume).abs() < 1e-12, "{c:?}");
             assert!((c.cells_volume - c.domain_volume).abs() < 1e-12);
             assert_eq!(r.cells, c.domain_sites);
-            let steiner = r.steiner_points.len();
-            assert_eq!(r.vertices, 28 + steiner);
+            let steiner = r.input.steiner_points.len();
+            assert_eq!(r.input.vertices, 28 + steiner);
             let outside = c.domain_sites - c.sites_inside;
             match (keep, split_facets) {
                 (Keep::Auto, false) => {
                     // shared weights solve it: 6 rectangles whole, 46
                     // faces; relocation brought sites in (measured: 29 of
                     // 46; 8 faces miss their duals)
-                    assert_eq!(r.whole_polygons_kept, Keep::Shared);
-                    assert_eq!((r.whole_polygons, c.faces), (6, 46));
+                    assert_eq!(r.input.whole_polygons_kept, Keep::Shared);
+                    assert_eq!((r.input.whole_polygons, c.faces), (6, 46));
                     assert!(c.sites_inside >= 29, "{c:?}");
                     assert_eq!(steiner, 0);
                     unsplit_outside = Some(outside);
@@ -197,7 +197,7 @@ fn tetgen_example_plc_conforms() {
                     // on how the backend breaks ties in degenerate regular
                     // triangulations (measured: CGAL 6 with 28 of 46 sites
                     // inside, the pure engine 18 with 22 of 34).
-                    assert_eq!(r.whole_polygons_kept, Keep::Coplanar);
+                    assert_eq!(r.input.whole_polygons_kept, Keep::Coplanar);
                     assert!(c.sites_inside >= 22, "{c:?}");
                     assert_eq!(steiner, 0);
                 }
@@ -231,7 +231,7 @@ fn tetgen_example_clipped_at_its_hull() {
             c.domain_sites
         );
         assert!(c.conforms(), "{c:?}");
-        assert_eq!(r.clip_facets.len(), hull.len());
+        assert_eq!(r.input.clip_facets.len(), hull.len());
         let volume = 20.0 - 1.5 * 1.25 * 0.5 - 1.5 * 1.5 * 0.5;
         assert!((c.domain_volume - volume).abs() < 1e-12, "{c:?}");
         assert!((c.cells_volume - volume).abs() < 1e-12, "{c:?}");

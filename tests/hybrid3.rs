@@ -75,7 +75,7 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
                 .links
                 .iter()
                 .any(|l| l.cells.iter().all(|&c| h.region[c] == Region::Well)));
-            assert_eq!(r.transition.clip_facets.len(), 2);
+            assert_eq!(r.transition.input.clip_facets.len(), 2);
             assert_eq!(r.cells[0], 7 * 7 * 3 - 9 * 3);
             assert_eq!(r.cells[2], 3 * opts.rings * opts.sectors);
             // the block less the wellbore (a prism on the sectors' polygon)
@@ -134,16 +134,16 @@ fn steiner_points_bring_the_annuli_sites_in() {
     let t = &h.report.transition;
     println!(
         "3D hybrid, 12 sectors: {} Steiner points, sites inside {} of {}",
-        t.steiner_points.len(),
+        t.input.steiner_points.len(),
         t.certificate.sites_inside,
         t.certificate.domain_sites
     );
     assert!(t.certificate.conforms());
     assert_eq!(t.certificate.sites_inside, t.certificate.domain_sites);
-    assert!(t.facets_missing_dual.is_empty());
+    assert!(t.sites.facets_missing_dual.is_empty());
     // on the top and bottom planes only
-    assert!(!t.steiner_points.is_empty());
-    assert!(t.steiner_points.iter().all(|p| p[2] == 0.0 || p[2] == -8.0));
+    assert!(!t.input.steiner_points.is_empty());
+    assert!(t.input.steiner_points.iter().all(|p| p[2] == 0.0 || p[2] == -8.0));
     assert_eq!(h.report.non_orthogonal, 0);
     write("steiner", &h);
 }
@@ -235,11 +235,11 @@ fn thiem_in_3d() {
         opts.rings,
         100.0 * err,
         hy.report.cells[1],
-        hy.report.transition.sites_outside,
+        hy.report.transition.sites.sites_outside,
         hy.report.non_orthogonal
     );
     // measured: 0.29% with the cells cut at the top and bottom, all sites
     // inside (0.16% with the annuli as faces and 16 sites outside)
-    assert_eq!(hy.report.transition.sites_outside, 0);
+    assert_eq!(hy.report.transition.sites.sites_outside, 0);
     assert!(err < 0.005, "{err}");
 }

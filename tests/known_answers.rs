@@ -56,7 +56,7 @@ fn a_non_delaunay_segment_needs_the_lp() {
     assert_ne!(out.report.weights.method, "zero");
     assert!(out.report.weights.max_abs_weight > 0.0);
     assert_eq!(out.report.certificate.sites_outside, 0);
-    assert_eq!(out.report.hull_edges_added, 4);
+    assert_eq!(out.report.input.hull_edges_added, 4);
 }
 
 /// A free end (case 2) and an isolated vertex (case 3) inside a square.
@@ -77,7 +77,7 @@ fn free_ends_and_isolated_vertices_get_extra_sites() {
     let out = run(&default_backend(), &cx, "free-ends", true).unwrap();
     assert_certified(&out, "free-ends");
     // two free ends (one site each, possibly shared) and one isolated vertex (three)
-    assert!(out.report.vertex_sites >= 4, "{}", out.report.vertex_sites);
+    assert!(out.report.sites.vertex_sites >= 4, "{}", out.report.sites.vertex_sites);
 }
 
 #[test]

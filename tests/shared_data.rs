@@ -31,15 +31,15 @@ fn sites_inside<B: Backend>(b: &B) {
             "{name}: {c:?}"
         );
         assert!(
-            out.report.min_site_margin > 0.0,
+            out.report.sites.min_site_margin > 0.0,
             "{name}: margin {}",
-            out.report.min_site_margin
+            out.report.sites.min_site_margin
         );
         eprintln!(
             "{name}: {} cells, weights {}, margin {:.3e}",
             out.mesh.cells.len(),
             out.report.weights.method,
-            out.report.min_site_margin
+            out.report.sites.min_site_margin
         );
     }
 }
@@ -66,7 +66,7 @@ fn sys3_infeasible<B: Backend>(b: &B) {
             .unwrap_or_else(|e| panic!("{name} with --allow-sites-outside: {e}"));
         assert_certified(&out, name);
         assert!(out.report.certificate.sites_outside > 0, "{name}");
-        assert!(!out.report.segments_missing_dual.is_empty(), "{name}");
+        assert!(!out.report.sites.segments_missing_dual.is_empty(), "{name}");
     }
 }
 
@@ -152,12 +152,12 @@ fn constraints_inside_holes_play_no_role() {
     )
     .unwrap();
     assert_eq!(
-        (out.report.dropped_vertices, out.report.dropped_segments),
+        (out.report.input.dropped_vertices, out.report.input.dropped_segments),
         (2, 4)
     );
     assert!(out
         .report
-        .notes
+        .input.notes
         .iter()
         .any(|n| n.contains("outside the domain")));
 }
@@ -173,7 +173,7 @@ fn clusters_gets_a_clear_answer() {
     assert!(matches!(e, Error::SegmentsMissTheirDuals { .. }), "{e}");
     let out = run(&default_backend(), &cx, "clusters", true).unwrap();
     assert_certified(&out, "clusters");
-    assert!(out.report.hull_edges_added > 0);
+    assert!(out.report.input.hull_edges_added > 0);
 }
 
 #[test]

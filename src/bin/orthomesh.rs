@@ -331,7 +331,7 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
     };
     let mut out = Mesher::new(backend).options(opts).conform(cx)?;
     if a.out.reproducible {
-        out.report.timing_ms = None;
+        out.report.timing = None;
     }
     let o = &a.out;
     write_all3(
@@ -361,7 +361,7 @@ fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     };
     let mut h = hybrid3::build(backend, &g, &w, &opts)?;
     if a.out.reproducible {
-        h.report.transition.timing_ms = None;
+        h.report.transition.timing = None;
     }
     let mut texts = vec![(a.out.output.clone(), io::vtu::to_string(&h.cells()))];
     if let Some(p) = a.tough {
@@ -603,7 +603,7 @@ fn write_all(
             ok(c.cells_tile_domain),
             ok(c.sites_inside_cells),
         );
-        for n in &r.notes {
+        for n in &r.input.notes {
             eprintln!("note: {n}");
         }
     })?;
@@ -654,15 +654,15 @@ fn write_all3(
             input.display(),
             cx.points.len(),
             cx.facets.len(),
-            r.triangles,
-            r.whole_polygons,
-            r.whole_polygons_kept,
-            r.clip_facets.len(),
+            r.input.triangles,
+            r.input.whole_polygons,
+            r.input.whole_polygons_kept,
+            r.input.clip_facets.len(),
             r.cells,
             r.mesh_vertices,
             r.weights.method,
             r.weights.margin.map(|m| format!(" (LP margin {m:.3e})")).unwrap_or_default(),
-            r.sites_outside
+            r.sites.sites_outside
         );
         eprintln!(
             "certificate: faces {}/{} vertices {}/{} segments {}/{} volume {:.6e} of {:.6e} sites-inside {}/{}",
@@ -677,8 +677,8 @@ fn write_all3(
             c.sites_inside,
             c.domain_sites
         );
-        if let Some(t) = r.timing_ms {
-            eprintln!("{t:.1} ms total");
+        if let Some(t) = &r.timing {
+            eprintln!("{:.1} ms total", t.total_ms);
         }
     })?;
     Ok(())

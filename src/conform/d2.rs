@@ -1,9 +1,9 @@
 //! The 2D pipeline: validate, domain, weights, sites, relocation, diagram,
 //! certificate, mesh.
 
-use super::{peak_mib_since_last, Outcome, Stage, Timing, D2};
+use super::{peak_mib_since_last, InputReport2, Outcome, Report, SitesReport2, Stage, Timing, D2};
 use crate::backend::Backend;
-use crate::certify::{certify, Certificate};
+use crate::certify::certify;
 use crate::complex::Complex;
 use crate::domain;
 use crate::error::{Error, Result};
@@ -12,65 +12,8 @@ use crate::options::Options;
 use crate::progress::Progress;
 use crate::relocate::relocate;
 use crate::sites::{Role, Sites};
-use crate::weights::{self, WeightsReport};
-use serde::Serialize;
+use crate::weights;
 use std::time::Instant;
-
-/// The report written next to the mesh.
-#[derive(Debug, Clone, Serialize, Default)]
-pub struct Report {
-    /// The backend's name.
-    pub backend: String,
-    /// Input vertices.
-    pub vertices: usize,
-    /// Input segments.
-    pub segments: usize,
-    /// Input hole points.
-    pub holes: usize,
-    /// What the reader or the domain changed and the user should know.
-    pub notes: Vec<String>,
-    /// The domain's area.
-    pub domain_area: f64,
-    /// Convex hull edges added where the segments enclose nothing.
-    pub hull_edges_added: usize,
-    /// Input vertices outside the domain, dropped.
-    pub dropped_vertices: usize,
-    /// Input segments outside the domain, dropped.
-    pub dropped_segments: usize,
-    /// What the weights step did.
-    pub weights: WeightsReport,
-    /// Segments (input ids) that do not cross their dual edge.
-    pub segments_missing_dual: Vec<i64>,
-    /// Sites placed.
-    pub sites: usize,
-    /// Extra sites of free ends and isolated vertices.
-    pub vertex_sites: usize,
-    /// Rounds of relocation.
-    pub relocation_rounds: usize,
-    /// Rounds whose site triangulation had to be built in exact rationals
-    /// (the one from rounded sites failed its exact check).
-    pub exact_site_triangulations: usize,
-    /// Smallest distance from a domain site to its cell's boundary, divided
-    /// by the square root of the cell's area (0 when some site is outside).
-    pub min_site_margin: f64,
-    /// Sites outside their cells, each with why.
-    pub sites_outside: Vec<String>,
-    /// Cells in the mesh.
-    pub cells: usize,
-    /// Vertices in the mesh.
-    pub mesh_vertices: usize,
-    /// Vertices merged with a neighbour closer than the output precision.
-    pub collapsed_vertices: usize,
-    /// The exact certificate.
-    pub certificate: Certificate,
-    /// Time and memory: they differ from run to run, everything else in
-    /// the report does not (the CLI's `--reproducible` leaves this out).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub timing: Option<Timing>,
-    /// Segments meshed as chains (`Options::split_segments`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub split: Option<SplitReport>,
-}
 
 struct Clock {
     last: Instant,
@@ -186,32 +129,32 @@ pub fn conform2<B: Backend + ?Sized>(
     } else {
         None
     };
-    let report = Report {
+    let report = Report::<D2> {
         backend: backend.name().into(),
-        vertices: input.points.len(),
-        segments: input.segments.len(),
-        holes: input.holes.len(),
-        notes: cx.notes.clone(),
-        domain_area: dom.area(),
-        hull_edges_added: dom.hull_edges_added,
-        dropped_vertices: dom.dropped_vertices,
-        dropped_segments: dom.dropped_segments,
+        input: InputReport2 {
+            vertices: input.points.len(),
+            segments: input.segments.len(),
+            holes: input.holes.len(),
+            notes: cx.notes.clone(),
+            domain_area: dom.area(),
+            hull_edges_added: dom.hull_edges_added,
+            dropped_vertices: dom.dropped_vertices,
+            dropped_segments: dom.dropped_segments,
+        },
         weights: wts.report.clone(),
-        segments_missing_dual: wts
-            .sys3_failed
-            .iter()
-            .map(|&s| cx.segment_ids[s as usize])
-            .collect(),
-        sites: sites.len(),
-        vertex_sites: sites
-            .role
-            .iter()
-            .filter(|r| matches!(r, Role::Vertex { .. }))
-            .count(),
-        relocation_rounds: rel.rounds,
-        exact_site_triangulations: rel.exact_rounds,
-        min_site_margin,
-        sites_outside: outside_names,
+        sites: SitesReport2 {
+            segments_missing_dual: missing_dual,
+            placed: sites.len(),
+            vertex_sites: sites
+                .role
+                .iter()
+                .filter(|r| matches!(r, Role::Vertex { .. }))
+                .count(),
+            relocation_rounds: rel.rounds,
+            exact_site_triangulations: rel.exact_rounds,
+            min_site_margin,
+            sites_outside: outside_names,
+        },
         cells: mesh.cells.len(),
         mesh_vertices: mesh.points.len(),
         collapsed_vertices: mesh.collapsed,
@@ -235,30 +178,6 @@ pub fn conform2<B: Backend + ?Sized>(
         constraints: dom.complex,
         site_inside,
     })
-}
-
-/// What splitting did, for the report.
-#[derive(Debug, Clone, Serialize, Default)]
-pub struct SplitReport {
-    /// Rounds of splitting.
-    pub rounds: usize,
-    /// Steiner points added in all.
-    pub steiner_points: usize,
-    /// Input segments meshed as chains.
-    pub segments: Vec<SplitSegment>,
-}
-
-/// One input segment meshed as a chain.
-#[derive(Debug, Clone, Serialize)]
-pub struct SplitSegment {
-    /// The segment's id in the input.
-    pub id: i64,
-    /// Edges of its chain.
-    pub pieces: usize,
-    /// Largest distance of its Steiner points from the segment, over its
-    /// length: 0 when they lie on it exactly; else each is the double
-    /// nearest its midpoint (no double lies on the segment near there).
-    pub off_line: f64,
 }
 
 /// Smallest (distance from site to a face of its cell) / sqrt(cell area)

@@ -2,9 +2,9 @@
 //! weights, sites, relocation, site diagram, certificate, mesh. Generic
 //! over the backend's 3D side.
 
-use super::{Outcome, D3};
+use super::{InputReport3, Outcome, Report, SitesReport3, Timing, D3};
 use crate::backend::Backend;
-use crate::diagram::{Certificate3, Diagram3};
+use crate::diagram::Diagram3;
 use crate::error::{Error, Result};
 use crate::geom::Plane;
 use crate::geom::{cross, dot, q, sub, Q};
@@ -12,9 +12,7 @@ use crate::mesh::{FacetFace, Link3, Mesh3};
 use crate::options::Options;
 use crate::sites::{self, Clip, Sites3};
 use crate::weights;
-use crate::weights::WeightsReport;
 use crate::{complex::Complex3, domain::Simplices3};
-use serde::Serialize;
 use std::cmp::Ordering::{Greater, Less};
 use std::time::Instant;
 
@@ -31,58 +29,6 @@ const SPLIT_ROUNDS: usize = 4;
 /// points are tried one at a time (each a whole pipeline run).
 const SINGLE_TRIES: usize = 4;
 
-/// The report written next to the mesh.
-#[derive(Debug, Clone, Serialize, Default)]
-pub struct Report3 {
-    /// The backend's name.
-    pub backend: String,
-    /// Always 3.
-    pub dimension: usize,
-    /// Input vertices.
-    pub vertices: usize,
-    /// Input facets.
-    pub facets: usize,
-    /// Faces of the complex: triangles (facets split in their planes),
-    /// polygons kept whole, dangling segments, isolated points.
-    pub triangles: usize,
-    /// Polygons kept whole (one face each).
-    pub whole_polygons: usize,
-    /// How they were kept: coplanar lifts, or shared weights.
-    pub whole_polygons_kept: weights::Keep,
-    /// Points added inside faces that missed their duals (`split_facets`).
-    pub steiner_points: Vec<[f64; 3]>,
-    /// Facets (ids from 1) the cells were cut at (`Options::clip`).
-    pub clip_facets: Vec<i64>,
-    /// Dangling segments.
-    pub segments: usize,
-    /// Isolated points.
-    pub points: usize,
-    /// What the weights step did.
-    pub weights: WeightsReport,
-    /// Faces (facet ids) that do not cross their dual edge: their sites
-    /// cannot be brought near them.
-    pub facets_missing_dual: Vec<i64>,
-    /// Sites placed.
-    pub sites: usize,
-    /// Sites beyond two per face (edges and vertices that need more).
-    pub extra_sites: usize,
-    /// Rounds of relocation.
-    pub relocation_rounds: usize,
-    /// Domain sites outside their cells.
-    pub sites_outside: usize,
-    /// Cells in the mesh.
-    pub cells: usize,
-    /// Vertices in the mesh.
-    pub mesh_vertices: usize,
-    /// Vertices merged with a neighbour closer than the output precision.
-    pub collapsed_vertices: usize,
-    /// The exact certificate.
-    pub certificate: Certificate3,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    /// Time of the whole run (left out with `--reproducible`).
-    pub timing_ms: Option<f64>,
-}
-
 /// Meshes a 3D complex.
 pub fn conform3<B: Backend + ?Sized>(
     backend: &B,
@@ -90,6 +36,7 @@ pub fn conform3<B: Backend + ?Sized>(
     opts: &Options,
 ) -> Result<Outcome<D3>> {
     let start = Instant::now();
+    super::peak_mib_since_last();
     let clips = clips(cx, &opts.clip)?;
     let mut best = Attempt::run(backend, cx.clone(), opts.whole_polygons, &clips)?;
     // Refinement rounds, each kept only when it leaves fewer sites
@@ -142,34 +89,39 @@ pub fn conform3<B: Backend + ?Sized>(
     let mesh = mesh(&d, &s, &wt);
     certificate.orthogonality_defect = mesh.orthogonality_defect();
     let count = |k: usize| wt.faces.iter().filter(|f| f.vertices.len() == k).count();
-    let report = Report3 {
+    let report = Report::<D3> {
         backend: backend.name().into(),
-        dimension: 3,
-        vertices: cx.points.len(),
-        facets: cx.facets.len(),
-        triangles: count(3),
-        whole_polygons: wt.whole_polygons,
-        whole_polygons_kept: wt.keep,
-        steiner_points: steiner,
-        clip_facets: clips.iter().map(|c| c.facet as i64 + 1).collect(),
-        segments: count(2),
-        points: count(1),
+        input: InputReport3 {
+            dimension: 3,
+            vertices: cx.points.len(),
+            facets: cx.facets.len(),
+            triangles: count(3),
+            whole_polygons: wt.whole_polygons,
+            whole_polygons_kept: wt.keep,
+            steiner_points: steiner,
+            clip_facets: clips.iter().map(|c| c.facet as i64 + 1).collect(),
+            segments: count(2),
+            points: count(1),
+        },
         weights: wt.report.clone(),
-        // (a clip facet's faces need not cross their duals)
-        facets_missing_dual: facet_ids(&wt, &wt.sys3_failed)
-            .into_iter()
-            .filter(|&f| !clips.iter().any(|c| c.facet as i64 + 1 == f))
-            .collect(),
-        sites: s.p.len(),
-        extra_sites: (0..s.p.len()).filter(|&x| !s.is_mirror(x)).count()
-            - 2 * s.of_face.iter().flatten().count(),
-        relocation_rounds: rounds,
-        sites_outside: outside,
+        sites: SitesReport3 {
+            // (a clip facet's faces need not cross their duals)
+            facets_missing_dual: facet_ids(&wt, &wt.sys3_failed)
+                .into_iter()
+                .filter(|&f| !clips.iter().any(|c| c.facet as i64 + 1 == f))
+                .collect(),
+            placed: s.p.len(),
+            extra_sites: (0..s.p.len()).filter(|&x| !s.is_mirror(x)).count()
+                - 2 * s.of_face.iter().flatten().count(),
+            relocation_rounds: rounds,
+            sites_outside: outside,
+        },
         cells: mesh.cells.len(),
         mesh_vertices: mesh.points.len(),
         collapsed_vertices: mesh.collapsed,
         certificate,
-        timing_ms: Some(start.elapsed().as_secs_f64() * 1e3),
+        timing: Some(Timing::total(start)),
+        split: None,
     };
     Ok(Outcome {
         site_inside: mesh.site_inside.clone(),

@@ -4,12 +4,15 @@
 
 mod d2;
 mod d3;
+mod report;
 
-pub use d2::{conform2, Report, SplitReport, SplitSegment};
-pub use d3::{conform3, hull_facets, Report3};
+pub use d2::conform2;
+pub use d3::{conform3, hull_facets};
+pub use report::{
+    InputReport2, InputReport3, Report, SitesReport2, SitesReport3, SplitReport, SplitSegment,
+};
 
 use crate::mesh::Mesh3;
-
 use crate::complex::{Complex, Complex3};
 use serde::Serialize;
 
@@ -19,28 +22,36 @@ pub trait Dimension {
     type Complex: Clone + std::fmt::Debug;
     /// The mesh as written.
     type Mesh: Clone + std::fmt::Debug;
-    /// The report written next to the mesh.
-    type Report: Clone + std::fmt::Debug + Serialize;
+    /// The report's section on the input.
+    type InputReport: Clone + std::fmt::Debug + Default + Serialize;
+    /// The report's section on the sites.
+    type SitesReport: Clone + std::fmt::Debug + Default + Serialize;
+    /// What the finished mesh proves about itself.
+    type Certificate: Clone + std::fmt::Debug + Default + Serialize;
 }
 
 /// The plane: polygons around segments.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct D2;
 
 /// Space: polyhedra around facets.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct D3;
 
 impl Dimension for D2 {
     type Complex = Complex;
     type Mesh = crate::mesh::Mesh;
-    type Report = Report;
+    type InputReport = InputReport2;
+    type SitesReport = SitesReport2;
+    type Certificate = crate::certify::Certificate;
 }
 
 impl Dimension for D3 {
     type Complex = Complex3;
     type Mesh = Mesh3;
-    type Report = Report3;
+    type InputReport = InputReport3;
+    type SitesReport = SitesReport3;
+    type Certificate = crate::certify::Certificate3;
 }
 
 /// A certified mesh and how it was made.
@@ -49,7 +60,7 @@ pub struct Outcome<D: Dimension> {
     /// The mesh as written.
     pub mesh: D::Mesh,
     /// What was done and what the certificate found.
-    pub report: D::Report,
+    pub report: Report<D>,
     /// The constraints as meshed: the input with the convex hull's edges
     /// where the segments enclose nothing (2D) and any Steiner points.
     pub constraints: D::Complex,
@@ -71,6 +82,17 @@ pub struct Timing {
     pub raw_triangulation_ms: Option<f64>,
     /// total_ms / raw_triangulation_ms (the speed measure).
     pub ratio_to_raw: Option<f64>,
+}
+
+impl Timing {
+    /// The whole run's time since `start`, without stages.
+    pub(crate) fn total(start: std::time::Instant) -> Timing {
+        Timing {
+            total_ms: start.elapsed().as_secs_f64() * 1e3,
+            peak_mib: peak_mib_since_last(),
+            ..Timing::default()
+        }
+    }
 }
 
 /// One stage's time and the peak of resident memory while it ran.

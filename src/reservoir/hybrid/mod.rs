@@ -18,7 +18,7 @@ pub use wells::{MAX_RINGS, MAX_SECTORS};
 
 use crate::backend::Backend;
 use crate::complex::Complex;
-use crate::conform::Report;
+use crate::conform::{Report, D2};
 use crate::error::{Error, Result};
 use crate::mesh::{CellArray, CellMesh, Connection, Element, Mesh, Network};
 use crate::reservoir::CornerPointGrid;
@@ -224,7 +224,7 @@ pub struct HybridReport {
     /// Cavities grown because system 3 was infeasible.
     pub notes: Vec<String>,
     /// The transition meshes' own report (certificate, weights, sites).
-    pub transition: Report,
+    pub transition: Report<D2>,
 }
 
 /// The map position of every pillar for layer k (index j (nx+1) + i).

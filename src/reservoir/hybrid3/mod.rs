@@ -21,7 +21,7 @@ mod lattice;
 mod radial;
 
 use crate::backend::Backend;
-use crate::conform::Report3;
+use crate::conform::{Report, D3};
 use crate::error::{Error, Result};
 use crate::mesh::{CellArray, CellMesh, Cells, Mesh3};
 use crate::reservoir::hybrid::Region;
@@ -107,7 +107,7 @@ pub struct Hybrid3Report {
     /// Cells per region: reservoir, transition, well.
     pub cells: [usize; 3],
     /// The transition mesh's own report.
-    pub transition: Report3,
+    pub transition: Report<D3>,
     /// Connections between cells, and those whose two sites are not on the
     /// normal of their face (|cos| above 1e-6).
     pub connections: usize,
