@@ -12,7 +12,7 @@ pub struct Options {
     /// 2D: also time the backend's raw regular triangulation of the input
     /// vertices, for the report's speed ratio (outside the pipeline's time).
     pub compare_with_raw: bool,
-    /// 2D: called as stages end and as the LP's pieces are solved:
+    /// Called as stages end and (2D) as the LP's pieces are solved:
     /// (what, done, of).
     pub progress: Option<Progress>,
     /// 2D: where system 3 is infeasible, split the segments that miss their

@@ -1,7 +1,7 @@
 //! The 2D pipeline: validate, domain, weights, sites, relocation, diagram,
 //! certificate, mesh.
 
-use super::{peak_mib_since_last, InputReport2, Outcome, Report, SitesReport2, Stage, Timing, D2};
+use super::{Clock, InputReport2, Outcome, Report, SitesReport2, Timing, D2};
 use crate::backend::Backend;
 use crate::certify::certify;
 use crate::complex::Complex;
@@ -9,43 +9,12 @@ use crate::domain;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::options::Options;
-use crate::progress::Progress;
 use crate::relocate::relocate;
 use crate::sites::{Role, Sites};
 use crate::weights;
 use std::time::Instant;
 
-struct Clock {
-    last: Instant,
-    stages: Vec<Stage>,
-    progress: Option<Progress>,
-}
-
-impl Clock {
-    fn start(progress: Option<Progress>) -> Clock {
-        peak_mib_since_last();
-        Clock {
-            last: Instant::now(),
-            stages: vec![],
-            progress,
-        }
-    }
-
-    fn lap(&mut self, stage: &str) {
-        let now = Instant::now();
-        self.stages.push(Stage {
-            stage: stage.into(),
-            ms: (now - self.last).as_secs_f64() * 1e3,
-            peak_mib: peak_mib_since_last(),
-        });
-        self.last = now;
-        if let Some(f) = self.progress {
-            f(stage, self.stages.len(), STAGES);
-        }
-    }
-}
-
-/// Stages `conform` reports (the clock's laps).
+/// Stages the 2D pipeline reports (the clock's laps).
 const STAGES: usize = 7;
 
 /// Builds the certified conforming orthogonal mesh of a 2D complex, once
@@ -56,7 +25,7 @@ pub fn conform2<B: Backend + ?Sized>(
     opts: &Options,
 ) -> Result<Outcome<D2>> {
     let start = Instant::now();
-    let mut clock = Clock::start(opts.progress);
+    let mut clock = Clock::start(opts.progress, STAGES);
     input.validate()?;
     clock.lap("validate");
     let dom = domain::build(backend, input)?;
@@ -160,15 +129,9 @@ pub fn conform2<B: Backend + ?Sized>(
         collapsed_vertices: mesh.collapsed,
         certificate: cert,
         timing: Some(Timing {
-            peak_mib: clock
-                .stages
-                .iter()
-                .filter_map(|s| s.peak_mib)
-                .reduce(f64::max),
-            stages: clock.stages,
-            total_ms,
             raw_triangulation_ms,
             ratio_to_raw: raw_triangulation_ms.map(|raw| total_ms / raw),
+            ..clock.timing(total_ms)
         }),
         split: None,
     };

@@ -2,7 +2,7 @@
 //! weights, sites, relocation, site diagram, certificate, mesh. Generic
 //! over the backend's 3D side.
 
-use super::{InputReport3, Outcome, Report, SitesReport3, Timing, D3};
+use super::{Clock, InputReport3, Outcome, Report, SitesReport3, D3};
 use crate::backend::Backend;
 use crate::diagram::Diagram3;
 use crate::error::{Error, Result};
@@ -15,6 +15,9 @@ use crate::weights;
 use crate::{complex::Complex3, domain::Simplices3};
 use std::cmp::Ordering::{Greater, Less};
 use std::time::Instant;
+
+/// Stages the 3D pipeline reports (the clock's laps).
+const STAGES: usize = 7;
 
 /// Rounds of relocation (each builds the exact site diagram once).
 const RELOCATION_ROUNDS: usize = 24;
@@ -36,9 +39,9 @@ pub fn conform3<B: Backend + ?Sized>(
     opts: &Options,
 ) -> Result<Outcome<D3>> {
     let start = Instant::now();
-    super::peak_mib_since_last();
+    let mut clock = Clock::start(opts.progress, STAGES);
     let clips = clips(cx, &opts.clip)?;
-    let mut best = Attempt::run(backend, cx.clone(), opts.whole_polygons, &clips)?;
+    let mut best = Attempt::run(backend, cx.clone(), opts.whole_polygons, &clips, Some(&mut clock))?;
     // Refinement rounds, each kept only when it leaves fewer sites
     // outside (measured: a round that does not tends to start a cascade of
     // new failing faces); when the whole batch does not, a single point
@@ -66,6 +69,7 @@ pub fn conform3<B: Backend + ?Sized>(
             None => break,
         }
     }
+    clock.lap("split facets");
     let Attempt {
         cx: split,
         wt,
@@ -77,6 +81,7 @@ pub fn conform3<B: Backend + ?Sized>(
     let steiner = split.points[cx.points.len()..].to_vec();
     let cx = &split;
     let mut certificate = d.certify(cx, &wt, &s);
+    clock.lap("certify");
     if !certificate.conforms() {
         return Err(Error::Certificate(format!(
             "the 3D mesh does not conform: {certificate:?}"
@@ -88,6 +93,7 @@ pub fn conform3<B: Backend + ?Sized>(
     }
     let mesh = mesh(&d, &s, &wt);
     certificate.orthogonality_defect = mesh.orthogonality_defect();
+    clock.lap("mesh");
     let count = |k: usize| wt.faces.iter().filter(|f| f.vertices.len() == k).count();
     let report = Report::<D3> {
         backend: backend.name().into(),
@@ -120,7 +126,7 @@ pub fn conform3<B: Backend + ?Sized>(
         mesh_vertices: mesh.points.len(),
         collapsed_vertices: mesh.collapsed,
         certificate,
-        timing: Some(Timing::total(start)),
+        timing: Some(clock.timing(start.elapsed().as_secs_f64() * 1e3)),
         split: None,
     };
     Ok(Outcome {
@@ -161,17 +167,26 @@ impl Attempt {
             id += 1;
             next.vertex_ids.push(id);
         }
-        Attempt::run(backend, next, keep, clips)
+        Attempt::run(backend, next, keep, clips, None)
     }
 
+    /// The pipeline on `cx`, its stages timed on `clock` when given.
     fn run<B: Backend + ?Sized>(
         backend: &B,
         cx: Complex3,
         keep: weights::Keep,
         clips: &[Clip],
+        mut clock: Option<&mut Clock>,
     ) -> Result<Attempt> {
+        let mut lap = |stage: &str| {
+            if let Some(c) = clock.as_deref_mut() {
+                c.lap(stage)
+            }
+        };
         let sc = cx.triangulate(backend)?;
+        lap("facets");
         let wt = weights::solve3(backend, &cx, &sc, keep)?;
+        lap("weights");
         let mut s = sites::place3(&cx, &wt)?;
         if !clips.is_empty() {
             s = s.clipped(&cx, &wt, clips.to_vec());
@@ -182,6 +197,7 @@ impl Attempt {
                 )));
             }
         }
+        lap("sites");
         let mut d = Diagram3::build(backend, &cx, &s)?;
         let mut rounds = 0;
         while rounds < RELOCATION_ROUNDS {
@@ -204,6 +220,7 @@ impl Attempt {
         let outside = (0..s.p.len())
             .filter(|&x| d.in_domain[x] && !d.site_inside[x])
             .count();
+        lap("relocate");
         Ok(Attempt {
             cx,
             sc,

@@ -14,7 +14,9 @@ pub use report::{
 
 use crate::mesh::Mesh3;
 use crate::complex::{Complex, Complex3};
+use crate::progress::Progress;
 use serde::Serialize;
+use std::time::Instant;
 
 /// A dimension the pipeline runs in: what it takes and what it gives.
 pub trait Dimension {
@@ -84,12 +86,47 @@ pub struct Timing {
     pub ratio_to_raw: Option<f64>,
 }
 
-impl Timing {
-    /// The whole run's time since `start`, without stages.
-    pub(crate) fn total(start: std::time::Instant) -> Timing {
-        Timing {
-            total_ms: start.elapsed().as_secs_f64() * 1e3,
+/// Laps of the pipeline's stages, told to the progress callback as they end.
+pub(crate) struct Clock {
+    last: Instant,
+    stages: Vec<Stage>,
+    progress: Option<Progress>,
+    /// Stages the run reports, for the progress callback.
+    of: usize,
+}
+
+impl Clock {
+    /// A clock from now (the peak of memory reset).
+    pub(crate) fn start(progress: Option<Progress>, of: usize) -> Clock {
+        peak_mib_since_last();
+        Clock {
+            last: Instant::now(),
+            stages: vec![],
+            progress,
+            of,
+        }
+    }
+
+    /// Ends a stage.
+    pub(crate) fn lap(&mut self, stage: &str) {
+        let now = Instant::now();
+        self.stages.push(Stage {
+            stage: stage.into(),
+            ms: (now - self.last).as_secs_f64() * 1e3,
             peak_mib: peak_mib_since_last(),
+        });
+        self.last = now;
+        if let Some(f) = self.progress {
+            f(stage, self.stages.len(), self.of);
+        }
+    }
+
+    /// The stages and their peak, for a run of `total_ms`.
+    pub(crate) fn timing(self, total_ms: f64) -> Timing {
+        Timing {
+            peak_mib: self.stages.iter().filter_map(|s| s.peak_mib).reduce(f64::max),
+            stages: self.stages,
+            total_ms,
             ..Timing::default()
         }
     }

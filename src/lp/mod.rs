@@ -4,9 +4,9 @@
 //! system into independent pieces (`pieces`), and the ladder of solves
 //! that gives a trusted margin or a verdict (`solve_rows`). Generic over
 //! the dimension: rows are written over weights and coordinates in any D.
-//!
-//! under which every segment crosses its dual (section 5.1, system 3).
-//! The only module that talks to HiGHS.
+//! The LP looks for weights whose regular triangulation holds every
+//! constraint (system 1) and, where it can, under which every constraint
+//! crosses its dual (section 5.1, system 3).
 //!
 //! Order of attack: zero weights when every segment is strictly Gabriel;
 //! else the local form (one power-test row per interior edge of the
@@ -57,15 +57,15 @@ pub(crate) const ELASTIC_MARGIN: f64 = 1e-3;
 /// Rounds of the lazy global form before giving up on adding rows locally.
 pub(crate) const GLOBAL_ROUNDS: usize = 40;
 
+/// Phase 2 cost of an anchor's violation (dimensionless, like the weights'
+/// cost sum |w_i| / l_i^2, which it outweighs).
+pub(crate) const ANCHOR_COST: f64 = 1e3;
+
 /// A margin row of a simplex model whose slack at zero weights exceeds
 /// this enters the model only once a solution violates it (measured on the
 /// local form's pieces: 80% of the rows, of which 1 in 200 ever enters;
 /// HiGHS' cost per iteration grows with the rows). The optimum is the same:
 /// a solution of fewer rows that meets all rows is optimal for all.
-/// Phase 2 cost of an anchor's violation (dimensionless, like the weights'
-/// cost sum |w_i| / l_i^2, which it outweighs).
-pub(crate) const ANCHOR_COST: f64 = 1e3;
-
 pub(crate) const LAZY_SLACK: f64 = 0.2;
 
 /// Rows of a model above which interior point replaces the simplex.
