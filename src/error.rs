@@ -91,8 +91,13 @@ pub enum Error {
         /// The segments (ids) in the way.
         crowding: Vec<i64>,
     },
-    /// The LP solver failed (not an infeasibility verdict).
-    Lp(String),
+    /// The LP stopped short of a verdict: a solver failure, the time
+    /// budget, the rows it may grow to, or a precision it cannot resolve;
+    /// the message names the limit and what was tried. Not a proof.
+    SolverLimit(String),
+    /// A defect of orthomesh (a state the code holds impossible): please
+    /// report it with the input.
+    Internal(String),
     /// A backend (CGAL) reported an error or threw.
     Backend(String),
     /// The exact certificate of the final mesh does not hold.
@@ -199,7 +204,11 @@ impl fmt::Display for Error {
                  --allow-sites-outside to write the conforming mesh anyway",
                 list(sites)
             ),
-            Error::Lp(m) => write!(f, "LP solver: {m}"),
+            Error::SolverLimit(m) => write!(f, "solver limit: {m}"),
+            Error::Internal(m) => write!(
+                f,
+                "internal error (a defect of orthomesh; please report it with the input): {m}"
+            ),
             Error::Backend(m) => write!(f, "triangulation backend: {m}"),
             Error::Certificate(m) => write!(f, "certificate failed: {m}"),
             Error::Usage(m) => write!(f, "{m}"),
@@ -242,7 +251,7 @@ mod tests {
     fn every_way_tried_is_named() {
         let e = Error::Tried(vec![
             ("cut".into(), Error::Degenerate("flat".into())),
-            ("faces".into(), Error::Lp("no solution".into())),
+            ("faces".into(), Error::SolverLimit("no solution".into())),
         ]);
         let s = e.to_string();
         assert!(s.contains("cut: nothing to mesh: flat; faces: "), "{s}");

@@ -107,7 +107,7 @@ proptest! {
                     | Error::VertexOnSegment { .. }
                     | Error::Degenerate(_)
                     | Error::NoRegularConstrainedTriangulation { .. }
-                    | Error::Lp(_),
+                    | Error::SolverLimit(_),
                 ) => {}
                 Err(Error::Certificate(m)) if m.contains("double precision") => {}
                 Err(e) => return Err(TestCaseError::fail(format!("{} backend: {e}", b.name()))),

@@ -151,17 +151,68 @@ pub(crate) fn change_columns(
         }
     };
     if status == highs_sys::STATUS_ERROR {
-        return Err(Error::Lp("HiGHS refused to change the LP's columns".into()));
+        return Err(Error::SolverLimit("HiGHS refused to change the LP's columns".into()));
     }
     Ok(())
 }
 
 /// HiGHS refused a row or the model.
 pub(crate) fn rejected(e: highs::HighsStatus) -> Error {
-    Error::Lp(format!(
+    Error::SolverLimit(format!(
         "HiGHS rejects the LP as built ({e:?}): its coefficients are beyond its range \
          (nearly coincident or collinear vertices?)"
     ))
+}
+
+/// Runs HiGHS on the model in place: its status, and its columns when
+/// optimal. Where HiGHS fails (a singular basis in a badly scaled warm
+/// start, say), it runs once more from scratch with its own defaults
+/// (presolve, the dual simplex where interior point failed too, its
+/// refactorisation checks); a second
+/// failure is an error that says so.
+#[allow(unsafe_code)]
+fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f64>>)> {
+    let ptr = model.as_mut_ptr();
+    // SAFETY: `ptr` is the model's live HiGHS instance.
+    let mut ran = unsafe { highs_sys::Highs_run(ptr) };
+    if ran == highs_sys::STATUS_ERROR {
+        // SAFETY: as above; clearing the solver keeps the model.
+        unsafe { highs_sys::Highs_clearSolver(ptr) };
+        model.set_option("presolve", "on");
+        model.set_option("solver", "simplex");
+        model.set_option("simplex_strategy", 1);
+        model.set_option("rebuild_refactor_solution_error_tolerance", 1e-8);
+        // SAFETY: as above.
+        ran = unsafe { highs_sys::Highs_run(model.as_mut_ptr()) };
+    }
+    if ran == highs_sys::STATUS_ERROR {
+        return Err(Error::SolverLimit(format!(
+            "HiGHS failed on an LP of {} rows and {} columns, warm-started and again from scratch",
+            model.num_rows(),
+            model.num_cols()
+        )));
+    }
+    // SAFETY: as above.
+    let code = unsafe { highs_sys::Highs_getModelStatus(model.as_mut_ptr()) };
+    let status = HighsModelStatus::try_from(code as std::os::raw::c_int)
+        .map_err(|_| Error::SolverLimit(format!("HiGHS returned an unknown model status {code}")))?;
+    if status != HighsModelStatus::Optimal {
+        return Ok((status, None));
+    }
+    let (nc, nr) = (model.num_cols(), model.num_rows());
+    let (mut cols, mut col_dual) = (vec![0.0; nc], vec![0.0; nc]);
+    let (mut rows, mut row_dual) = (vec![0.0; nr], vec![0.0; nr]);
+    // SAFETY: as above; every array has the length HiGHS fills.
+    unsafe {
+        highs_sys::Highs_getSolution(
+            model.as_mut_ptr(),
+            cols.as_mut_ptr(),
+            col_dual.as_mut_ptr(),
+            rows.as_mut_ptr(),
+            row_dual.as_mut_ptr(),
+        )
+    };
+    Ok((status, Some(cols)))
 }
 
 /// A lower bound of a simplex model's margin: the margin that zero
@@ -417,28 +468,21 @@ impl Lp {
             d.saturating_duration_since(std::time::Instant::now())
         });
         if left.is_zero() {
-            return Err(Error::Lp(format!(
+            return Err(Error::SolverLimit(format!(
                 "the LP time budget of {} s ran out",
                 LP_BUDGET.as_secs()
             )));
         }
-        // Taken out (a solve consumes it) only now: on the early return the
-        // model stays for `Drop`, which destroys it under the lock.
-        let mut model = self.model.take().expect("model");
+        let model = self.model.as_mut().expect("model");
         report.lp_rows = report.lp_rows.max(model.num_rows());
         report.lp_cols = report.lp_cols.max(model.num_cols());
         report.lp_solves += 1;
         model.set_option("time_limit", left.as_secs_f64());
-        let solved = {
+        let ran = {
             let _running = HIGHS.read().unwrap_or_else(|e| e.into_inner());
-            model
-                .try_solve()
-                .map_err(|e| Error::Lp(format!("HiGHS: {e:?}")))?
+            run_model(model)
         };
-        let status = solved.status();
-        let cols =
-            (status == HighsModelStatus::Optimal).then(|| solved.get_solution().columns().to_vec());
-        self.model = Some(solved.into());
+        let (status, cols) = ran?;
         report.lp_status = format!("{status:?}");
         match status {
             HighsModelStatus::Optimal => {
@@ -451,7 +495,7 @@ impl Lp {
                     })
                     .collect();
                 if cols.iter().chain(&w).any(|c| !c.is_finite()) {
-                    return Err(Error::Lp(
+                    return Err(Error::SolverLimit(
                         "the LP returned weights that are not finite doubles".into(),
                     ));
                 }
@@ -474,13 +518,13 @@ impl Lp {
                 },
                 None,
             )),
-            HighsModelStatus::ReachedTimeLimit => Err(Error::Lp(format!(
+            HighsModelStatus::ReachedTimeLimit => Err(Error::SolverLimit(format!(
                 "the LP time budget of {} s ran out ({} solves of up to {} rows)",
                 LP_BUDGET.as_secs(),
                 report.lp_solves,
                 report.lp_rows
             ))),
-            s => Err(Error::Lp(format!("HiGHS ended with status {s:?}"))),
+            s => Err(Error::SolverLimit(format!("HiGHS ended with status {s:?}"))),
         }
     }
 }

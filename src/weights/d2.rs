@@ -153,7 +153,7 @@ fn solve_unanchored_first<B: Backend + ?Sized>(
         // constrained triangulation when the Delaunay triangulation contains
         // every segment (checked exactly): use them, and check system 3 for
         // them exactly (its failure is then no proof).
-        (zero_rt, Err(Error::Lp(m))) if zero_rt.is_some() || conforms(cx, &rt0).is_ok() => {
+        (zero_rt, Err(Error::SolverLimit(m))) if zero_rt.is_some() || conforms(cx, &rt0).is_ok() => {
             let rt = zero_rt.unwrap_or(rt0);
             let sys3_failed = sys3_failures(cx, &zero, &rt);
             let report = WeightsReport {
@@ -608,7 +608,7 @@ fn sys1_verdict(dom: &Domain, last_missing: Vec<u32>) -> Error {
     let thin = slivers(&cx.points, &dom.cdt);
     if !thin.is_empty() {
         let ids: Vec<i64> = thin.iter().map(|&v| cx.vertex_ids[v as usize]).collect();
-        return Error::Lp(format!(
+        return Error::SolverLimit(format!(
             "cannot decide whether a regular constrained triangulation exists: the LP finds none, \
              but triangles of nearly collinear vertices are beyond its precision (vertices {ids:?})"
         ));
@@ -741,7 +741,7 @@ fn global<B: Backend + ?Sized>(
         let rows: usize = sets.iter().map(BTreeSet::len).sum();
         if rows > MAX_GLOBAL_ROWS {
             // Dense rows for many owners would not fit; better a clear stop.
-            return Err(Error::Lp(format!(
+            return Err(Error::SolverLimit(format!(
                 "the lazy global form needs more than {MAX_GLOBAL_ROWS} rows without converging \
                  (segments still missing: {:?})",
                 missing
@@ -757,13 +757,13 @@ fn global<B: Backend + ?Sized>(
             if let Some(f) = found {
                 return finish(f, report);
             }
-            return Err(Error::Lp(format!(
+            return Err(Error::SolverLimit(format!(
                 "weights from the global form do not give a conforming triangulation (segments {:?} missing) and no rows are left to add",
                 missing.iter().map(|&s| cx.segment_ids[s as usize]).collect::<Vec<_>>()
             )));
         }
     }
-    Err(Error::Lp("the lazy global form did not converge".into()))
+    Err(Error::SolverLimit("the lazy global form did not converge".into()))
 }
 
 #[cfg(test)]

@@ -89,7 +89,7 @@ pub fn solve<B: Backend + ?Sized>(
     sc: &Simplices3,
     keep: Keep,
 ) -> Result<Weights3> {
-    let mut out = Err(Error::Lp("no attempt".into()));
+    let mut out = Err(Error::Internal("the 3D weights made no attempt".into()));
     for &way in keep.ways() {
         out = solve_kept(backend, cx, sc, way);
         if !no_solution(&out) {
@@ -132,7 +132,7 @@ fn solve_kept<B: Backend + ?Sized>(
 fn no_solution(out: &Result<Weights3>) -> bool {
     matches!(
         out,
-        Err(Error::NoRegularConstrainedTetrahedralisation { .. } | Error::Lp(_))
+        Err(Error::NoRegularConstrainedTetrahedralisation { .. } | Error::SolverLimit(_))
     )
 }
 
@@ -476,7 +476,7 @@ fn global<B: Backend + ?Sized>(
         }
         last = misses;
         if sets.iter().map(BTreeSet::len).sum::<usize>() > MAX_GLOBAL_ROWS {
-            return Err(Error::Lp(format!(
+            return Err(Error::SolverLimit(format!(
                 "the 3D lazy global form needs more than {MAX_GLOBAL_ROWS} rows without converging"
             )));
         }
@@ -484,11 +484,11 @@ fn global<B: Backend + ?Sized>(
             // Every violated face has all its rows, yet RT(w) disagrees:
             // the LP's margin is below what the exact check confirms.
             return found.ok_or_else(|| {
-                Error::Lp("3D weights from the LP do not give a conforming triangulation and no rows are left to add".into())
+                Error::SolverLimit("3D weights from the LP do not give a conforming triangulation and no rows are left to add".into())
             });
         }
     }
-    Err(Error::Lp("the 3D lazy global form did not converge".into()))
+    Err(Error::SolverLimit("the 3D lazy global form did not converge".into()))
 }
 
 fn finish(
