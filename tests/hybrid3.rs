@@ -143,7 +143,11 @@ fn steiner_points_bring_the_annuli_sites_in() {
     assert!(t.sites.facets_missing_dual.is_empty());
     // on the top and bottom planes only
     assert!(!t.input.steiner_points.is_empty());
-    assert!(t.input.steiner_points.iter().all(|p| p[2] == 0.0 || p[2] == -8.0));
+    assert!(t
+        .input
+        .steiner_points
+        .iter()
+        .all(|p| p[2] == 0.0 || p[2] == -8.0));
     assert_eq!(h.report.non_orthogonal, 0);
     write("steiner", &h);
 }

@@ -77,7 +77,11 @@ fn free_ends_and_isolated_vertices_get_extra_sites() {
     let out = run(&default_backend(), &cx, "free-ends", true).unwrap();
     assert_certified(&out, "free-ends");
     // two free ends (one site each, possibly shared) and one isolated vertex (three)
-    assert!(out.report.sites.vertex_sites >= 4, "{}", out.report.sites.vertex_sites);
+    assert!(
+        out.report.sites.vertex_sites >= 4,
+        "{}",
+        out.report.sites.vertex_sites
+    );
 }
 
 #[test]

@@ -152,12 +152,16 @@ fn constraints_inside_holes_play_no_role() {
     )
     .unwrap();
     assert_eq!(
-        (out.report.input.dropped_vertices, out.report.input.dropped_segments),
+        (
+            out.report.input.dropped_vertices,
+            out.report.input.dropped_segments
+        ),
         (2, 4)
     );
     assert!(out
         .report
-        .input.notes
+        .input
+        .notes
         .iter()
         .any(|n| n.contains("outside the domain")));
 }

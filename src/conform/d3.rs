@@ -41,7 +41,13 @@ pub fn conform3<B: Backend + ?Sized>(
     let start = Instant::now();
     let mut clock = Clock::start(opts.progress, STAGES);
     let clips = clips(cx, &opts.clip)?;
-    let mut best = Attempt::run(backend, cx.clone(), opts.whole_polygons, &clips, Some(&mut clock))?;
+    let mut best = Attempt::run(
+        backend,
+        cx.clone(),
+        opts.whole_polygons,
+        &clips,
+        Some(&mut clock),
+    )?;
     // Refinement rounds, each kept only when it leaves fewer sites
     // outside (measured: a round that does not tends to start a cascade of
     // new failing faces); when the whole batch does not, a single point

@@ -12,8 +12,8 @@ pub use report::{
     InputReport2, InputReport3, Report, SitesReport2, SitesReport3, SplitReport, SplitSegment,
 };
 
-use crate::mesh::Mesh3;
 use crate::complex::{Complex, Complex3};
+use crate::mesh::Mesh3;
 use crate::progress::Progress;
 use serde::Serialize;
 use std::time::Instant;
@@ -124,7 +124,11 @@ impl Clock {
     /// The stages and their peak, for a run of `total_ms`.
     pub(crate) fn timing(self, total_ms: f64) -> Timing {
         Timing {
-            peak_mib: self.stages.iter().filter_map(|s| s.peak_mib).reduce(f64::max),
+            peak_mib: self
+                .stages
+                .iter()
+                .filter_map(|s| s.peak_mib)
+                .reduce(f64::max),
             stages: self.stages,
             total_ms,
             ..Timing::default()

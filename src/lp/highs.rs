@@ -151,7 +151,9 @@ pub(crate) fn change_columns(
         }
     };
     if status == highs_sys::STATUS_ERROR {
-        return Err(Error::SolverLimit("HiGHS refused to change the LP's columns".into()));
+        return Err(Error::SolverLimit(
+            "HiGHS refused to change the LP's columns".into(),
+        ));
     }
     Ok(())
 }
@@ -194,8 +196,9 @@ fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f
     }
     // SAFETY: as above.
     let code = unsafe { highs_sys::Highs_getModelStatus(model.as_mut_ptr()) };
-    let status = HighsModelStatus::try_from(code as std::os::raw::c_int)
-        .map_err(|_| Error::SolverLimit(format!("HiGHS returned an unknown model status {code}")))?;
+    let status = HighsModelStatus::try_from(code as std::os::raw::c_int).map_err(|_| {
+        Error::SolverLimit(format!("HiGHS returned an unknown model status {code}"))
+    })?;
     if status != HighsModelStatus::Optimal {
         return Ok((status, None));
     }

@@ -24,7 +24,7 @@ use crate::backend::{Backend, Triangulation};
 use crate::complex::Complex;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
-use crate::geom::{abs, dot, in_diametral_disc, is_pos, norm2, q, qp, sub, Q};
+use crate::geom::{abs, dot, in_diametral_disc, is_pos, norm2, orient, q, qp, sub, Q};
 use crate::lp::{
     destroy_finished, plane_rows, rel, solve_pieces, solve_rows, sys3_rows, Answer, Family, Row,
     System, Units, WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
@@ -153,7 +153,9 @@ fn solve_unanchored_first<B: Backend + ?Sized>(
         // constrained triangulation when the Delaunay triangulation contains
         // every segment (checked exactly): use them, and check system 3 for
         // them exactly (its failure is then no proof).
-        (zero_rt, Err(Error::SolverLimit(m))) if zero_rt.is_some() || conforms(cx, &rt0).is_ok() => {
+        (zero_rt, Err(Error::SolverLimit(m)))
+            if zero_rt.is_some() || conforms(cx, &rt0).is_ok() =>
+        {
             let rt = zero_rt.unwrap_or(rt0);
             let sys3_failed = sys3_failures(cx, &zero, &rt);
             let report = WeightsReport {
@@ -577,6 +579,36 @@ pub fn sys3_failures(cx: &Complex, w: &[f64], rt: &Triangulation) -> Vec<u32> {
         .collect()
 }
 
+/// For each hidden vertex, the vertices of the triangles of `rt` that
+/// contain its point (closed; decided exactly). One sweep over the
+/// triangles, the hidden points sorted by x.
+fn covering(p: &[[f64; 2]], rt: &Triangulation, hidden: &[u32]) -> crate::FastMap<u32, Vec<u32>> {
+    use std::cmp::Ordering::Less;
+    let mut out: crate::FastMap<u32, Vec<u32>> = crate::FastMap::default();
+    if hidden.is_empty() {
+        return out;
+    }
+    let mut by_x: Vec<u32> = hidden.to_vec();
+    by_x.sort_by(|&a, &b| p[a as usize][0].total_cmp(&p[b as usize][0]));
+    for tri in &rt.triangles {
+        let c = tri.map(|v| p[v as usize]);
+        let lo = c.iter().map(|q| q[0]).fold(f64::INFINITY, f64::min);
+        let hi = c.iter().map(|q| q[0]).fold(f64::NEG_INFINITY, f64::max);
+        let first = by_x.partition_point(|&h| p[h as usize][0] < lo);
+        for &h in by_x[first..]
+            .iter()
+            .take_while(|&&h| p[h as usize][0] <= hi)
+        {
+            let x = p[h as usize];
+            let inside = (0..3).all(|k| orient(c[k], c[(k + 1) % 3], x) != Less);
+            if inside {
+                out.entry(h).or_default().extend(tri);
+            }
+        }
+    }
+    out
+}
+
 /// Vertices of triangles of `t` whose height is below 1e-9 of their longest
 /// edge: the LP's tolerances cannot resolve their lifts.
 fn slivers(p: &[[f64; 2]], t: &Triangulation) -> Vec<u32> {
@@ -716,18 +748,25 @@ fn global<B: Backend + ?Sized>(
                 bad_owners.insert(o);
             }
         }
-        for o in bad_owners {
+        // A hidden vertex has no neighbours in RT(w): the vertices of the
+        // triangles that cover it are the ones its rows lack.
+        let covers = covering(&cx.points, &rt, &hidden);
+        for o in bad_owners.iter().copied() {
             let (i, j) = owners[o];
             let before = sets[o].len();
             let ends: Vec<u32> = std::iter::once(i).chain(j).collect();
-            // two rings around both ends, in RT(w) and in the CDT
+            // two rings around both ends, in RT(w) and in the CDT, and
+            // around the triangles covering them when they are hidden
             let mut ring: BTreeSet<u32> = BTreeSet::new();
-            for &e in &ends {
-                for &a in rt_nb[e as usize].iter().chain(&cdt_nb[e as usize]) {
-                    ring.insert(a);
-                    ring.extend(rt_nb[a as usize].iter().copied());
-                    ring.extend(cdt_nb[a as usize].iter().copied());
-                }
+            let cover = ends.iter().flat_map(|e| covers.get(e)).flatten();
+            for &a in ends
+                .iter()
+                .flat_map(|&e| rt_nb[e as usize].iter().chain(&cdt_nb[e as usize]))
+                .chain(cover)
+            {
+                ring.insert(a);
+                ring.extend(rt_nb[a as usize].iter().copied());
+                ring.extend(cdt_nb[a as usize].iter().copied());
             }
             if widen {
                 ring.extend(0..n as u32); // the dense rows for this owner only
@@ -737,6 +776,17 @@ fn global<B: Backend + ?Sized>(
             }
             sets[o].extend(ring);
             grew |= sets[o].len() > before;
+        }
+        if !grew {
+            // The rings are in already: every violated owner gets its dense
+            // rows (every vertex), so that the loop ends in weights, a proof
+            // or a named limit, never with rows left unwritten.
+            for &o in &bad_owners {
+                let (i, j) = owners[o];
+                let before = sets[o].len();
+                sets[o].extend((0..n as u32).filter(|&v| v != i && Some(v) != j));
+                grew |= sets[o].len() > before;
+            }
         }
         let rows: usize = sets.iter().map(BTreeSet::len).sum();
         if rows > MAX_GLOBAL_ROWS {
@@ -752,18 +802,25 @@ fn global<B: Backend + ?Sized>(
             )));
         }
         if !grew {
-            // Every violated owner has all its rows, yet RT(w) disagrees:
-            // the LP's margin is below what the exact check can confirm.
+            // Every violated owner has its dense rows (every vertex), the LP
+            // meets them, yet RT(w) disagrees: the LP's margin is below what
+            // doubles resolve.
             if let Some(f) = found {
                 return finish(f, report);
             }
+            let ids = |v: &[u32], of: &[i64]| v.iter().map(|&s| of[s as usize]).collect::<Vec<_>>();
             return Err(Error::SolverLimit(format!(
-                "weights from the global form do not give a conforming triangulation (segments {:?} missing) and no rows are left to add",
-                missing.iter().map(|&s| cx.segment_ids[s as usize]).collect::<Vec<_>>()
+                "the lazy global form gave every violated segment and vertex its rows against                  all {n} vertices ({} rounds), yet the exact check of its weights finds segments                  {:?} missing and vertices {:?} hidden: the LP's margin is below what doubles resolve",
+                round,
+                ids(&missing, &cx.segment_ids),
+                ids(&hidden, &cx.vertex_ids)
             )));
         }
     }
-    Err(Error::SolverLimit("the lazy global form did not converge".into()))
+    Err(Error::SolverLimit(format!(
+        "the lazy global form did not converge in {} rounds",
+        GLOBAL_ROUNDS + 2
+    )))
 }
 
 #[cfg(test)]

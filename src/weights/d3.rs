@@ -488,7 +488,9 @@ fn global<B: Backend + ?Sized>(
             });
         }
     }
-    Err(Error::SolverLimit("the 3D lazy global form did not converge".into()))
+    Err(Error::SolverLimit(
+        "the 3D lazy global form did not converge".into(),
+    ))
 }
 
 fn finish(
