@@ -62,10 +62,20 @@ fn ratios() {
             }
         }
         let status = match out.expect("ran once") {
-            Ok(o) => format!(
-                "weights {}, sites outside {}",
-                o.report.weights.method, o.report.certificate.sites_outside
-            ),
+            Ok(o) => {
+                let relocate = o.report.timing.as_ref().and_then(|t| {
+                    t.stages
+                        .iter()
+                        .find(|s| s.stage == "relocate")
+                        .map(|s| s.ms)
+                });
+                format!(
+                    "weights {}, sites outside {}, relocation {:.2}x raw",
+                    o.report.weights.method,
+                    o.report.certificate.sites_outside,
+                    relocate.unwrap_or(f64::NAN) / raw
+                )
+            }
             Err(e) => format!("error: {e}"),
         };
         eprintln!(
@@ -79,6 +89,21 @@ fn ratios() {
         row(
             format!("{}/cavities {nx}x{ny} (zero weights)", b.name()),
             &cavities(nx, ny, 14.0),
+        );
+    }
+    // Fields of separate cavities, each with a well off centre and a fault
+    // with two free ends (zero weights; issue 21: relocation within the raw
+    // triangulation's time, the whole within 5x), then with isolated points.
+    for n in [6, 18, 57, 180] {
+        row(
+            format!("{}/field {n}x{n} (zero weights)", b.name()),
+            &orthomesh::generate::field(n, n, 0, 7),
+        );
+    }
+    for n in [6, 18] {
+        row(
+            format!("{}/field {n}x{n}, 2 points a cavity", b.name()),
+            &orthomesh::generate::field(n, n, 2, 7),
         );
     }
     // Wells at r = 24.5 nearly touch the cavity sides: the LP (local form).

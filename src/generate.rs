@@ -187,6 +187,62 @@ pub fn mixed(nx: usize, ny: usize, seed: u64) -> Complex {
     cx
 }
 
+/// A field of `nx` x `ny` separate square cavities of 16 unit sides (side
+/// 4, one apart), like the cavities around wells in a reservoir grid:
+/// each holds a 12-gon well off centre (radius 0.6, its interior a hole), a
+/// fault of three segments with two free ends, and `isolated` points
+/// scattered (reproducibly, from `seed`) in a band along its top side. 31
+/// segments a cavity: 180 x 180 cavities are 10^6 segments. Every segment
+/// is strictly Gabriel, so zero weights suffice; the free ends and
+/// isolated points need extra sites (issue 21).
+pub fn field(nx: usize, ny: usize, isolated: usize, seed: u64) -> Complex {
+    let mut cx = Complex::default();
+    let mut u = uniform(seed);
+    let chain = |cx: &mut Complex, pts: &[[f64; 2]], closed: bool| {
+        let first = cx.points.len() as u32;
+        cx.points.extend_from_slice(pts);
+        let n = pts.len() as u32;
+        for k in 0..if closed { n } else { n - 1 } {
+            cx.segments.push([first + k, first + (k + 1) % n]);
+        }
+    };
+    for cy in 0..ny {
+        for cxi in 0..nx {
+            let (x0, y0) = (cxi as f64 * 5.0, cy as f64 * 5.0);
+            // Counter-clockwise from the lower-left corner.
+            let boundary: Vec<[f64; 2]> = (0..16)
+                .map(|k| {
+                    let t = (k % 4) as f64;
+                    match k / 4 {
+                        0 => [x0 + t, y0],
+                        1 => [x0 + 4.0, y0 + t],
+                        2 => [x0 + 4.0 - t, y0 + 4.0],
+                        _ => [x0, y0 + 4.0 - t],
+                    }
+                })
+                .collect();
+            chain(&mut cx, &boundary, true);
+            let c = [x0 + 1.6, y0 + 2.0];
+            let well: Vec<[f64; 2]> = (0..12)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / 12.0;
+                    [c[0] + 0.6 * a.cos(), c[1] + 0.6 * a.sin()]
+                })
+                .collect();
+            chain(&mut cx, &well, true);
+            cx.holes.push(c);
+            let fault = [[2.7, 0.5], [3.2, 1.0], [3.0, 1.6], [3.3, 2.3]];
+            chain(&mut cx, &fault.map(|[x, y]| [x0 + x, y0 + y]), false);
+            for _ in 0..isolated {
+                cx.points.push([x0 + 0.3 + 3.4 * u(), y0 + 3.1 + 0.6 * u()]);
+            }
+        }
+    }
+    cx.vertex_ids = (0..cx.points.len() as i64).collect();
+    cx.segment_ids = (0..cx.segments.len() as i64).collect();
+    cx
+}
+
 /// A fixed pseudo-random number in [0, 1) for each key (splitmix64):
 /// reproducible, so output is deterministic.
 pub fn scatter(key: u64) -> f64 {

@@ -110,3 +110,18 @@ fn bad_inputs_get_errors_naming_items() {
     .unwrap();
     assert!(matches!(e, Error::Degenerate(_)), "{e}");
 }
+
+/// The field of issue 21 (cavities of 16 unit sides, a well off centre, a
+/// fault with two free ends): 31 segments a cavity, strictly Gabriel, so
+/// zero weights; every site inside its cell, two extra sites per fault.
+#[test]
+fn a_field_of_cavities_needs_zero_weights_and_two_extra_sites_each() {
+    let cx = orthomesh::generate::field(3, 2, 0, 7);
+    assert_eq!((cx.segments.len(), cx.holes.len()), (6 * 31, 6));
+    let out = run(&default_backend(), &cx, "field", false).expect("meshes");
+    assert_certified(&out, "field");
+    assert_eq!(out.report.weights.method, "zero");
+    assert_eq!(out.report.sites.vertex_sites, 6 * 2);
+    let with_points = orthomesh::generate::field(3, 2, 2, 7);
+    assert_eq!(with_points.points.len(), cx.points.len() + 6 * 2);
+}

@@ -187,6 +187,9 @@ enum Kind {
     Mixed,
     /// Cavities sharing sides, wells at radius 14 (zero weights).
     Cavities,
+    /// Separate cavities of 16 unit sides, each with a well off centre, a
+    /// fault with two free ends and isolated points (zero weights).
+    Field,
 }
 
 #[derive(Args)]
@@ -197,6 +200,9 @@ struct GenerateArgs {
     /// Cavities per side.
     #[arg(value_parser = clap::value_parser!(u16).range(1..=1000))]
     n: u16,
+    /// `field`: isolated points per cavity.
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u16).range(0..=100))]
+    points: u16,
     #[arg(short, long, value_name = "FILE.poly")]
     output: PathBuf,
 }
@@ -496,6 +502,7 @@ fn generate(a: GenerateArgs) -> Result<()> {
     let cx = match a.kind {
         Kind::Mixed => orthomesh::generate::mixed(n, n, 7),
         Kind::Cavities => orthomesh::generate::cavities(n, n, 14.0),
+        Kind::Field => orthomesh::generate::field(n, n, usize::from(a.points), 7),
     };
     io::write_atomic(&a.output, io::poly::to_string(&cx).as_bytes())?;
     eprintln!(

@@ -735,59 +735,20 @@ fn global<B: Backend + ?Sized>(
             vec![]
         };
         last_missing = missing.clone();
-        let rt_nb = rt.neighbours(n);
-        let widen = round > GLOBAL_ROUNDS / 2;
-        let mut grew = false;
-        let mut bad_owners: BTreeSet<usize> = missing
-            .iter()
-            .chain(&sys3_bad)
-            .map(|&s| s as usize)
-            .collect();
-        for h in &hidden {
-            if let Some(o) = owners.iter().position(|&(i, j)| i == *h || j == Some(*h)) {
-                bad_owners.insert(o);
-            }
-        }
-        // A hidden vertex has no neighbours in RT(w): the vertices of the
-        // triangles that cover it are the ones its rows lack.
-        let covers = covering(&cx.points, &rt, &hidden);
-        for o in bad_owners.iter().copied() {
-            let (i, j) = owners[o];
-            let before = sets[o].len();
-            let ends: Vec<u32> = std::iter::once(i).chain(j).collect();
-            // two rings around both ends, in RT(w) and in the CDT, and
-            // around the triangles covering them when they are hidden
-            let mut ring: BTreeSet<u32> = BTreeSet::new();
-            let cover = ends.iter().flat_map(|e| covers.get(e)).flatten();
-            for &a in ends
-                .iter()
-                .flat_map(|&e| rt_nb[e as usize].iter().chain(&cdt_nb[e as usize]))
-                .chain(cover)
-            {
-                ring.insert(a);
-                ring.extend(rt_nb[a as usize].iter().copied());
-                ring.extend(cdt_nb[a as usize].iter().copied());
-            }
-            if widen {
-                ring.extend(0..n as u32); // the dense rows for this owner only
-            }
-            for e in &ends {
-                ring.remove(e);
-            }
-            sets[o].extend(ring);
-            grew |= sets[o].len() > before;
-        }
-        if !grew {
-            // The rings are in already: every violated owner gets its dense
-            // rows (every vertex), so that the loop ends in weights, a proof
-            // or a named limit, never with rows left unwritten.
-            for &o in &bad_owners {
-                let (i, j) = owners[o];
-                let before = sets[o].len();
-                sets[o].extend((0..n as u32).filter(|&v| v != i && Some(v) != j));
-                grew |= sets[o].len() > before;
-            }
-        }
+        let bad = Violations {
+            missing: &missing,
+            sys3_bad: &sys3_bad,
+            hidden: &hidden,
+        };
+        let grew = grow(
+            cx,
+            &rt,
+            &cdt_nb,
+            &owners,
+            &mut sets,
+            &bad,
+            round > GLOBAL_ROUNDS / 2,
+        );
         let rows: usize = sets.iter().map(BTreeSet::len).sum();
         if rows > MAX_GLOBAL_ROWS {
             // Dense rows for many owners would not fit; better a clear stop.
@@ -821,6 +782,82 @@ fn global<B: Backend + ?Sized>(
         "the lazy global form did not converge in {} rounds",
         GLOBAL_ROUNDS + 2
     )))
+}
+
+/// What the exact check found wrong with the global form's weights.
+struct Violations<'a> {
+    missing: &'a [u32],
+    sys3_bad: &'a [u32],
+    hidden: &'a [u32],
+}
+
+/// The lazy global form's new rows: each violated owner (segment or
+/// isolated vertex) gets the two rings around its ends in RT(w) and in the
+/// CDT (and around the triangles covering a hidden end), or every vertex
+/// when `widen`; when no set grows so, the violated owners get their
+/// dense rows, so that the loop ends in weights, a proof or a named limit,
+/// never with rows left unwritten. Whether any set grew.
+fn grow(
+    cx: &Complex,
+    rt: &Triangulation,
+    cdt_nb: &[Vec<u32>],
+    owners: &[(u32, Option<u32>)],
+    sets: &mut [BTreeSet<u32>],
+    bad: &Violations,
+    widen: bool,
+) -> bool {
+    let n = cx.points.len();
+    let rt_nb = rt.neighbours(n);
+    let mut grew = false;
+    let mut bad_owners: BTreeSet<usize> = bad
+        .missing
+        .iter()
+        .chain(bad.sys3_bad)
+        .map(|&s| s as usize)
+        .collect();
+    for h in bad.hidden {
+        if let Some(o) = owners.iter().position(|&(i, j)| i == *h || j == Some(*h)) {
+            bad_owners.insert(o);
+        }
+    }
+    // A hidden vertex has no neighbours in RT(w): the vertices of the
+    // triangles that cover it are the ones its rows lack.
+    let covers = covering(&cx.points, rt, bad.hidden);
+    for o in bad_owners.iter().copied() {
+        let (i, j) = owners[o];
+        let before = sets[o].len();
+        let ends: Vec<u32> = std::iter::once(i).chain(j).collect();
+        // two rings around both ends, in RT(w) and in the CDT, and
+        // around the triangles covering them when they are hidden
+        let mut ring: BTreeSet<u32> = BTreeSet::new();
+        let cover = ends.iter().flat_map(|e| covers.get(e)).flatten();
+        for &a in ends
+            .iter()
+            .flat_map(|&e| rt_nb[e as usize].iter().chain(&cdt_nb[e as usize]))
+            .chain(cover)
+        {
+            ring.insert(a);
+            ring.extend(rt_nb[a as usize].iter().copied());
+            ring.extend(cdt_nb[a as usize].iter().copied());
+        }
+        if widen {
+            ring.extend(0..n as u32); // the dense rows for this owner only
+        }
+        for e in &ends {
+            ring.remove(e);
+        }
+        sets[o].extend(ring);
+        grew |= sets[o].len() > before;
+    }
+    if !grew {
+        for &o in &bad_owners {
+            let (i, j) = owners[o];
+            let before = sets[o].len();
+            sets[o].extend((0..n as u32).filter(|&v| v != i && Some(v) != j));
+            grew |= sets[o].len() > before;
+        }
+    }
+    grew
 }
 
 #[cfg(test)]
