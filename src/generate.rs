@@ -94,6 +94,18 @@ pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
     }
 }
 
+/// Appends the points of a polyline (closed: a polygon) and its segments;
+/// the index of its first point.
+fn chain(cx: &mut Complex, pts: &[[f64; 2]], closed: bool) -> u32 {
+    let first = cx.points.len() as u32;
+    cx.points.extend_from_slice(pts);
+    let n = pts.len() as u32;
+    for k in 0..if closed { n } else { n - 1 } {
+        cx.segments.push([first + k, first + (k + 1) % n]);
+    }
+    first
+}
+
 /// The scale test's mix (issue 5): an `nx` x `ny` grid of separate square
 /// cavities of side 50 (five segments per side), 10 apart, like the
 /// cavities around wells in a reservoir grid. In a checkerboard half, a
@@ -108,15 +120,6 @@ pub fn mixed(nx: usize, ny: usize, seed: u64) -> Complex {
     let mut u = uniform(seed);
     let mut jitter = move || u() - 0.5;
     let (side, pitch) = (50.0, 60.0);
-    let chain = |cx: &mut Complex, pts: &[[f64; 2]], closed: bool| {
-        let first = cx.points.len() as u32;
-        cx.points.extend_from_slice(pts);
-        let n = pts.len() as u32;
-        for k in 0..if closed { n } else { n - 1 } {
-            cx.segments.push([first + k, first + (k + 1) % n]);
-        }
-        first
-    };
     for cy in 0..ny {
         for cxi in 0..nx {
             let (x0, y0) = (cxi as f64 * pitch, cy as f64 * pitch);
@@ -198,14 +201,6 @@ pub fn mixed(nx: usize, ny: usize, seed: u64) -> Complex {
 pub fn field(nx: usize, ny: usize, isolated: usize, seed: u64) -> Complex {
     let mut cx = Complex::default();
     let mut u = uniform(seed);
-    let chain = |cx: &mut Complex, pts: &[[f64; 2]], closed: bool| {
-        let first = cx.points.len() as u32;
-        cx.points.extend_from_slice(pts);
-        let n = pts.len() as u32;
-        for k in 0..if closed { n } else { n - 1 } {
-            cx.segments.push([first + k, first + (k + 1) % n]);
-        }
-    };
     for cy in 0..ny {
         for cxi in 0..nx {
             let (x0, y0) = (cxi as f64 * 5.0, cy as f64 * 5.0);
