@@ -193,7 +193,15 @@ fn zigzag_fault_through_a_cloud_is_certified() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/zigzag/zigzag-cloud.poly");
     let cx = orthomesh::io::read_complex(&path).expect("reads");
     for b in orthomesh::backend::compiled() {
-        let out = run(&*b, &cx, "zigzag-cloud", true)
+        // Not written for tests/readers.py: its weights leave edges 1e-8 of
+        // their cells, which vtkCellValidator flags (docs/limitations.md).
+        let opts = orthomesh::Options {
+            allow_sites_outside: true,
+            ..Default::default()
+        };
+        let out = orthomesh::Mesher::new(&*b)
+            .options(opts)
+            .conform(&cx)
             .unwrap_or_else(|e| panic!("{} backend: {e}", b.name()));
         assert_certified(&out, "zig-zag through a cloud");
         assert_eq!(out.report.weights.method, "global");
