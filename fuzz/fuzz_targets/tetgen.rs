@@ -24,6 +24,9 @@ fuzz_target!(|data: &[u8]| {
             Ok(out) => assert!(out.report.certificate.conforms(), "{:?}", out.report.certificate),
             Err(Error::Backend(m)) => panic!("backend error on valid input: {m}"),
             Err(Error::Internal(m)) => panic!("internal error: {m}"),
+            // Known limit (docs/limitations.md): isolated points whose power
+            // cells offer too few places for extra sites.
+            Err(Error::Certificate(m)) if m.contains("too few places for sites") => {}
             Err(Error::Certificate(m)) if !m.contains("double precision") => panic!("certificate: {m}"),
             Err(_) => {}
         }

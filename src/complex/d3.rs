@@ -63,6 +63,19 @@ impl Complex3 {
             ));
         }
         distinct_with_extent(&self.points, &self.vertex_ids)?;
+        // A 3D mesh needs volume: four points not in one plane (exactly).
+        let all: Vec<u32> = (0..self.points.len() as u32).collect();
+        let p = |v: u32| self.points[v as usize];
+        let volume = self.spanning(&all).is_some_and(|[a, b, c]| {
+            all.iter()
+                .any(|&v| orient3(p(a), p(b), p(c), p(v)) != Ordering::Equal)
+        });
+        if !volume {
+            return Err(Error::Degenerate(format!(
+                "the {} points lie in one plane: a 3D mesh needs volume",
+                self.points.len()
+            )));
+        }
         let mut repeated = vec![];
         let mut flat = vec![];
         let mut non_planar = vec![];
