@@ -9,15 +9,16 @@ secs=${1:-1800}
 shift || true
 targets=${*:-poly edg grdecl tetgen pipeline}
 command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz --locked
-# The targets link HiGHS' C++ runtime, which may load before ASan's.
-export ASAN_OPTIONS=verify_asan_link_order=0
 for t in $targets; do
     mkdir -p "fuzz/out/$t"
     seeds=("fuzz/out/$t" tests/corpus)
     if [ -d "fuzz/seeds/$t" ]; then seeds+=("fuzz/seeds/$t"); fi
     echo "fuzz $t for $secs s"
-    cargo +nightly fuzz run "$t" "${seeds[@]}" -- \
-        -max_total_time="$secs" -rss_limit_mb=4096 -timeout=60 2>&1 | tail -n 40 > "fuzz/out/$t.log" ||
+    # No sanitizer: the crate forbids unsafe code outside its FFI (which
+    # scripts/valgrind.sh checks), and ASan's runtime clashes with the one
+    # gcc links into HiGHS' C++ here. Panics and timeouts are what is sought.
+    cargo +nightly fuzz run --sanitizer none "$t" "${seeds[@]}" -- \
+        -max_total_time="$secs" -rss_limit_mb=4096 -timeout=60 -print_final_stats=1 > "fuzz/out/$t.log" 2>&1 ||
         echo "fuzz $t: stopped on a failure (fuzz/out/$t.log, fuzz/artifacts/$t)"
-    tail -n 3 "fuzz/out/$t.log"
+    grep -E "^(Done|stat::number_of_executed_units|==[0-9]+== ERROR|thread .* panicked)" "fuzz/out/$t.log" | tail -n 4 || true
 done

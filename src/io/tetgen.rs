@@ -105,7 +105,8 @@ fn polygon<'t>(
     if n == 0 {
         return Err(r.error(line, format!("facet {facet}: a polygon without corners")));
     }
-    let mut poly = Vec::with_capacity(n);
+    // (the count comes from the file: no more than the line holds)
+    let mut poly = Vec::with_capacity(n.min(t.len()));
     for k in 1..=n {
         let v: i64 = r.num(line, t, k, "corner")?;
         poly.push(*index.get(&v).ok_or_else(|| {
