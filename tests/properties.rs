@@ -208,19 +208,24 @@ fn zigzag_fault_through_a_cloud_is_certified() {
     }
 }
 
-/// Known defect (issue 21, found by the zig-zag property test): on this
-/// lattice the CGAL backend's weights leave segments whose sites do not
-/// separate their sides (system 3 fails there), the cells leak across the
-/// chain and the certificate refuses the mesh (an error, never a wrong
-/// mesh). The pure backend meshes it. Run with `--ignored`.
+/// Known defect (issue 21), found by the zig-zag property test (a lattice
+/// zig-zag, CGAL) and by the pipeline fuzz target (ten points and one
+/// segment, both backends): where system 3 is infeasible the elastic LP's
+/// weights leave some vertices power cells too thin for a usable dual
+/// edge; the extra sites put inside those cells instead are placed in
+/// doubles, land outside the exact cells, and their cells cross segments.
+/// The certificate refuses the mesh (an error, never a wrong mesh). Run
+/// with `--ignored`.
 #[test]
-#[ignore = "known defect: cells leak across segments that miss their duals (issue 21)"]
-fn zigzag_on_a_lattice_does_not_leak() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/zigzag/zigzag-lattice-leak.poly");
-    let cx = orthomesh::io::read_complex(&path).expect("reads");
-    for b in orthomesh::backend::compiled() {
-        let out = run(&*b, &cx, "zigzag-lattice", true)
-            .unwrap_or_else(|e| panic!("{} backend: {e}", b.name()));
-        assert_certified(&out, "zig-zag on a lattice");
+#[ignore = "known defect: extra sites of thin power cells cross segments (issue 21)"]
+fn thin_power_cells_do_not_leak() {
+    for file in ["zigzag-lattice-leak.poly", "fuzz-pipeline-leak.poly"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/zigzag").join(file);
+        let cx = orthomesh::io::read_complex(&path).expect("reads");
+        for b in orthomesh::backend::compiled() {
+            let out = run(&*b, &cx, "leak", true)
+                .unwrap_or_else(|e| panic!("{file}, {} backend: {e}", b.name()));
+            assert_certified(&out, file);
+        }
     }
 }
