@@ -294,3 +294,27 @@ fn no_regular_triangulation_is_an_error_naming_facets() {
         write("prism", &out);
     }
 }
+
+/// Known defect (issue 21), found by the tetgen fuzz target in 1,094 runs:
+/// on this variant of Schoenhardt's prism (six points, a few facets) the
+/// pure backend hides a site in the sites' own regular triangulation, and
+/// the certificate refuses the mesh (an error, never a wrong mesh; CGAL
+/// finds that the facets enclose no volume). Run with
+/// `--ignored`.
+#[test]
+#[ignore = "known defect: a 3D site hidden in its own diagram (issue 21)"]
+fn fuzzed_prism_keeps_every_site() {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/known/fuzz-tetgen-hidden-site.smesh");
+    let cx = orthomesh::io::read_complex3(&path).expect("reads");
+    for b in compiled() {
+        let opts = Options {
+            allow_sites_outside: true,
+            ..Default::default()
+        };
+        // an input error is fine (CGAL: the facets enclose no volume)
+        if let Err(Error::Certificate(m)) = Mesher::new(&*b).options(opts).conform(&cx) {
+            panic!("{} backend: {m}", b.name());
+        }
+    }
+}

@@ -220,7 +220,9 @@ fn zigzag_fault_through_a_cloud_is_certified() {
 #[ignore = "known defect: extra sites of thin power cells cross segments (issue 21)"]
 fn thin_power_cells_do_not_leak() {
     for file in ["zigzag-lattice-leak.poly", "fuzz-pipeline-leak.poly"] {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/zigzag").join(file);
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/zigzag")
+            .join(file);
         let cx = orthomesh::io::read_complex(&path).expect("reads");
         for b in orthomesh::backend::compiled() {
             let out = run(&*b, &cx, "leak", true)
