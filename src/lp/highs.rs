@@ -170,8 +170,7 @@ pub(crate) fn rejected(e: highs::HighsStatus) -> Error {
 /// optimal. Where HiGHS fails (a singular basis in a badly scaled warm
 /// start, say), it runs once more from scratch with its own defaults
 /// (presolve, the dual simplex where interior point failed too, its
-/// refactorisation checks); a second
-/// failure is an error that says so.
+/// refactorisation checks); a second failure is an error that says so.
 #[allow(unsafe_code)]
 fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f64>>)> {
     let ptr = model.as_mut_ptr();
@@ -202,18 +201,12 @@ fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f
     if status != HighsModelStatus::Optimal {
         return Ok((status, None));
     }
-    let (nc, nr) = (model.num_cols(), model.num_rows());
-    let (mut cols, mut col_dual) = (vec![0.0; nc], vec![0.0; nc]);
-    let (mut rows, mut row_dual) = (vec![0.0; nr], vec![0.0; nr]);
-    // SAFETY: as above; every array has the length HiGHS fills.
+    let mut cols = vec![0.0; model.num_cols()];
+    let none = std::ptr::null_mut();
+    // SAFETY: as above; `cols` has the model's column count, which HiGHS
+    // fills; it skips the arrays given as null (duals and row values).
     unsafe {
-        highs_sys::Highs_getSolution(
-            model.as_mut_ptr(),
-            cols.as_mut_ptr(),
-            col_dual.as_mut_ptr(),
-            rows.as_mut_ptr(),
-            row_dual.as_mut_ptr(),
-        )
+        highs_sys::Highs_getSolution(model.as_mut_ptr(), cols.as_mut_ptr(), none, none, none)
     };
     Ok((status, Some(cols)))
 }

@@ -771,7 +771,9 @@ fn global<B: Backend + ?Sized>(
             }
             let ids = |v: &[u32], of: &[i64]| v.iter().map(|&s| of[s as usize]).collect::<Vec<_>>();
             return Err(Error::SolverLimit(format!(
-                "the lazy global form gave every violated segment and vertex its rows against                  all {n} vertices ({} rounds), yet the exact check of its weights finds segments                  {:?} missing and vertices {:?} hidden: the LP's margin is below what doubles resolve",
+                "the lazy global form gave every violated segment and vertex its rows against \
+                 all {n} vertices ({} rounds), yet the exact check of its weights finds segments \
+                 {:?} missing and vertices {:?} hidden: the LP's margin is below what doubles resolve",
                 round,
                 ids(&missing, &cx.segment_ids),
                 ids(&hidden, &cx.vertex_ids)
