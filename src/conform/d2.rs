@@ -57,9 +57,18 @@ pub fn conform2<B: Backend + ?Sized>(
             sites.describe(s, cx)
         )));
     }
+    let stray: Vec<String> = (0..sites.len())
+        .filter(|&s| !sites.in_served_cells(s))
+        .map(|s| sites.describe(s, cx))
+        .collect();
+    if !stray.is_empty() {
+        return Err(Error::SolverLimit(format!(
+            "no position in double precision puts {} inside the power cell it serves: the weights leave that cell a sliver",
+            stray.join(", ")
+        )));
+    }
     clock.lap("sites");
     let rel = relocate(backend, &dom, &mut sites)?;
-    clock.lap("relocate");
     let (why, crowding) = crate::relocate::why(&sites, &rel.rt, &rel.outside, cx);
     let outside_names: Vec<String> = why
         .into_iter()

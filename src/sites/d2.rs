@@ -64,6 +64,10 @@ pub struct Sites {
     weights: Vec<f64>,
     /// Power centres of the triangles of RT(w), approximately (placement only).
     centres: Vec<[f64; 2]>,
+    /// Neighbours in RT(w) of the vertices that vertex sites serve (empty
+    /// for the others): their half-planes bound the power cells in which
+    /// those sites must stay.
+    cell_walls: Vec<Vec<u32>>,
     /// Predicates the intervals could not decide.
     pub exact_evaluations: AtomicUsize,
 }
@@ -382,12 +386,14 @@ impl Sites {
             other_end[b as usize] = a;
         }
         let mut on_edge: FastMap<(u32, u32), usize> = FastMap::default();
+        self.cell_walls = vec![vec![]; n];
         for i in 0..n as u32 {
             let want = match degree[i as usize] {
                 0 => 3,
                 1 => 1,
                 _ => continue,
             };
+            self.cell_walls[i as usize] = nb[i as usize].clone();
             // Candidate edges with a dual of positive length.
             let pi = self.points[i as usize];
             let mut cands: Vec<(u32, Track)> = vec![];
@@ -467,6 +473,21 @@ impl Sites {
                 self.push(role, tk, 0.5, true);
             }
         }
+        // The tracks' ends are power centres in doubles: in a sliver cell
+        // the middle may lie outside it, so the first fraction inside is
+        // taken (decided exactly).
+        for v in 0..self.def.len() {
+            if matches!(self.role[v], Role::Vertex { .. }) && !self.in_served_cells(v) {
+                if let Some(&f) = VERTEX_FRACS.iter().find(|&&f| {
+                    self.move_to(v, f);
+                    self.in_served_cells(v)
+                }) {
+                    self.move_to(v, f);
+                } else {
+                    self.move_to(v, VERTEX_FRACS[0]);
+                }
+            }
+        }
     }
 
     /// Tracks from the centroid of the power cell of vertex i towards `count`
@@ -496,9 +517,11 @@ impl Sites {
             let (pa, pb, pc) = (corners[a], corners[b], corners[c]);
             ((pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0])).abs()
         };
+        // Not a or b again, even where the corners look collinear in doubles.
         let c = (0..corners.len())
+            .filter(|&x| x != a && x != b)
             .max_by(|&x, &y| area(x).total_cmp(&area(y)))
-            .unwrap();
+            .unwrap_or(b);
         [a, b, c]
             .iter()
             .take(count)
@@ -509,6 +532,43 @@ impl Sites {
                 dir: [corners[k][0] - g[0], corners[k][1] - g[1]],
             })
             .collect()
+    }
+
+    /// Whether vertex site s lies in the closed power cells (of RT(w)) of
+    /// the vertices it serves, exactly: Theorem 1 needs it there, and
+    /// positions computed in doubles may miss a sliver cell.
+    pub fn in_served_cells(&self, s: usize) -> bool {
+        let Role::Vertex { serves, .. } = &self.role[s] else {
+            return true;
+        };
+        let [i, j] = self.served_by(s);
+        serves.iter().all(|&v| {
+            let walls = self.cell_walls.get(v as usize).map_or(&[][..], |w| &w[..]);
+            walls
+                .iter()
+                .filter(|&&k| !(k == i && v == j || k == j && v == i))
+                .all(|&k| self.nearer(s, v, k) != Ordering::Less)
+        })
+    }
+
+    /// The sign of pow_k(x) - pow_v(x) at site s's position x, where
+    /// pow_v(x) = |x - p_v|^2 - w_v: linear in x.
+    fn nearer(&self, s: usize, v: u32, k: u32) -> Ordering {
+        let (pv, pk) = (self.points[v as usize], self.points[k as usize]);
+        let (wv, wk) = (self.weights[v as usize], self.weights[k as usize]);
+        let iv = |p: [f64; 2]| p.map(Iv::of);
+        let (a, b, x) = (iv(pv), iv(pk), self.iv[s]);
+        let d = |a: [Iv; 2]| (x[0] - a[0]).sqr() + (x[1] - a[1]).sqr();
+        let filtered = d(b) - Iv::of(wk) - d(a) + Iv::of(wv);
+        self.decide(filtered, || {
+            let (pos, _) = self.exact(s);
+            let d = |p: [f64; 2]| {
+                let p = qp(p);
+                let (dx, dy) = (&pos[0] - &p[0], &pos[1] - &p[1]);
+                &dx * &dx + &dy * &dy
+            };
+            d(pk) - q(wk) - d(pv) + q(wv)
+        })
     }
 
     /// Moves a site that is outside its cell because of the sites in
@@ -536,9 +596,18 @@ impl Sites {
             }
             Role::Vertex { .. } => {
                 let at = VERTEX_FRACS.iter().position(|&f| f == cur);
-                match at.map(|k| k + 1).filter(|&k| k < VERTEX_FRACS.len()) {
-                    Some(k) => VERTEX_FRACS[k],
-                    None => return false,
+                let next = at.and_then(|k| {
+                    VERTEX_FRACS[k + 1..].iter().copied().find(|&f| {
+                        self.move_to(s, f);
+                        self.in_served_cells(s)
+                    })
+                });
+                match next {
+                    Some(f) => f,
+                    None => {
+                        self.move_to(s, cur);
+                        return false;
+                    }
                 }
             }
         };
@@ -874,6 +943,32 @@ pub(crate) mod tests {
             assert!(q(i.lo) <= *x && *x <= q(i.hi));
         }
         assert!(q(s.iv[2][2].lo) <= w && w <= q(s.iv[2][2].hi));
+    }
+
+    #[test]
+    fn a_vertex_site_is_held_to_the_cell_it_serves_exactly() {
+        // Vertex 0 at the origin, neighbours 1 at (1, 0) and 2 at (-1, 0):
+        // its cell is the strip |x| <= 1/2 (zero weights); site 3 serves 0.
+        let mut s = points_as_sites(&[[0.0, 0.0], [1.0, 0.0], [-1.0, 0.0]]);
+        s.cell_walls = vec![vec![1, 2], vec![], vec![]];
+        let track = Track {
+            ta: 0.0,
+            tb: 1.0,
+            kind: Def::Free { p: [0.0, 5.0], anchor: 0 },
+            dir: [1.0, 0.0],
+        };
+        let role = Role::Vertex {
+            edge: (0, 0),
+            serves: vec![0],
+        };
+        s.push(role, track, 0.25, true);
+        assert!(s.in_served_cells(3));
+        // on the wall x = 1/2 exactly: closed cell, still serves
+        s.move_to(3, 0.5);
+        assert!(s.in_served_cells(3));
+        // one ulp beyond it: decided exactly, outside
+        s.move_to(3, f64::from_bits(0.5f64.to_bits() + 1));
+        assert!(!s.in_served_cells(3));
     }
 
     #[test]

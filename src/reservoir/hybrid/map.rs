@@ -112,8 +112,6 @@ pub(super) fn to_segment(x: [f64; 2], [a, b]: [[f64; 2]; 2]) -> f64 {
     (vx - t * ux).hypot(vy - t * uy)
 }
 
-/// One well placed: centre, radii of its rings, and the shortest side of
-
 pub(super) type FaultEdge = (u32, u32, (usize, usize), (usize, usize));
 
 /// The parts of a polyline inside the cavities, as chains of points: cut

@@ -227,8 +227,6 @@ pub struct HybridReport {
     pub transition: Report<D2>,
 }
 
-/// The map position of every pillar for layer k (index j (nx+1) + i).
-
 /// One layer of the grid in map view: what every stage works on.
 pub(super) struct Layer<'a> {
     grid: &'a CornerPointGrid,

@@ -135,7 +135,7 @@ fn complex(
     // segments with free ends inside the cavity (sides between a cavity
     // column and another already are segments).
     let mut seen_fault_edges = crate::FastSet::default();
-    for (p, q, a, b) in fault_edges(grid, k, &view) {
+    for (p, q, a, b) in fault_edges(grid, k, view) {
         let in_cavity = |c: (usize, usize)| c.0 < nx && c.1 < ny && cavity[col(c.0, c.1)];
         if in_cavity(a) && in_cavity(b) && seen_fault_edges.insert((p.min(q), p.max(q))) {
             // Inside a cavity a fault side may take extra vertices (cells

@@ -101,7 +101,7 @@ pub(super) fn place(
         }
     }
     // Faults are walls too: a radial mesh must not cross one.
-    for (p, q, _, _) in fault_edges(grid, k, &view) {
+    for (p, q, _, _) in fault_edges(grid, k, view) {
         obstacles.push([view.pillar[p as usize], view.pillar[q as usize]]);
     }
     for line in &opts.fault_lines {
