@@ -208,16 +208,11 @@ fn zigzag_fault_through_a_cloud_is_certified() {
     }
 }
 
-/// Known defect (issue 21), found by the zig-zag property test (a lattice
-/// zig-zag, CGAL) and by the pipeline fuzz target (ten points and one
-/// segment, both backends): where system 3 is infeasible the elastic LP's
-/// weights leave some vertices power cells too thin for a usable dual
-/// edge; the extra sites put inside those cells instead are placed in
-/// doubles, land outside the exact cells, and their cells cross segments.
-/// The certificate refuses the mesh (an error, never a wrong mesh). Run
-/// with `--ignored`.
+/// Found by the zig-zag property test (a lattice zig-zag, CGAL) and by the
+/// pipeline fuzz target (ten points and one segment, both backends): the
+/// elastic LP's weights left power cells too thin for the extra sites put
+/// in them in doubles, and the certificate refused the mesh.
 #[test]
-#[ignore = "known defect: extra sites of thin power cells cross segments (issue 21)"]
 fn thin_power_cells_do_not_leak() {
     for file in ["zigzag-lattice-leak.poly", "fuzz-pipeline-leak.poly"] {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
