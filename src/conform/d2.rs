@@ -69,6 +69,7 @@ pub fn conform2<B: Backend + ?Sized>(
     }
     clock.lap("sites");
     let rel = relocate(backend, &dom, &mut sites)?;
+    clock.lap("relocate");
     let (why, crowding) = crate::relocate::why(&sites, &rel.rt, &rel.outside, cx);
     let outside_names: Vec<String> = why
         .into_iter()
