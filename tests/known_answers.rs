@@ -35,11 +35,16 @@ fn mother_of_all_examples_has_no_regular_constrained_triangulation() {
             other.map(|o| o.report.weights)
         ),
     }
+    // The dense LP of tests/common/dense.rs agrees: no margin.
+    let m1 = dense::dense_margin(&cx.points, &cx.segments, false);
+    assert!(m1.is_some_and(|m| m < 1e-5), "{m1:?}");
     // Untwisting one diagonal makes it regular again.
     let mut cx2 = cx.clone();
     cx2.segments[11] = [0, 5]; // P0-Q2 instead of P2-Q0
     let out = run(&default_backend(), &cx2, "mother-untwisted", true).unwrap();
     assert_certified(&out, "mother-untwisted");
+    let m1 = dense::dense_margin(&cx2.points, &cx2.segments, false);
+    assert!(m1.is_some_and(|m| m > 1e-3), "{m1:?}");
 }
 
 /// A segment that is not a Delaunay edge: the long diagonal of a flat

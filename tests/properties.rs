@@ -165,7 +165,10 @@ proptest! {
     /// Zig-zag faults through clouds of isolated points (issue 21: the lazy
     /// global form ended in an internal error on such inputs): a certified
     /// mesh, or an error the input explains (a point on the chain), never
-    /// an LP failure.
+    /// an LP failure. Every verdict (system 3 infeasible, or no regular
+    /// constrained triangulation) is confirmed by the dense LP of
+    /// tests/common/dense.rs, and where system 3 held, that LP finds a
+    /// positive margin too.
     #[test]
     fn zigzag_chains_through_isolated_points_are_meshed(
         k in 3usize..11,
@@ -175,12 +178,62 @@ proptest! {
         let cx = zigzag(k, kind, &seeds);
         for b in orthomesh::backend::compiled() {
             match run(&*b, &cx, "zigzag", true) {
-                Ok(out) => assert_certified(&out, "zig-zag"),
+                Ok(out) => {
+                    assert_certified(&out, "zig-zag");
+                    let c = &out.constraints;
+                    if !out.report.weights.system3_feasible {
+                        confirm_system3_verdict(c, b.name())?;
+                    } else {
+                        // and the dense LP finds the weights the pipeline found
+                        let m13 = dense::dense_margin(&c.points, &c.segments, true);
+                        prop_assert!(m13.is_some_and(|m| m > 0.0), "{m13:?}");
+                    }
+                }
+                Err(Error::NoRegularConstrainedTriangulation { .. }) => {
+                    confirm_system1_verdict(&*b, &cx)?;
+                }
                 Err(Error::VertexOnSegment { .. } | Error::DuplicateVertices { .. }) => {}
                 Err(e) => return Err(TestCaseError::fail(format!("{} backend: {e}", b.name()))),
             }
         }
     }
+}
+
+/// The pipeline's verdict "system 3 is infeasible" (and system 1 is not)
+/// on the constraints as meshed, confirmed by the dense LP of every vertex
+/// and segment. Margins within HiGHS' tolerances are no evidence either
+/// way: the crate trusts margins above 1e-6 on its own scaling.
+fn confirm_system3_verdict(cx: &Complex, backend: &str) -> Result<(), TestCaseError> {
+    let m1 = dense::dense_margin(&cx.points, &cx.segments, false);
+    let m13 = dense::dense_margin(&cx.points, &cx.segments, true);
+    match (m1, m13) {
+        (Some(m1), Some(m13)) if m1 > 0.0 && m13 < 1e-5 => Ok(()),
+        _ => Err(TestCaseError::fail(format!(
+            "{backend} backend: system 3 declared infeasible, the dense LP gives margins {m1:?} (system 1) and {m13:?} (with system 3)"
+        ))),
+    }
+}
+
+/// The verdict "no regular constrained triangulation" on a complex whose
+/// segments enclose nothing (so the pipeline added the convex hull's
+/// edges), confirmed by the dense LP of system 1.
+fn confirm_system1_verdict(b: &dyn Backend, cx: &Complex) -> Result<(), TestCaseError> {
+    let dt = b
+        .regular(&cx.points, &vec![0.0; cx.points.len()])
+        .map_err(|e| TestCaseError::fail(e.to_string()))?;
+    let mut segments = cx.segments.clone();
+    segments.extend(
+        dt.edges()
+            .filter(|&(a, b)| dt.left_of(a, b).is_none() || dt.left_of(b, a).is_none())
+            .map(|(a, b)| [a, b]),
+    );
+    let m1 = dense::dense_margin(&cx.points, &segments, false);
+    prop_assert!(
+        m1.is_some_and(|m| m < 1e-5),
+        "{} backend: no regular constrained triangulation declared, the dense LP gives margin {m1:?}",
+        b.name()
+    );
+    Ok(())
 }
 
 /// The input of issue 21: a zig-zag fault of 12 segments through 300

@@ -1,6 +1,8 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code)]
 
+pub mod dense;
+
 use orthomesh::backend::Backend;
 use orthomesh::{io, Complex, Result};
 use orthomesh::{Mesher, Options, Outcome, D2};
