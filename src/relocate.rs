@@ -99,8 +99,9 @@ pub fn why(
 }
 
 /// The regular triangulation of the sites: from the rounded sites when it
-/// passes the exact check (`Diagram::check`, after flips where it does
-/// not), with its edges' power tests; else from exact rationals (None).
+/// passes the exact check (`Diagram::check_or_repair`, after flips where
+/// it does not), with its edges' power tests; else from exact rationals
+/// (None).
 fn site_triangulation<B: Backend + ?Sized>(
     backend: &B,
     sites: &Sites,
@@ -108,11 +109,7 @@ fn site_triangulation<B: Backend + ?Sized>(
     let pos: Vec<[f64; 2]> = sites.approx.iter().map(|a| [a[0], a[1]]).collect();
     let w = sites.nudged_weights();
     let mut rt = backend.regular(&pos, &w)?;
-    let checked = Diagram::check(sites, &rt).ok().or_else(|| {
-        crate::diagram::repair(sites, &mut rt)
-            .then(|| Diagram::check(sites, &rt).ok())
-            .flatten()
-    });
+    let checked = Diagram::check_or_repair(sites, &mut rt);
     if checked.is_some() {
         return Ok((rt, checked));
     }

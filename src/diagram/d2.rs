@@ -44,9 +44,10 @@ pub struct EdgeTests {
     tests: Vec<Ordering>,
 }
 
-fn power_tests(sites: &Sites, rt: &Triangulation) -> EdgeTests {
+/// Interior edges once, in triangle order: (left, right, apex of right).
+fn interior_edges(rt: &Triangulation) -> Vec<(u32, u32, u32)> {
     let tris = &rt.triangles;
-    let inner: Vec<(u32, u32, u32)> = (0..tris.len() as u32)
+    (0..tris.len() as u32)
         .flat_map(|t| (0..3).map(move |k| (t, k)))
         .filter_map(|(t1, k)| {
             let tri = tris[t1 as usize];
@@ -54,14 +55,44 @@ fn power_tests(sites: &Sites, rt: &Triangulation) -> EdgeTests {
             let t2 = rt.across(t1, k).filter(|_| a < b)?;
             Some((t1, t2, rt.apex(t2, b, a)))
         })
-        .collect();
-    let tests = inner
-        .par_iter()
-        .map(|&(t1, _, d)| {
-            let [a, b, c] = tris[t1 as usize].map(|v| v as usize);
-            sites.power_test(a, b, c, d as usize)
-        })
-        .collect();
+        .collect()
+}
+
+/// The power test of interior edge (t1, _, d).
+fn power_test(sites: &Sites, rt: &Triangulation, (t1, _, d): (u32, u32, u32)) -> Ordering {
+    let [a, b, c] = rt.triangles[t1 as usize].map(|v| v as usize);
+    sites.power_test(a, b, c, d as usize)
+}
+
+fn power_tests(sites: &Sites, rt: &Triangulation) -> EdgeTests {
+    let inner = interior_edges(rt);
+    let tests = inner.par_iter().map(|&e| power_test(sites, rt, e)).collect();
+    EdgeTests { inner, tests }
+}
+
+/// The power tests of `rt` after flips (and splits) changed some of the
+/// triangles `before` had: edges beside a changed triangle are tested
+/// afresh, the others keep `old`'s test (an unchanged triangle keeps its
+/// interior edges in the same order).
+fn retest(sites: &Sites, rt: &Triangulation, before: &[[u32; 3]], old: EdgeTests) -> EdgeTests {
+    let changed = |t: u32| before.get(t as usize) != Some(&rt.triangles[t as usize]);
+    let mut first = vec![0usize; before.len() + 1];
+    for &(t1, _, _) in &old.inner {
+        first[t1 as usize + 1] += 1;
+    }
+    for t in 0..before.len() {
+        first[t + 1] += first[t];
+    }
+    let inner = interior_edges(rt);
+    let (mut tests, mut rank, mut last) = (Vec::with_capacity(inner.len()), 0, u32::MAX);
+    for &e in &inner {
+        (rank, last) = if e.0 == last { (rank + 1, last) } else { (0, e.0) };
+        tests.push(if changed(e.0) || changed(e.1) {
+            power_test(sites, rt, e)
+        } else {
+            old.tests[first[e.0 as usize] + rank]
+        });
+    }
     EdgeTests { inner, tests }
 }
 
@@ -100,6 +131,50 @@ impl Diagram {
             ));
         }
         Ok(checked)
+    }
+
+    /// `check`, and where only edges fail (or a few sites are hidden by
+    /// rounding), `repair` from those edges, re-testing only the edges
+    /// beside triangles the repair changed: the triangulation is then the
+    /// regular one of the exact sites (flips keep every triangle
+    /// counter-clockwise and the hull, and Lawson's flips end with every
+    /// edge locally regular). None when it cannot be made so.
+    pub fn check_or_repair(sites: &Sites, rt: &mut Triangulation) -> Option<EdgeTests> {
+        if rt.hidden.len() > MAX_REINSERTED {
+            return None;
+        }
+        let tris = &rt.triangles;
+        if tris.par_iter().any(|t| {
+            sites.orient(t[0] as usize, t[1] as usize, t[2] as usize) != Ordering::Greater
+        }) {
+            return None;
+        }
+        check_hull(sites, rt).ok()?;
+        let tests = power_tests(sites, rt);
+        let bad: Vec<(u32, u32)> = tests
+            .inner
+            .iter()
+            .zip(&tests.tests)
+            .filter(|(_, &o)| o == Ordering::Greater)
+            .map(|(&(t1, t2, _), _)| {
+                let tri = rt.triangles[t1 as usize];
+                let k = (0..3).find(|&k| rt.across(t1, k) == Some(t2)).expect("adjacent");
+                (tri[k], tri[(k + 1) % 3])
+            })
+            .collect();
+        if bad.is_empty() && rt.hidden.is_empty() {
+            return Some(tests);
+        }
+        let before = rt.triangles.clone();
+        if !repair_from(sites, rt, bad) {
+            return None;
+        }
+        let tests = retest(sites, rt, &before, tests);
+        tests
+            .tests
+            .iter()
+            .all(|&o| o != Ordering::Greater)
+            .then_some(tests)
     }
 
     /// Builds the diagram of a triangulation known regular: one that passed
@@ -325,11 +400,17 @@ const MAX_REINSERTED: usize = 16;
 /// give them a cell. False when a non-regular edge cannot be flipped (its
 /// quadrilateral is not strictly convex), the flips do not settle, or a
 /// hidden site is not strictly inside a triangle.
-pub fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
-    let mut stack: Vec<(u32, u32)> = rt
+#[cfg(test)]
+fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
+    let stack: Vec<(u32, u32)> = rt
         .edges()
         .filter(|&(a, b)| rt.non_regular(sites, a, b).is_some())
         .collect();
+    repair_from(sites, rt, stack)
+}
+
+/// `repair` given every edge that is not locally regular.
+fn repair_from(sites: &Sites, rt: &mut Triangulation, mut stack: Vec<(u32, u32)>) -> bool {
     // A few sites hidden by rounding but not by their exact weights: each
     // goes into the triangle holding it strictly, then the flips below.
     if rt.hidden.len() > MAX_REINSERTED {
@@ -438,6 +519,40 @@ mod tests {
         assert!(repair(&sites, &mut t));
         assert!(t.has_edge(1, 3) && !t.has_edge(0, 2));
         assert!(check_hull(&sites, &t).is_ok());
+    }
+
+    #[test]
+    fn a_repair_retests_exactly_the_edges_it_changed() {
+        // Delaunay triangulation of scattered points, then some edges
+        // flipped away from it: repaired, with the tests a fresh pass gives.
+        let pts: Vec<[f64; 2]> = (0..200u64)
+            .map(|i| {
+                let s = crate::generate::scatter;
+                [s(2 * i) * 50.0, s(2 * i + 1) * 50.0]
+            })
+            .collect();
+        use crate::backend::Backend;
+        let sites = points_as_sites(&pts);
+        let backend = crate::backend::default_backend();
+        let mut rt = backend.regular(&pts, &vec![0.0; pts.len()]).unwrap();
+        let mut flipped = 0;
+        for (a, b) in rt.edges().collect::<Vec<_>>().into_iter().step_by(37) {
+            let convex = rt.left_of(a, b).zip(rt.left_of(b, a)).is_some_and(|(t1, t2)| {
+                let (c, d) = (rt.apex(t1, a, b), rt.apex(t2, b, a));
+                let o = |x: u32, y: u32, z: u32| sites.orient(x as usize, y as usize, z as usize);
+                o(c, a, d) == Ordering::Greater && o(c, d, b) == Ordering::Greater
+            });
+            if convex && rt.flip(a, b).is_some() {
+                flipped += 1;
+            }
+        }
+        assert!(flipped >= 5, "{flipped}");
+        assert!(Diagram::check(&sites, &rt).is_err());
+        let tests = Diagram::check_or_repair(&sites, &mut rt).expect("repaired");
+        let fresh = power_tests(&sites, &rt);
+        assert_eq!(tests.inner, fresh.inner);
+        assert_eq!(tests.tests, fresh.tests);
+        assert!(Diagram::check(&sites, &rt).is_ok());
     }
 
     #[test]
