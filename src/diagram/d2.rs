@@ -66,7 +66,10 @@ fn power_test(sites: &Sites, rt: &Triangulation, (t1, _, d): (u32, u32, u32)) ->
 
 fn power_tests(sites: &Sites, rt: &Triangulation) -> EdgeTests {
     let inner = interior_edges(rt);
-    let tests = inner.par_iter().map(|&e| power_test(sites, rt, e)).collect();
+    let tests = inner
+        .par_iter()
+        .map(|&e| power_test(sites, rt, e))
+        .collect();
     EdgeTests { inner, tests }
 }
 
@@ -86,7 +89,11 @@ fn retest(sites: &Sites, rt: &Triangulation, before: &[[u32; 3]], old: EdgeTests
     let inner = interior_edges(rt);
     let (mut tests, mut rank, mut last) = (Vec::with_capacity(inner.len()), 0, u32::MAX);
     for &e in &inner {
-        (rank, last) = if e.0 == last { (rank + 1, last) } else { (0, e.0) };
+        (rank, last) = if e.0 == last {
+            (rank + 1, last)
+        } else {
+            (0, e.0)
+        };
         tests.push(if changed(e.0) || changed(e.1) {
             power_test(sites, rt, e)
         } else {
@@ -144,9 +151,10 @@ impl Diagram {
             return None;
         }
         let tris = &rt.triangles;
-        if tris.par_iter().any(|t| {
-            sites.orient(t[0] as usize, t[1] as usize, t[2] as usize) != Ordering::Greater
-        }) {
+        if tris
+            .par_iter()
+            .any(|t| sites.orient(t[0] as usize, t[1] as usize, t[2] as usize) != Ordering::Greater)
+        {
             return None;
         }
         check_hull(sites, rt).ok()?;
@@ -158,7 +166,9 @@ impl Diagram {
             .filter(|(_, &o)| o == Ordering::Greater)
             .map(|(&(t1, t2, _), _)| {
                 let tri = rt.triangles[t1 as usize];
-                let k = (0..3).find(|&k| rt.across(t1, k) == Some(t2)).expect("adjacent");
+                let k = (0..3)
+                    .find(|&k| rt.across(t1, k) == Some(t2))
+                    .expect("adjacent");
                 (tri[k], tri[(k + 1) % 3])
             })
             .collect();
@@ -537,11 +547,15 @@ mod tests {
         let mut rt = backend.regular(&pts, &vec![0.0; pts.len()]).unwrap();
         let mut flipped = 0;
         for (a, b) in rt.edges().collect::<Vec<_>>().into_iter().step_by(37) {
-            let convex = rt.left_of(a, b).zip(rt.left_of(b, a)).is_some_and(|(t1, t2)| {
-                let (c, d) = (rt.apex(t1, a, b), rt.apex(t2, b, a));
-                let o = |x: u32, y: u32, z: u32| sites.orient(x as usize, y as usize, z as usize);
-                o(c, a, d) == Ordering::Greater && o(c, d, b) == Ordering::Greater
-            });
+            let convex = rt
+                .left_of(a, b)
+                .zip(rt.left_of(b, a))
+                .is_some_and(|(t1, t2)| {
+                    let (c, d) = (rt.apex(t1, a, b), rt.apex(t2, b, a));
+                    let o =
+                        |x: u32, y: u32, z: u32| sites.orient(x as usize, y as usize, z as usize);
+                    o(c, a, d) == Ordering::Greater && o(c, d, b) == Ordering::Greater
+                });
             if convex && rt.flip(a, b).is_some() {
                 flipped += 1;
             }

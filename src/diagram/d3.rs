@@ -106,6 +106,47 @@ fn orthocentre(s: &Sites3, t: [u32; 4]) -> [Q; 3] {
     [0, 1, 2].map(|k| cols(k) / &det)
 }
 
+/// Whether hidden site h is a tie: its lifted point (p, |p|^2 - w) lies
+/// exactly on the lower hull of the others' (the tetrahedron of `rt` that
+/// holds p interpolates its height), so that a regular triangulation may
+/// keep it with a cell of no volume or hide it, as backends' tie-breaks
+/// choose (measured: CGAL keeps, the pure backend hides).
+fn on_lower_hull(s: &Sites3, rt: &Tetrahedralisation, h: usize) -> bool {
+    let x = &s.p[h];
+    let det = |a: &[Q; 3], b: &[Q; 3], c: &[Q; 3]| {
+        crate::geom::det3_q([
+            [&a[0], &a[1], &a[2]],
+            [&b[0], &b[1], &b[2]],
+            [&c[0], &c[1], &c[2]],
+        ])
+    };
+    let height = |v: usize| norm2(&s.p[v]) - &s.w[v];
+    rt.tets.iter().any(|t| {
+        let v = t.map(|k| k as usize);
+        let d = |a: usize, b: usize, c: usize, o: &[Q; 3]| {
+            det(&sub(&s.p[a], o), &sub(&s.p[b], o), &sub(&s.p[c], o))
+        };
+        let whole = d(v[1], v[2], v[3], &s.p[v[0]]);
+        // barycentric coordinates of x, each a signed volume over the whole
+        let parts = [
+            d(v[1], v[2], v[3], x),
+            -d(v[0], v[2], v[3], x),
+            d(v[0], v[1], v[3], x),
+            -d(v[0], v[1], v[2], x),
+        ];
+        let zero = Q::from(0);
+        if whole == zero
+            || parts
+                .iter()
+                .any(|l| (l < &zero) != (whole < zero) && l != &zero)
+        {
+            return false;
+        }
+        let interpolated: Q = (0..4).map(|k| &parts[k] * height(v[k])).sum::<Q>() / &whole;
+        interpolated == height(h)
+    })
+}
+
 impl Diagram3 {
     /// Builds the site diagram and its domain (cells not separated by a
     /// face from an unbounded cell or a hole point).
@@ -119,6 +160,18 @@ impl Diagram3 {
             .filter(|&&x| !s.is_mirror(x as usize))
             .count();
         if hidden > 0 {
+            let ties: Vec<u32> = rt
+                .hidden
+                .iter()
+                .copied()
+                .filter(|&x| !s.is_mirror(x as usize) && on_lower_hull(s, &rt, x as usize))
+                .collect();
+            if ties.len() == hidden {
+                return Err(Error::Degenerate(format!(
+                    "sites {ties:?} have no cell of positive volume: each lies exactly where \
+                     other sites' cells meet (the facets are degenerate there)"
+                )));
+            }
             return Err(Error::Certificate(format!(
                 "{hidden} sites are hidden in their own diagram"
             )));

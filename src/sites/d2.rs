@@ -954,7 +954,10 @@ pub(crate) mod tests {
         let track = Track {
             ta: 0.0,
             tb: 1.0,
-            kind: Def::Free { p: [0.0, 5.0], anchor: 0 },
+            kind: Def::Free {
+                p: [0.0, 5.0],
+                anchor: 0,
+            },
             dir: [1.0, 0.0],
         };
         let role = Role::Vertex {
