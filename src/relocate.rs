@@ -180,7 +180,12 @@ fn step_all(
     let (mut moved, mut folding) = (vec![], vec![]);
     for &s in out {
         let from = sites.frac(s);
-        let against = beaten_by(sites, rt, s);
+        // a vertex site weighs its whole cell when it chooses where to go
+        let against = if sites.on_segment(s) {
+            beaten_by(sites, rt, s)
+        } else {
+            neighbours_of(rt, s)
+        };
         if !sites.step(s, &against) {
             continue;
         }
