@@ -47,13 +47,16 @@ pub struct EdgeTests {
 /// Interior edges once, in triangle order: (left, right, apex of right).
 fn interior_edges(rt: &Triangulation) -> Vec<(u32, u32, u32)> {
     let tris = &rt.triangles;
+    // (rayon's collect keeps the sequential order)
     (0..tris.len() as u32)
-        .flat_map(|t| (0..3).map(move |k| (t, k)))
-        .filter_map(|(t1, k)| {
-            let tri = tris[t1 as usize];
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            let t2 = rt.across(t1, k).filter(|_| a < b)?;
-            Some((t1, t2, rt.apex(t2, b, a)))
+        .into_par_iter()
+        .flat_map_iter(|t1| {
+            (0..3).filter_map(move |k| {
+                let tri = tris[t1 as usize];
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                let t2 = rt.across(t1, k).filter(|_| a < b)?;
+                Some((t1, t2, rt.apex(t2, b, a)))
+            })
         })
         .collect()
 }
