@@ -243,20 +243,7 @@ fn confirm_system1_verdict(b: &dyn Backend, cx: &Complex) -> Result<(), TestCase
 /// vertex whose owner is stuck gets its dense rows.
 #[test]
 fn zigzag_fault_through_a_cloud_is_certified() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/zigzag/zigzag-cloud.poly");
-    let cx = orthomesh::io::read_complex(&path).expect("reads");
-    for b in orthomesh::backend::compiled() {
-        // Not written for tests/readers.py: its weights leave edges 1e-8 of
-        // their cells, which vtkCellValidator flags (docs/limitations.md).
-        let opts = orthomesh::Options {
-            allow_sites_outside: true,
-            ..Default::default()
-        };
-        let out = orthomesh::Mesher::new(&*b)
-            .options(opts)
-            .conform(&cx)
-            .unwrap_or_else(|e| panic!("{} backend: {e}", b.name()));
-        assert_certified(&out, "zig-zag through a cloud");
+    for out in zigzag_input_is_certified("zigzag-cloud.poly") {
         assert_eq!(out.report.weights.method, "global");
     }
 }
@@ -268,14 +255,48 @@ fn zigzag_fault_through_a_cloud_is_certified() {
 #[test]
 fn thin_power_cells_do_not_leak() {
     for file in ["zigzag-lattice-leak.poly", "fuzz-pipeline-leak.poly"] {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/zigzag")
-            .join(file);
-        let cx = orthomesh::io::read_complex(&path).expect("reads");
-        for b in orthomesh::backend::compiled() {
-            let out = run(&*b, &cx, "leak", true)
-                .unwrap_or_else(|e| panic!("{file}, {} backend: {e}", b.name()));
-            assert_certified(&out, file);
-        }
+        zigzag_input_is_certified(file);
     }
+}
+
+/// The input `tests/zigzag/<file>` is certified on every backend (not
+/// written for tests/readers.py: such weights can leave edges far shorter
+/// than their cells, which vtkCellValidator flags; docs/limitations.md).
+fn zigzag_input_is_certified(file: &str) -> Vec<orthomesh::Outcome<orthomesh::D2>> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/zigzag")
+        .join(file);
+    let cx = orthomesh::io::read_complex(&path).expect("reads");
+    let mut outs = vec![];
+    for b in orthomesh::backend::compiled() {
+        let opts = orthomesh::Options {
+            allow_sites_outside: true,
+            ..Default::default()
+        };
+        let out = orthomesh::Mesher::new(&*b)
+            .options(opts)
+            .conform(&cx)
+            .unwrap_or_else(|e| panic!("{file}, {} backend: {e}", b.name()));
+        assert_certified(&out, file);
+        outs.push(out);
+    }
+    outs
+}
+
+/// Found by the zig-zag property test at 150 cases: on the pure backend an
+/// extra site ends hidden (no cell); the mesh is certified, and the report
+/// counts the hidden site among those outside (`assert_certified`).
+#[test]
+fn a_hidden_extra_site_is_counted_outside() {
+    zigzag_input_is_certified("hidden-extra-site.poly");
+}
+
+/// Known defect (issue 21), found by the zig-zag property test at 300
+/// cases: on the pure backend the weights leave vertex 20's power cell too
+/// thin for its extra sites in doubles, and the run stops with that named
+/// limit (CGAL's weights differ and mesh it). Run with `--ignored`.
+#[test]
+#[ignore = "known defect: a sliver power cell on the pure backend (issue 21)"]
+fn lattice_sliver_cell_is_meshed() {
+    zigzag_input_is_certified("lattice-sliver.poly");
 }

@@ -404,14 +404,25 @@ impl Sites {
                 // The sampled fraction farthest inside the faces with
                 // `against` (its neighbours), among those better than now
                 // and inside the cells it serves (decided exactly).
-                let now = self.depth(s, cur, against);
-                let mut better: Vec<(f64, f64)> = (1..VERTEX_SAMPLES)
-                    .map(|k| k as f64 / VERTEX_SAMPLES as f64)
-                    .map(|f| (self.depth(s, f, against), f))
-                    .filter(|&(d, _)| d > now)
-                    .collect();
-                better.sort_by(|a, b| b.0.total_cmp(&a.0));
-                let next = better.into_iter().map(|(_, f)| f).find(|&f| {
+                // A hidden site has no neighbours to weigh: it walks the
+                // fixed fractions from where it is in them (or from the first).
+                let better: Vec<f64> = if against.is_empty() {
+                    let from = VERTEX_FRACS
+                        .iter()
+                        .position(|&f| f == cur)
+                        .map_or(0, |k| k + 1);
+                    VERTEX_FRACS[from..].to_vec()
+                } else {
+                    let now = self.depth(s, cur, against);
+                    let mut better: Vec<(f64, f64)> = (1..VERTEX_SAMPLES)
+                        .map(|k| k as f64 / VERTEX_SAMPLES as f64)
+                        .map(|f| (self.depth(s, f, against), f))
+                        .filter(|&(d, _)| d > now)
+                        .collect();
+                    better.sort_by(|a, b| b.0.total_cmp(&a.0));
+                    better.into_iter().map(|(_, f)| f).collect()
+                };
+                let next = better.into_iter().find(|&f| {
                     self.move_to(s, f);
                     self.in_served_cells(s)
                 });
