@@ -124,20 +124,13 @@ impl Diagram {
         if !rt.hidden.is_empty() {
             return Err(format!("{} sites hidden", rt.hidden.len()));
         }
-        let tris = &rt.triangles;
-        let flat = tris.par_iter().position_any(|t| {
-            sites.orient(t[0] as usize, t[1] as usize, t[2] as usize) != Ordering::Greater
-        });
-        if let Some(t) = flat {
-            return Err(format!("triangle {:?} is not counter-clockwise", tris[t]));
-        }
-        check_hull(sites, rt)?;
+        check_shape(sites, rt)?;
         let checked = power_tests(sites, rt);
         if let Some(k) = checked.tests.iter().position(|&o| o == Ordering::Greater) {
             let (t1, _, d) = checked.inner[k];
             return Err(format!(
                 "edge of {:?} is not regular (site {d})",
-                tris[t1 as usize]
+                rt.triangles[t1 as usize]
             ));
         }
         Ok(checked)
@@ -153,14 +146,7 @@ impl Diagram {
         if rt.hidden.len() > MAX_REINSERTED {
             return None;
         }
-        let tris = &rt.triangles;
-        if tris
-            .par_iter()
-            .any(|t| sites.orient(t[0] as usize, t[1] as usize, t[2] as usize) != Ordering::Greater)
-        {
-            return None;
-        }
-        check_hull(sites, rt).ok()?;
+        check_shape(sites, rt).ok()?;
         let tests = power_tests(sites, rt);
         let bad: Vec<(u32, u32)> = tests
             .inner
@@ -488,6 +474,19 @@ pub fn repair_around(sites: &Sites, rt: &mut Triangulation, moved: &[usize]) -> 
     touched.sort_unstable();
     touched.dedup();
     Some(touched)
+}
+
+/// Every triangle counter-clockwise and the hull convex, winding once
+/// (exact): what flips keep, so a repair need not check it again.
+fn check_shape(sites: &Sites, rt: &Triangulation) -> std::result::Result<(), String> {
+    let tris = &rt.triangles;
+    let flat = tris.par_iter().position_any(|t| {
+        sites.orient(t[0] as usize, t[1] as usize, t[2] as usize) != Ordering::Greater
+    });
+    if let Some(t) = flat {
+        return Err(format!("triangle {:?} is not counter-clockwise", tris[t]));
+    }
+    check_hull(sites, rt)
 }
 
 /// The boundary of the triangulation, walked with the triangles on its left,

@@ -2,7 +2,8 @@
 //! phase 2, warm-started from its basis.
 
 use super::{
-    finite, Family, Row, System, WeightsReport, ANCHOR_COST, BIG_MODEL, LAZY_SLACK, LP_BUDGET,
+    finite, Family, Row, System, WeightsReport, ANCHOR_COST, BIG_MODEL, ELASTIC_ROW_MARGIN,
+    LAZY_SLACK, LP_BUDGET,
 };
 use crate::error::{Error, Result};
 use highs::{HighsModelStatus, RowProblem, Sense};
@@ -301,7 +302,7 @@ impl Lp {
                     let sl = *slack.entry(s).or_insert_with(|| pb.add_column(cost, 0.0..));
                     let mut terms = terms(r);
                     terms.push((sl, 1.0));
-                    pb.add_row((r.rhs + 1e-3).., terms);
+                    pb.add_row((r.rhs + ELASTIC_ROW_MARGIN).., terms);
                 }
                 _ => {
                     let mut terms = terms(r);

@@ -54,6 +54,10 @@ pub(crate) const MAX_GLOBAL_ROWS: usize = 5_000_000;
 /// System 1 margin tried first by the elastic phase.
 pub(crate) const ELASTIC_MARGIN: f64 = 1e-3;
 
+/// The margin an elastic system 3 row asks for beyond its violation
+/// (rows are dimensionless).
+pub(crate) const ELASTIC_ROW_MARGIN: f64 = 1e-3;
+
 /// How far `settle` lets a segment's system 3 violation exceed the elastic
 /// optimum's (a multiple). Measured on three inputs whose elastic weights
 /// left sliver cells or thin cells: 1 to 4 all mesh them; dropping the
@@ -220,7 +224,7 @@ fn settle(sys: &System, best: &Solution, report: &mut WeightsReport) -> Result<V
         if let Family::Sys3(s) = r.family {
             let v = best.slack.get(&s).copied().unwrap_or(0.0).max(0.0);
             if v > 1e-9 {
-                r.rhs += 1e-3 - ELASTIC_ALLOWANCE * v;
+                r.rhs += ELASTIC_ROW_MARGIN - ELASTIC_ALLOWANCE * v;
             }
         }
     }
