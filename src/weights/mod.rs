@@ -9,7 +9,7 @@ mod d2;
 mod d3;
 
 pub use crate::lp::WeightsReport;
-pub use d2::solve;
+pub use d2::{solve, Weights};
 pub use d3::{face_centre, solve as solve3, Weights3};
 pub(crate) use d3::{fan, sorted3};
 
