@@ -198,11 +198,12 @@ mod tests {
     /// Fourteen points on a 1/16 lattice, three of them collinear on the
     /// hull at x = 0 (the pipeline fuzz target's seed
     /// `collinear-hull-vertex`), with the weights another HiGHS release
-    /// returned for them. Vertex 12's neighbour 8 lies level with it, so an
-    /// extra site of 8 placed on their wall x = 3.125 tied with vertex 12's
-    /// sites at vertex 12, and the certificate lost that mesh vertex.
+    /// returned for them. Vertex 12's neighbour 8 lies level with it, and an
+    /// extra site of 8 placed on their wall x = 3.125 ties with vertex 12's
+    /// sites at vertex 12: the site triangulation put it in every triangle
+    /// there, and the diagram lost that input vertex.
     #[test]
-    fn an_extra_site_never_sits_on_a_wall_of_its_cell() {
+    fn an_extra_site_on_a_wall_keeps_the_vertex_beyond_it() {
         let lattice = [
             (80, 255),
             (154, 2),

@@ -211,25 +211,17 @@ impl Diagram {
             .par_iter()
             .map(|&t| sites.centre_estimate(tris[t as usize]))
             .unzip();
-        let mut input_vertex: Vec<Option<u32>> = vec![None; points.len()];
-        // Three sites serving one input vertex have their power centre there.
         let cx = &dom.complex;
-        for (t, tri) in tris.iter().enumerate() {
-            if let Some(v) = sites.common_vertex(&tri.map(|s| s as usize)) {
-                let id = class[t] as usize;
-                match input_vertex[id] {
-                    Some(u) if u != v => {
-                        return Err(format!(
-                            "one power vertex is two input vertices ({} and {})",
-                            cx.vertex_ids[u as usize], cx.vertex_ids[v as usize]
-                        ))
-                    }
-                    _ => {
-                        input_vertex[id] = Some(v);
-                        points[id] = cx.points[v as usize];
-                        error[id] = 0.0;
-                    }
-                }
+        let input_vertex = input_vertices(sites, tris, &class, points.len()).map_err(|[u, v]| {
+            format!(
+                "one power vertex is two input vertices ({} and {})",
+                cx.vertex_ids[u as usize], cx.vertex_ids[v as usize]
+            )
+        })?;
+        for (id, v) in input_vertex.iter().enumerate() {
+            if let Some(v) = v {
+                points[id] = cx.points[*v as usize];
+                error[id] = 0.0;
             }
         }
         // One triangle at each site, then the ring of triangles around it.
@@ -399,6 +391,66 @@ const MAX_REINSERTED: usize = 16;
 /// give them a cell. False when a non-regular edge cannot be flipped (its
 /// quadrilateral is not strictly convex), the flips do not settle, or a
 /// hidden site is not strictly inside a triangle.
+/// The input vertex at each power vertex (a class of triangles, `class`),
+/// or the two a class would be. Three sites serving one input vertex have
+/// their power centre there. Usually one triangle's sites do; but a site
+/// on a wall of the cell it serves has the vertex beyond that wall's power
+/// there too, ties with that vertex's sites, and the triangulation may then
+/// mix it into every triangle at that vertex (a fuzzed input did): so the
+/// sites of a class of several triangles, which share one power centre,
+/// are counted together.
+fn input_vertices(
+    sites: &Sites,
+    tris: &[[u32; 3]],
+    class: &[u32],
+    classes: usize,
+) -> std::result::Result<Vec<Option<u32>>, [u32; 2]> {
+    let mut input_vertex: Vec<Option<u32>> = vec![None; classes];
+    let mut size = vec![0u32; classes];
+    fn set(at: &mut Option<u32>, v: u32) -> std::result::Result<(), [u32; 2]> {
+        match *at {
+            Some(u) if u != v => Err([u, v]),
+            _ => {
+                *at = Some(v);
+                Ok(())
+            }
+        }
+    }
+    for (t, tri) in tris.iter().enumerate() {
+        size[class[t] as usize] += 1;
+        if let Some(v) = sites.common_vertex(&tri.map(|s| s as usize)) {
+            set(&mut input_vertex[class[t] as usize], v)?;
+        }
+    }
+    let mut pooled: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    for (t, tri) in tris.iter().enumerate() {
+        let id = class[t];
+        if size[id as usize] > 1 && input_vertex[id as usize].is_none() {
+            pooled.entry(id).or_default().extend(tri);
+        }
+    }
+    for (id, mut members) in pooled {
+        members.sort_unstable();
+        members.dedup();
+        let mut served: Vec<u32> = members
+            .iter()
+            .flat_map(|&s| {
+                let [i, j] = sites.served_by(s as usize);
+                if i == j {
+                    vec![i]
+                } else {
+                    vec![i, j]
+                }
+            })
+            .collect();
+        served.sort_unstable();
+        for run in served.chunk_by(|a, b| a == b).filter(|run| run.len() >= 3) {
+            set(&mut input_vertex[id as usize], run[0])?;
+        }
+    }
+    Ok(input_vertex)
+}
+
 #[cfg(test)]
 fn repair(sites: &Sites, rt: &mut Triangulation) -> bool {
     let stack: Vec<(u32, u32)> = rt

@@ -175,13 +175,9 @@ impl Sites {
             .collect()
     }
 
-    /// Whether vertex site s lies in the power cells (of RT(w)) of the
-    /// vertices it serves, exactly: Theorem 1 needs it there, and positions
-    /// computed in doubles may miss a sliver cell. Strictly inside, but for
-    /// the wall its own edge's dual lies on: on another wall, the site would
-    /// have the same power at the vertex beyond as that vertex's own sites,
-    /// and the site triangulation could then leave no triangle whose sites
-    /// all serve that vertex (a fuzzed input lost a mesh vertex so).
+    /// Whether vertex site s lies in the closed power cells (of RT(w)) of
+    /// the vertices it serves, exactly: Theorem 1 needs it there, and
+    /// positions computed in doubles may miss a sliver cell.
     pub fn in_served_cells(&self, s: usize) -> bool {
         let Role::Vertex { serves, .. } = &self.role[s] else {
             return true;
@@ -192,7 +188,7 @@ impl Sites {
             walls
                 .iter()
                 .filter(|&&k| !(k == i && v == j || k == j && v == i))
-                .all(|&k| self.nearer(s, v, k) == Ordering::Greater)
+                .all(|&k| self.nearer(s, v, k) != Ordering::Less)
         })
     }
 
