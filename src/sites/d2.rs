@@ -13,6 +13,7 @@ use crate::complex::Complex;
 use crate::generate::scatter;
 use crate::geom::{det3, det3_q, q, qp, Iv, QPoint, Q};
 use crate::FastMap;
+use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
@@ -139,54 +140,94 @@ impl Sites {
             centres,
             ..Default::default()
         };
-        let failed: std::collections::HashSet<u32> = sys3_failed.iter().copied().collect();
-        for (k, &[i, j]) in cx.segments.iter().enumerate() {
-            let (tl, tr) = s.dual_params(rt, i, j);
-            // (left, ta, tb, fraction, movable) of the two sites
-            let placements = if failed.contains(&(k as u32)) {
-                // The dual edge misses the segment: both sites on it, fixed.
-                let ta = tr.unwrap_or_else(|| {
-                    tl.expect("a segment of RT(w) has a triangle beside it") - 2.0
-                });
-                let tb = tl.unwrap_or(ta + 2.0);
-                [
-                    (true, ta, tb, 2.0 / 3.0, false),
-                    (false, ta, tb, 1.0 / 3.0, false),
-                ]
-            } else {
-                // Left site in (0, tl), right in (tr, 0); a ray is cut at |e|.
-                let frac = |side: usize| {
-                    if domain_side[k][side] {
-                        0.5
-                    } else {
-                        0.3 + 0.4 * scatter(2 * k as u64 + side as u64)
-                    }
+        let mut failed = vec![false; cx.segments.len()];
+        for &k in sys3_failed {
+            failed[k as usize] = true;
+        }
+        // Segment sites are independent of one another: placed in parallel.
+        let placed: Vec<[(Role, Track, f64, bool); 2]> = cx
+            .segments
+            .par_iter()
+            .enumerate()
+            .map(|(k, &[i, j])| {
+                let (tl, tr) = s.dual_params(rt, i, j);
+                // (left, ta, tb, fraction, movable) of the two sites
+                let placements = if failed[k] {
+                    // The dual edge misses the segment: both sites on it, fixed.
+                    let ta = tr.unwrap_or_else(|| {
+                        tl.expect("a segment of RT(w) has a triangle beside it") - 2.0
+                    });
+                    let tb = tl.unwrap_or(ta + 2.0);
+                    [
+                        (true, ta, tb, 2.0 / 3.0, false),
+                        (false, ta, tb, 1.0 / 3.0, false),
+                    ]
+                } else {
+                    // Left site in (0, tl), right in (tr, 0); a ray is cut at |e|.
+                    let frac = |side: usize| {
+                        if domain_side[k][side] {
+                            0.5
+                        } else {
+                            0.3 + 0.4 * scatter(2 * k as u64 + side as u64)
+                        }
+                    };
+                    [
+                        (true, 0.0, tl.unwrap_or(1.0), frac(0), true),
+                        (false, 0.0, tr.unwrap_or(-1.0), frac(1), true),
+                    ]
                 };
-                [
-                    (true, 0.0, tl.unwrap_or(1.0), frac(0), true),
-                    (false, 0.0, tr.unwrap_or(-1.0), frac(1), true),
-                ]
-            };
-            for (left, ta, tb, frac, movable) in placements {
-                let tk = Track {
-                    ta,
-                    tb,
-                    kind: Def::Line { i, j, t: 0.0 },
-                    dir: [0.0; 2],
-                };
-                s.push(
-                    Role::Segment {
+                placements.map(|(left, ta, tb, frac, movable)| {
+                    let kind = Def::Line { i, j, t: 0.0 };
+                    let tk = Track {
+                        ta,
+                        tb,
+                        kind,
+                        dir: [0.0; 2],
+                    };
+                    let role = Role::Segment {
                         seg: k as u32,
                         left,
-                    },
-                    tk,
-                    frac,
-                    movable,
-                );
-            }
-        }
+                    };
+                    (role, tk, frac, movable)
+                })
+            })
+            .collect();
+        s.extend(placed);
         s.place_vertex_sites(cx, rt);
         s
+    }
+
+    /// Pushes many sites whose tracks and fractions are given: their
+    /// definitions and enclosures are computed in parallel.
+    fn extend<const K: usize>(&mut self, sites: Vec<[(Role, Track, f64, bool); K]>) {
+        let defs: Vec<[(Def, [Iv; 3]); K]> = sites
+            .par_iter()
+            .map(|group| {
+                group.each_ref().map(|(_, track, frac, _)| {
+                    let def = Self::at(track, *frac);
+                    (def, self.enclose(&def))
+                })
+            })
+            .collect();
+        let n = K * sites.len();
+        self.def.reserve(n);
+        self.iv.reserve(n);
+        self.approx.reserve(n);
+        self.role.reserve(n);
+        self.track.reserve(n);
+        self.frac.reserve(n);
+        self.movable.reserve(n);
+        for (group, defs) in sites.into_iter().zip(defs) {
+            for ((role, track, frac, movable), (def, iv)) in group.into_iter().zip(defs) {
+                self.def.push(def);
+                self.iv.push(iv);
+                self.approx.push(iv.map(Iv::mid));
+                self.role.push(role);
+                self.track.push(track);
+                self.frac.push(frac);
+                self.movable.push(movable);
+            }
+        }
     }
 
     fn push(&mut self, role: Role, track: Track, frac: f64, movable: bool) {
