@@ -63,17 +63,20 @@ fn ratios() {
         }
         let status = match out.expect("ran once") {
             Ok(o) => {
-                let relocate = o.report.timing.as_ref().and_then(|t| {
-                    t.stages
-                        .iter()
-                        .find(|s| s.stage == "relocate")
-                        .map(|s| s.ms)
-                });
+                let stage = |name: &str| {
+                    o.report.timing.as_ref().and_then(|t| {
+                        t.stages
+                            .iter()
+                            .find(|s| s.stage == name)
+                            .map(|s| s.ms / raw)
+                    })
+                };
                 format!(
-                    "weights {}, sites outside {}, relocation {:.2}x raw",
+                    "weights {}, sites outside {}, site diagram {:.2}x raw, relocation {:.2}x raw",
                     o.report.weights.method,
                     o.report.certificate.sites_outside,
-                    relocate.unwrap_or(f64::NAN) / raw
+                    stage("site diagram").unwrap_or(f64::NAN),
+                    stage("relocate").unwrap_or(f64::NAN)
                 )
             }
             Err(e) => format!("error: {e}"),

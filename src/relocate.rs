@@ -230,7 +230,36 @@ fn walk(sites: &mut Sites, rt: &mut Triangulation, s: usize, to: f64) -> Option<
     Some(touched)
 }
 
-/// Builds the site diagram, moving sites until all domain sites are inside
+/// The first site diagram, before any site moves.
+pub struct First {
+    rt: Triangulation,
+    diagram: Diagram,
+    /// Domain sites not strictly inside their cell (or hidden).
+    out: Vec<usize>,
+    /// Whether the triangulation had to be built from exact rationals.
+    exact: bool,
+}
+
+/// The triangulation and diagram of the sites as placed (the pipeline's
+/// "site diagram" stage; relocation starts from it).
+pub fn first_diagram<B: Backend + ?Sized>(
+    backend: &B,
+    dom: &Domain,
+    sites: &Sites,
+) -> Result<First> {
+    let (rt, checked) = site_triangulation(backend, sites)?;
+    let exact = checked.is_none();
+    let diagram = diagram_of(dom, sites, &rt, checked)?;
+    let out = outside(sites, &rt, &diagram);
+    Ok(First {
+        rt,
+        diagram,
+        out,
+        exact,
+    })
+}
+
+/// Moves sites from the `first` diagram until all domain sites are inside
 /// their cells or no site can move. The first triangulation is built whole;
 /// after a round of moves it is repaired by exact flips around the moved
 /// sites (a round then costs what the moves touch, not a rebuild of all
@@ -244,12 +273,17 @@ pub fn relocate<B: Backend + ?Sized>(
     backend: &B,
     dom: &Domain,
     sites: &mut Sites,
+    first: First,
 ) -> Result<Relocated> {
     let mut round = 0;
-    let (mut rt, mut checked) = site_triangulation(backend, sites)?;
-    let mut exact_rounds = usize::from(checked.is_none());
-    let mut diagram = diagram_of(dom, sites, &rt, checked.take())?;
-    let mut out = outside(sites, &rt, &diagram);
+    let First {
+        mut rt,
+        mut diagram,
+        mut out,
+        exact,
+    } = first;
+    let mut exact_rounds = usize::from(exact);
+    let mut checked = None;
     // Whether `diagram` and `out` are of the current sites and `rt`, and
     // whether `rt` is known regular (built by `site_triangulation`: checked
     // whole, its power tests in `checked`, or exact).

@@ -293,7 +293,13 @@ fn the_same_input_gives_byte_identical_mesh_and_report() {
     ]);
     assert_eq!(code, 0, "{err}");
     let report = std::fs::read_to_string(dir.join("t.json")).unwrap();
-    for key in ["\"stages\"", "\"peak_mib\"", "\"total_ms\"", "\"relocate\""] {
+    for key in [
+        "\"stages\"",
+        "\"peak_mib\"",
+        "\"total_ms\"",
+        "\"site diagram\"",
+        "\"relocate\"",
+    ] {
         assert!(report.contains(key), "{key} missing");
     }
     // The hybrid mesh of SPE9, in 2.5D with a TOUGH MESH.

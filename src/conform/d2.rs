@@ -15,7 +15,7 @@ use crate::weights;
 use std::time::Instant;
 
 /// Stages the 2D pipeline reports (the clock's laps).
-const STAGES: usize = 7;
+const STAGES: usize = 8;
 
 /// Builds the certified conforming orthogonal mesh of a 2D complex, once
 /// (no Steiner points: `split` adds those).
@@ -81,7 +81,9 @@ fn with_weights<B: Backend + ?Sized>(
         )));
     }
     clock.lap("sites");
-    let rel = relocate(backend, &dom, &mut sites)?;
+    let first = crate::relocate::first_diagram(backend, &dom, &sites)?;
+    clock.lap("site diagram");
+    let rel = relocate(backend, &dom, &mut sites, first)?;
     clock.lap("relocate");
     let (why, crowding) = crate::relocate::why(&sites, &rel.rt, &rel.outside, cx);
     let outside_names: Vec<String> = why

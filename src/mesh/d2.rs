@@ -132,13 +132,15 @@ impl Mesh {
         let mut m = Mesh::default();
         // Exact vertex -> rounded point, for the vertices of domain cells.
         let used: Vec<u32> = {
-            let mut u: Vec<u32> = (0..diagram.cells.len())
-                .filter(|&s| diagram.in_domain[s])
-                .flat_map(|s| diagram.cells[s].as_deref().unwrap_or(&[]).to_vec())
-                .collect();
-            u.sort_unstable();
-            u.dedup();
-            u
+            let mut mark = vec![false; diagram.points.len()];
+            for s in (0..diagram.cells.len()).filter(|&s| diagram.in_domain[s]) {
+                for &v in diagram.cells[s].as_deref().unwrap_or(&[]) {
+                    mark[v as usize] = true;
+                }
+            }
+            (0..mark.len() as u32)
+                .filter(|&v| mark[v as usize])
+                .collect()
         };
         let pts: Vec<[f64; 2]> = used.iter().map(|&v| diagram.points[v as usize]).collect();
         let fixed: Vec<bool> = used
