@@ -291,6 +291,36 @@ fn a_hidden_extra_site_is_counted_outside() {
     zigzag_input_is_certified("hidden-extra-site.poly");
 }
 
+/// Found by the pipeline fuzz target: on the pure backend the weights
+/// leave four power cells meeting within 1e-3 of one point, and an extra
+/// site of vertex 11 stays hidden wherever its track puts it. That is a
+/// named solver limit (it was a certificate failure); CGAL's weights differ
+/// and mesh it.
+#[test]
+fn a_site_hidden_in_a_tiny_cell_is_a_named_limit() {
+    let file = "fuzz-tiny-cells.poly";
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/zigzag")
+        .join(file);
+    let cx = orthomesh::io::read_complex(&path).expect("reads");
+    for b in orthomesh::backend::compiled() {
+        let opts = orthomesh::Options {
+            allow_sites_outside: true,
+            ..Default::default()
+        };
+        match orthomesh::Mesher::new(&*b).options(opts).conform(&cx) {
+            Ok(out) => assert_certified(&out, file),
+            Err(orthomesh::Error::SolverLimit(m)) if b.name() == "pure" => {
+                assert!(
+                    m.contains("hidden at every place tried") && m.contains("vertex 11"),
+                    "{m}"
+                )
+            }
+            Err(e) => panic!("{file}, {} backend: {e}", b.name()),
+        }
+    }
+}
+
 /// Known defect (issue 21), found by the zig-zag property test at 300
 /// cases: on the pure backend the weights leave vertex 20's power cell too
 /// thin for its extra sites in doubles, and the run stops with that named
