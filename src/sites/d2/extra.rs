@@ -15,7 +15,15 @@ impl Sites {
     pub(super) fn place_vertex_sites(&mut self, cx: &Complex, rt: &Triangulation) {
         let degree = cx.degrees();
         let n = cx.points.len();
-        let nb = rt.neighbours(n);
+        // Neighbours (in the order of rt.edges()) of the vertices served.
+        let mut nb = vec![Vec::new(); n];
+        for (a, b) in rt.edges() {
+            for (x, y) in [(a, b), (b, a)] {
+                if degree[x as usize] < 2 {
+                    nb[x as usize].push(y);
+                }
+            }
+        }
         let segs: FastSet<(u32, u32)> = cx
             .segments
             .iter()
@@ -134,10 +142,17 @@ impl Sites {
     /// Tracks from the centroid of the power cell of vertex i towards `count`
     /// of its corners, chosen not collinear: sites on them lie inside the cell.
     fn in_cell_tracks(&self, rt: &Triangulation, i: u32, count: usize) -> Vec<Track> {
+        // Its triangles in index order (from its star; a hull vertex's by a scan).
+        let mut star = rt.star(i).unwrap_or_else(|| {
+            (0..rt.triangles.len() as u32)
+                .filter(|&t| rt.triangles[t as usize].contains(&i))
+                .collect()
+        });
+        star.sort_unstable();
         let mut corners: Vec<[f64; 2]> = vec![];
-        for (t, tri) in rt.triangles.iter().enumerate() {
-            if tri.contains(&i) && !corners.contains(&self.centres[t]) {
-                corners.push(self.centres[t]);
+        for t in star {
+            if !corners.contains(&self.centres[t as usize]) {
+                corners.push(self.centres[t as usize]);
             }
         }
         if corners.len() < 3 {
