@@ -334,6 +334,23 @@ impl Triangulation {
         })
     }
 
+    /// `edge_triangles` in parallel, in the same order when collected.
+    pub fn par_edge_triangles(
+        &self,
+    ) -> impl rayon::iter::ParallelIterator<Item = (u32, u32, u32, Option<u32>)> + '_ {
+        use rayon::prelude::*;
+        (0..self.triangles.len() as u32)
+            .into_par_iter()
+            .flat_map_iter(move |t| {
+                let tri = self.triangles[t as usize];
+                (0..3).filter_map(move |k| {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    let u = self.across(t, k);
+                    (a < b || u.is_none()).then_some((a, b, t, u))
+                })
+            })
+    }
+
     /// The triangle across edge k of triangle t (edge k joins its vertices
     /// k and k + 1), if any.
     pub fn across(&self, t: u32, k: usize) -> Option<u32> {

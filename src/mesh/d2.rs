@@ -11,6 +11,7 @@ use crate::geom::shoelace;
 use crate::sites::Sites;
 use crate::FastMap;
 use nalgebra::Vector2;
+use rayon::prelude::*;
 
 /// Edges shorter than this fraction of the mesh size are collapsed.
 pub const COLLAPSE: f64 = 1e-14;
@@ -156,27 +157,32 @@ impl Mesh {
         m.fixed = merged.fixed;
         m.collapsed = merged.collapsed;
         m.size = merged.size;
-        for (s, cell) in diagram.cells.iter().enumerate() {
-            if !diagram.in_domain[s] {
-                continue;
-            }
-            let cell = cell.as_ref().expect("domain cells are bounded");
-            let mut poly: Vec<u32> = cell.iter().map(|&v| map[v as usize]).collect();
-            poly.dedup();
-            if poly.len() > 1 && poly.first() == poly.last() {
-                poly.pop();
-            }
-            if poly.len() < 3 {
-                return Err(Error::Certificate(format!(
-                    "the cell of site {s} collapses below three vertices when written in double precision"
-                )));
-            }
-            if m.area(&poly) <= 0.0 {
-                return Err(Error::Certificate(format!(
-                    "the cell of site {s} turns over when written in double precision"
-                )));
-            }
-            m.cells.push(poly);
+        // Cells in parallel; the first (by site) that fails in doubles is named.
+        let cells: Vec<Result<Vec<u32>>> = (0..diagram.cells.len())
+            .into_par_iter()
+            .filter(|&s| diagram.in_domain[s])
+            .map(|s| {
+                let cell = diagram.cells[s].as_ref().expect("domain cells are bounded");
+                let mut poly: Vec<u32> = cell.iter().map(|&v| map[v as usize]).collect();
+                poly.dedup();
+                if poly.len() > 1 && poly.first() == poly.last() {
+                    poly.pop();
+                }
+                if poly.len() < 3 {
+                    return Err(Error::Certificate(format!(
+                        "the cell of site {s} collapses below three vertices when written in double precision"
+                    )));
+                }
+                if m.area(&poly) <= 0.0 {
+                    return Err(Error::Certificate(format!(
+                        "the cell of site {s} turns over when written in double precision"
+                    )));
+                }
+                Ok(poly)
+            })
+            .collect();
+        m.cells = cells.into_iter().collect::<Result<_>>()?;
+        for s in (0..diagram.cells.len()).filter(|&s| diagram.in_domain[s]) {
             let [x, y, w] = sites.approx[s];
             m.sites.push([x, y]);
             m.weights.push(w);
@@ -191,19 +197,18 @@ impl Mesh {
         {
             cell_of[s] = c as u32;
         }
-        for (a, b, t, u) in rt.edge_triangles() {
-            let (ca, cb) = (cell_of[a as usize], cell_of[b as usize]);
-            let Some(u) = u.filter(|_| ca != u32::MAX && cb != u32::MAX) else {
-                continue;
-            };
-            let (from, to) = (
-                map[diagram.vertex_of[u as usize] as usize],
-                map[diagram.vertex_of[t as usize] as usize],
-            );
-            if from != to {
-                m.faces.push([from, to, ca, cb]);
-            }
-        }
+        m.faces = rt
+            .par_edge_triangles()
+            .filter_map(|(a, b, t, u)| {
+                let (ca, cb) = (cell_of[a as usize], cell_of[b as usize]);
+                let u = u.filter(|_| ca != u32::MAX && cb != u32::MAX)?;
+                let (from, to) = (
+                    map[diagram.vertex_of[u as usize] as usize],
+                    map[diagram.vertex_of[t as usize] as usize],
+                );
+                (from != to).then_some([from, to, ca, cb])
+            })
+            .collect();
         Ok(m)
     }
 
