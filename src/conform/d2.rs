@@ -12,6 +12,7 @@ use crate::options::Options;
 use crate::relocate::relocate;
 use crate::sites::{Role, Sites};
 use crate::weights;
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// Stages the 2D pipeline reports (the clock's laps).
@@ -60,7 +61,7 @@ fn with_weights<B: Backend + ?Sized>(
     let inside = |t: Option<u32>| t.is_some_and(|t| dom.inside[t as usize]);
     let domain_side: Vec<[bool; 2]> = cx
         .segments
-        .iter()
+        .par_iter()
         .map(|&[i, j]| [inside(dom.cdt.left_of(i, j)), inside(dom.cdt.left_of(j, i))])
         .collect();
     let mut sites = Sites::place(cx, &wts.w, &wts.rt, &wts.sys3_failed, &domain_side);

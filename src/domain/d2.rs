@@ -8,6 +8,7 @@ use crate::complex::Complex;
 use crate::error::{Error, Result};
 use crate::geom::orient;
 use crate::FastSet;
+use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::collections::VecDeque;
 
@@ -115,7 +116,7 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
     let inside_at = |t: Option<u32>| t.is_some_and(|t| inside[t as usize]);
     let keep_s: Vec<bool> = cx
         .segments
-        .iter()
+        .par_iter()
         .map(|&[a, b]| inside_at(cdt.left_of(a, b)) || inside_at(cdt.left_of(b, a)))
         .collect();
     let dropped_vertices = keep_v.iter().filter(|&&k| !k).count();
