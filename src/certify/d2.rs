@@ -9,6 +9,7 @@ use crate::domain::Domain;
 use crate::mesh::Mesh;
 use crate::sites::Sites;
 use crate::FastMap;
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// What the mesh proves about itself.
@@ -147,27 +148,31 @@ pub fn certify(
     // other cells are exactly the domain boundary, each once. The cell of a
     // lies left of the dual edge from the vertex of the triangle across to
     // that of the triangle on the left of a -> b.
-    let mut boundary: FastMap<(u32, u32), bool> = dom
-        .boundary()
-        .into_iter()
-        .filter_map(|(a, b)| Some(((vid[a as usize]?, vid[b as usize]?), false)))
+    let edges = dom.boundary();
+    let mut boundary: FastMap<(u32, u32), bool> = edges
+        .iter()
+        .filter_map(|&(a, b)| Some(((vid[a as usize]?, vid[b as usize]?), false)))
         .collect();
-    let mut tiles = convex && boundary.len() == dom.boundary().len();
-    for (a, b, t, u) in rt.edge_triangles() {
-        let (ia, ib) = (diagram.in_domain[a as usize], diagram.in_domain[b as usize]);
-        if ia == ib {
-            continue;
-        }
-        let Some(u) = u else {
-            tiles = false; // a domain cell on the hull would be unbounded
-            continue;
-        };
-        let (from, to) = (diagram.vertex_of[u as usize], diagram.vertex_of[t as usize]);
-        if from == to {
-            continue; // a dual edge of length zero: the cells touch at a point
-        }
-        let edge = if ia { (from, to) } else { (to, from) };
-        match boundary.get_mut(&edge) {
+    let mut tiles = convex && boundary.len() == edges.len();
+    // The dual edges between domain and other cells, found in parallel;
+    // None for one on the hull (a domain cell there would be unbounded).
+    let crossing: Vec<Option<(u32, u32)>> = rt
+        .par_edge_triangles()
+        .filter_map(|(a, b, t, u)| {
+            let (ia, ib) = (diagram.in_domain[a as usize], diagram.in_domain[b as usize]);
+            if ia == ib {
+                return None;
+            }
+            let Some(u) = u else {
+                return Some(None);
+            };
+            let (from, to) = (diagram.vertex_of[u as usize], diagram.vertex_of[t as usize]);
+            // a dual edge of length zero: the cells touch at a point
+            (from != to).then_some(Some(if ia { (from, to) } else { (to, from) }))
+        })
+        .collect();
+    for edge in crossing {
+        match edge.and_then(|e| boundary.get_mut(&e)) {
             Some(seen) if !*seen => *seen = true,
             _ => tiles = false,
         }
