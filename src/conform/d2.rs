@@ -71,6 +71,16 @@ fn with_weights<B: Backend + ?Sized>(
             sites.describe(s, cx)
         )));
     }
+    if !sites.starved.is_empty() {
+        let ids: Vec<i64> = sites
+            .starved
+            .iter()
+            .map(|&v| cx.vertex_ids[v as usize])
+            .collect();
+        return Err(Error::SolverLimit(format!(
+            "the weights leave the power cells of vertices {ids:?} (free ends or isolated) too small for their extra sites: no dual edge of theirs is long enough, and their cells' corners coincide in double precision"
+        )));
+    }
     let stray: Vec<String> = (0..sites.len())
         .filter(|&s| !sites.in_served_cells(s))
         .map(|s| sites.describe(s, cx))

@@ -71,6 +71,9 @@ pub struct Sites {
     /// for the others): their half-planes bound the power cells in which
     /// those sites must stay.
     cell_walls: Vec<Vec<u32>>,
+    /// Free ends and isolated vertices that got fewer extra sites than
+    /// they need: their power cells have no room for them in doubles.
+    pub starved: Vec<u32>,
     /// Predicates the intervals could not decide.
     pub exact_evaluations: AtomicUsize,
 }

@@ -96,7 +96,11 @@ impl Sites {
                 // No usable dual edges (a vertex where diagonals cross, or all
                 // its edges are constraints): points inside its power cell
                 // serve it just as well (Theorem 1 only needs them in the cell).
-                for tk in self.in_cell_tracks(rt, i, want) {
+                let tracks = self.in_cell_tracks(rt, i, want);
+                if tracks.len() < want {
+                    self.starved.push(i);
+                }
+                for tk in tracks {
                     let role = Role::Vertex {
                         edge: (i, i),
                         serves: vec![i],
