@@ -324,6 +324,32 @@ fn a_vertex_cell_too_small_for_its_sites_is_a_named_limit() {
     }
 }
 
+/// Found by the pipeline fuzz target: a power vertex made of several
+/// triangles holds three sites serving input vertex 9 and three serving
+/// 12, but one of the triples is collinear and does not put its vertex
+/// there; the diagram took both and failed with "one power vertex is two
+/// input vertices". Its cells are too thin to write in doubles: that
+/// named limit, on both backends.
+#[test]
+fn collinear_sites_do_not_place_a_power_vertex() {
+    let file = "fuzz-collinear-pool.poly";
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/zigzag")
+        .join(file);
+    let cx = orthomesh::io::read_complex(&path).expect("reads");
+    for b in orthomesh::backend::compiled() {
+        let opts = orthomesh::Options {
+            allow_sites_outside: true,
+            ..Default::default()
+        };
+        match orthomesh::Mesher::new(&*b).options(opts).conform(&cx) {
+            Ok(out) => assert_certified(&out, file),
+            Err(orthomesh::Error::Certificate(m)) if m.contains("double precision") => {}
+            Err(e) => panic!("{file}, {} backend: {e}", b.name()),
+        }
+    }
+}
+
 /// Known defect (issue 21), found by the zig-zag property test at 300
 /// cases: on the pure backend the weights leave vertex 20's power cell too
 /// thin for its extra sites in doubles, and the run stops with that named

@@ -432,20 +432,28 @@ fn input_vertices(
     for (id, mut members) in pooled {
         members.sort_unstable();
         members.dedup();
-        let mut served: Vec<u32> = members
+        // (vertex, site) for each vertex a member serves, by vertex
+        let mut served: Vec<(u32, u32)> = members
             .iter()
             .flat_map(|&s| {
                 let [i, j] = sites.served_by(s as usize);
-                if i == j {
-                    vec![i]
-                } else {
-                    vec![i, j]
-                }
+                let both = if i == j { vec![i] } else { vec![i, j] };
+                both.into_iter().map(move |v| (v, s))
             })
             .collect();
         served.sort_unstable();
-        for run in served.chunk_by(|a, b| a == b).filter(|run| run.len() >= 3) {
-            set(&mut input_vertex[id as usize], run[0])?;
+        for run in served.chunk_by(|a, b| a.0 == b.0) {
+            // Three of its sites not on one line: their power centre is the
+            // vertex (collinear ones only share a line through it).
+            let on: Vec<usize> = run.iter().map(|&(_, s)| s as usize).collect();
+            let spans = (1..on.len()).any(|b| {
+                on[b + 1..]
+                    .iter()
+                    .any(|&c| sites.orient(on[0], on[b], c) != std::cmp::Ordering::Equal)
+            });
+            if spans {
+                set(&mut input_vertex[id as usize], run[0].0)?;
+            }
         }
     }
     Ok(input_vertex)
