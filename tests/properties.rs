@@ -263,24 +263,41 @@ fn thin_power_cells_do_not_leak() {
 /// written for tests/readers.py: such weights can leave edges far shorter
 /// than their cells, which vtkCellValidator flags; docs/limitations.md).
 fn zigzag_input_is_certified(file: &str) -> Vec<orthomesh::Outcome<orthomesh::D2>> {
+    zigzag_runs(file)
+        .into_iter()
+        .map(|(name, run)| {
+            let out = run.unwrap_or_else(|e| panic!("{file}, {name} backend: {e}"));
+            assert_certified(&out, file);
+            out
+        })
+        .collect()
+}
+
+/// The input `tests/zigzag/<file>` through the pipeline on every backend
+/// (sites outside allowed): the backend's name and the outcome.
+fn zigzag_runs(
+    file: &str,
+) -> Vec<(
+    &'static str,
+    orthomesh::Result<orthomesh::Outcome<orthomesh::D2>>,
+)> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/zigzag")
         .join(file);
     let cx = orthomesh::io::read_complex(&path).expect("reads");
-    let mut outs = vec![];
-    for b in orthomesh::backend::compiled() {
-        let opts = orthomesh::Options {
-            allow_sites_outside: true,
-            ..Default::default()
-        };
-        let out = orthomesh::Mesher::new(&*b)
-            .options(opts)
-            .conform(&cx)
-            .unwrap_or_else(|e| panic!("{file}, {} backend: {e}", b.name()));
-        assert_certified(&out, file);
-        outs.push(out);
-    }
-    outs
+    orthomesh::backend::compiled()
+        .into_iter()
+        .map(|b| {
+            let opts = orthomesh::Options {
+                allow_sites_outside: true,
+                ..Default::default()
+            };
+            (
+                b.name(),
+                orthomesh::Mesher::new(&*b).options(opts).conform(&cx),
+            )
+        })
+        .collect()
 }
 
 /// Found by the zig-zag property test at 150 cases: on the pure backend an
@@ -304,21 +321,13 @@ fn a_vertex_cell_too_small_for_its_sites_is_a_named_limit() {
         ("fuzz-tiny-cells.poly", "hidden at every place tried"),
         ("fuzz-starved-vertex.poly", "power cells of vertices [5]"),
     ] {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/zigzag")
-            .join(file);
-        let cx = orthomesh::io::read_complex(&path).expect("reads");
-        for b in orthomesh::backend::compiled() {
-            let opts = orthomesh::Options {
-                allow_sites_outside: true,
-                ..Default::default()
-            };
-            match orthomesh::Mesher::new(&*b).options(opts).conform(&cx) {
+        for (name, run) in zigzag_runs(file) {
+            match run {
                 Ok(out) => assert_certified(&out, file),
-                Err(orthomesh::Error::SolverLimit(m)) if b.name() == "pure" => {
+                Err(orthomesh::Error::SolverLimit(m)) if name == "pure" => {
                     assert!(m.contains(says), "{file}: {m}")
                 }
-                Err(e) => panic!("{file}, {} backend: {e}", b.name()),
+                Err(e) => panic!("{file}, {name} backend: {e}"),
             }
         }
     }
@@ -333,19 +342,11 @@ fn a_vertex_cell_too_small_for_its_sites_is_a_named_limit() {
 #[test]
 fn collinear_sites_do_not_place_a_power_vertex() {
     let file = "fuzz-collinear-pool.poly";
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/zigzag")
-        .join(file);
-    let cx = orthomesh::io::read_complex(&path).expect("reads");
-    for b in orthomesh::backend::compiled() {
-        let opts = orthomesh::Options {
-            allow_sites_outside: true,
-            ..Default::default()
-        };
-        match orthomesh::Mesher::new(&*b).options(opts).conform(&cx) {
+    for (name, run) in zigzag_runs(file) {
+        match run {
             Ok(out) => assert_certified(&out, file),
             Err(orthomesh::Error::Certificate(m)) if m.contains("double precision") => {}
-            Err(e) => panic!("{file}, {} backend: {e}", b.name()),
+            Err(e) => panic!("{file}, {name} backend: {e}"),
         }
     }
 }

@@ -234,15 +234,7 @@ impl Sites {
     }
 
     fn push(&mut self, role: Role, track: Track, frac: f64, movable: bool) {
-        let def = Self::at(&track, frac);
-        self.def.push(def);
-        self.iv.push([Iv::of(0.0); 3]);
-        self.approx.push([0.0; 3]);
-        self.role.push(role);
-        self.track.push(track);
-        self.frac.push(frac);
-        self.movable.push(movable);
-        self.set(self.def.len() - 1, def);
+        self.extend(vec![[(role, track, frac, movable)]]);
     }
 
     fn set(&mut self, s: usize, def: Def) {
