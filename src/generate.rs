@@ -82,17 +82,7 @@ pub fn staggered_chains(rows: usize, cols: usize, h: f64) -> Complex {
     Complex::new(points, segments)
 }
 
-/// Reproducible uniform doubles in [0, 1) from `seed` (xorshift64): the
-/// synthetic inputs' jitter, and the tests' random points.
-pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed.max(1);
-    move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+pub use crate::geom::uniform;
 
 /// Appends the points of a polyline (closed: a polygon) and its segments;
 /// the index of its first point.

@@ -11,7 +11,7 @@
 use crate::backend::Triangulation;
 use crate::complex::Complex;
 use crate::generate::scatter;
-use crate::geom::{det3, det3_q, q, qp, Iv, QPoint, Q};
+use crate::geom::{det3, det3_ev, det3_sign, det4_sign, q, qp, Dyadic, Ev, Iv, QPoint, Q};
 use crate::FastMap;
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -336,21 +336,67 @@ impl Sites {
             .find(|v| sites[1..].iter().all(|&s| self.served_by(s).contains(v)))
     }
 
-    fn decide(&self, filtered: Iv, exact: impl FnOnce() -> Q) -> Ordering {
+    fn decide(&self, filtered: Iv, exact: impl FnOnce() -> Ordering) -> Ordering {
         filtered.sign().unwrap_or_else(|| {
             self.exact_evaluations.fetch_add(1, Relaxed);
-            exact().cmp(&Q::from(0))
+            exact()
         })
+    }
+
+    /// Site s exactly and homogeneously, [X, Y, W, H]: its position is
+    /// (X, Y) / H and its weight W / H^2, with H > 0. Polynomials in the
+    /// defining doubles, so predicates on them need no division (`exact`
+    /// gives the rationals).
+    pub(crate) fn homogeneous(&self, s: usize) -> [Dyadic; 4] {
+        let d = |x: f64| Dyadic::of(x);
+        let pt = |v: u32| self.points[v as usize].map(d);
+        let wt = |v: u32| d(self.weights[v as usize]);
+        match self.def[s] {
+            Def::Line { i, j, t } => {
+                let (pi, pj) = (pt(i), pt(j));
+                let u = [&pj[0] - &pi[0], &pj[1] - &pi[1]];
+                let l = &u[0].sqr() + &u[1].sqr();
+                // lambda = a / h with h = 2 l.
+                let a = &(&l + &wt(i)) - &wt(j);
+                let h = &l * &Dyadic::int(2);
+                let ht = &h * &d(t);
+                let x = &(&(&h * &pi[0]) + &(&a * &u[0])) - &(&ht * &u[1]);
+                let y = &(&(&h * &pi[1]) + &(&a * &u[1])) + &(&ht * &u[0]);
+                // H^2 (l (lambda^2 + t^2) - w_i) = l a^2 + l h^2 t^2 - h^2 w_i.
+                let h2 = h.sqr();
+                let w = &(&(&l * &a.sqr()) + &(&(&l * &h2) * &d(t).sqr())) - &(&h2 * &wt(i));
+                [x, y, w, h]
+            }
+            Def::Free { p, anchor } => {
+                let (p, a) = (p.map(d), pt(anchor));
+                let w = &(&(&p[0] - &a[0]).sqr() + &(&p[1] - &a[1]).sqr()) - &wt(anchor);
+                let [x, y] = p;
+                [x, y, w, Dyadic::int(1)]
+            }
+        }
     }
 
     /// Orientation of three sites (Greater: counter-clockwise).
     pub fn orient(&self, a: usize, b: usize, c: usize) -> Ordering {
+        let [ea, eb, ec] = [a, b, c].map(|s| self.ev(s));
+        let filtered = (eb[0] - ea[0]) * (ec[1] - ea[1]) - (eb[1] - ea[1]) * (ec[0] - ea[0]);
+        if let Some(o) = filtered.sign() {
+            return o;
+        }
         let [pa, pb, pc] = [a, b, c].map(|s| self.iv[s]);
         let d = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
+        // det [x y 1] of the three, each row times its H > 0.
         self.decide(d, || {
-            let [qa, qb, qc] = [a, b, c].map(|s| self.exact(s).0);
-            (&qb[0] - &qa[0]) * (&qc[1] - &qa[1]) - (&qb[1] - &qa[1]) * (&qc[0] - &qa[0])
+            let h = [a, b, c].map(|s| self.homogeneous(s));
+            det3_sign(h.each_ref().map(|[x, y, _, w]| [x, y, w]))
         })
+    }
+
+    /// Site s's position and weight as doubles with error bounds (the
+    /// first filter).
+    fn ev(&self, s: usize) -> [Ev; 3] {
+        let (iv, approx) = (&self.iv[s], &self.approx[s]);
+        [0, 1, 2].map(|k| Ev::within(iv[k], approx[k]))
     }
 
     /// Power test: Greater when d has less power than the orthogonal circle of
@@ -360,25 +406,30 @@ impl Sites {
         if self.common_vertex(&[a, b, c, d]).is_some() {
             return Ordering::Equal;
         }
+        let ed = self.ev(d);
+        let ev_row = |s: usize| {
+            let p = self.ev(s);
+            let (dx, dy) = (p[0] - ed[0], p[1] - ed[1]);
+            [dx, dy, dx.sqr() + dy.sqr() - p[2] + ed[2]]
+        };
+        if let Some(o) = det3_ev([ev_row(a), ev_row(b), ev_row(c)]).sign() {
+            return o;
+        }
         let pd = self.iv[d];
         let row = |s: usize| {
             let p = self.iv[s];
             let (dx, dy) = (p[0] - pd[0], p[1] - pd[1]);
             [dx, dy, dx.sqr() + dy.sqr() - p[2] + pd[2]]
         };
+        // The same determinant is det [x y (x^2 + y^2 - w) 1] of a, b, c, d;
+        // each row times H^2 > 0.
         self.decide(det3([row(a), row(b), row(c)]), || {
-            let (qd, wd) = self.exact(d);
-            let rows: Vec<[Q; 3]> = [a, b, c]
-                .iter()
-                .map(|&s| {
-                    let (p, w) = self.exact(s);
-                    let (dx, dy) = (&p[0] - &qd[0], &p[1] - &qd[1]);
-                    let z = &dx * &dx + &dy * &dy - w + &wd;
-                    [dx, dy, z]
-                })
-                .collect();
-            let r = |k: usize| [&rows[k][0], &rows[k][1], &rows[k][2]];
-            det3_q([r(0), r(1), r(2)])
+            let rows = [a, b, c, d].map(|s| {
+                let [x, y, w, h] = self.homogeneous(s);
+                let z = &(&x.sqr() + &y.sqr()) - &w;
+                [&x * &h, &y * &h, z, h.sqr()]
+            });
+            det4_sign(&rows)
         })
     }
 
@@ -387,11 +438,13 @@ impl Sites {
     pub fn inside_wrt(&self, a: usize, b: usize) -> bool {
         let (pa, pb) = (self.iv[a], self.iv[b]);
         let v = (pa[0] - pb[0]).sqr() + (pa[1] - pb[1]).sqr() + pa[2] - pb[2];
+        // Times H_a^2 H_b^2 > 0.
         self.decide(v, || {
-            let ((qa, wa), (qb, wb)) = (self.exact(a), self.exact(b));
-            let (wa, wb) = (&wa, &wb);
-            let (dx, dy) = (&qa[0] - &qb[0], &qa[1] - &qb[1]);
-            &dx * &dx + &dy * &dy + wa - wb
+            let ([xa, ya, wa, ha], [xb, yb, wb, hb]) = (self.homogeneous(a), self.homogeneous(b));
+            let dx = &(&xa * &hb) - &(&xb * &ha);
+            let dy = &(&ya * &hb) - &(&yb * &ha);
+            let lhs = &(&dx.sqr() + &dy.sqr()) + &(&wa * &hb.sqr());
+            (&lhs - &(&wb * &ha.sqr())).sign()
         }) == Ordering::Greater
     }
 
@@ -788,6 +841,85 @@ pub(crate) mod tests {
             assert!(q(i.lo) <= *x && *x <= q(i.hi));
         }
         assert!(q(s.iv[2][2].lo) <= w && w <= q(s.iv[2][2].hi));
+    }
+
+    #[test]
+    fn exact_fallbacks_agree_with_the_rationals() {
+        // A cavity side (0, 3)-(0, 2)-(0, 1) and a well's vertex (1, 2) with
+        // its neighbours, mirror images about y = 2 (generate field's
+        // cavities): the four segment sites are exactly co-orthogonal.
+        let pts = [
+            [0.0, 3.0],
+            [0.0, 2.0],
+            [0.0, 1.0],
+            [1.0803847577293368, 2.3],
+            [1.0, 2.0],
+            [1.0803847577293368, 1.7000000000000002],
+        ];
+        let (t1, t2) = (-0.9003206314411143, 0.22150239020997187);
+        let lines = [(3, 4, t1), (0, 1, t2), (4, 5, t1), (1, 2, t2), (0, 4, 0.1)];
+        let make = |w: &[f64]| {
+            let mut s = weighted_sites(&pts, w);
+            for (k, &(i, j, t)) in lines.iter().enumerate() {
+                let kind = Def::Line { i, j, t };
+                let track = Track {
+                    ta: t,
+                    tb: t,
+                    kind,
+                    dir: [0.0; 2],
+                };
+                s.push(
+                    Role::Segment {
+                        seg: k as u32,
+                        left: true,
+                    },
+                    track,
+                    0.0,
+                    false,
+                );
+            }
+            s
+        };
+        // Unweighted, and under weights symmetric about y = 2, which keep
+        // the four co-orthogonal.
+        for sites in [make(&[0.0; 6]), make(&[0.3, -0.2, 0.3, 0.05, 0.01, 0.05])] {
+            let n = sites.len();
+            for (k, h) in (0..n).map(|k| (k, sites.homogeneous(k))) {
+                let (p, wt) = sites.exact(k);
+                let hq = h[3].exact();
+                assert_eq!(h[0].exact(), &p[0] * &hq, "site {k}");
+                assert_eq!(h[1].exact(), &p[1] * &hq, "site {k}");
+                assert_eq!(h[2].exact(), &wt * &hq * &hq, "site {k}");
+            }
+            let reference = |a: usize, b: usize, c: usize, d: usize| {
+                let (qd, wd) = sites.exact(d);
+                let rows: Vec<[Q; 3]> = [a, b, c]
+                    .map(|s| {
+                        let (p, w) = sites.exact(s);
+                        let (dx, dy) = (&p[0] - &qd[0], &p[1] - &qd[1]);
+                        let z = &dx * &dx + &dy * &dy - w + &wd;
+                        [dx, dy, z]
+                    })
+                    .into();
+                let r = |k: usize| [&rows[k][0], &rows[k][1], &rows[k][2]];
+                crate::geom::det3_q([r(0), r(1), r(2)]).cmp(&Q::from(0))
+            };
+            let first = 6;
+            let quads = [[0, 1, 2, 3], [1, 0, 2, 3], [0, 1, 2, 4], [4, 3, 1, 0]];
+            for q4 in quads.map(|q| q.map(|k| first + k)) {
+                let [a, b, c, d] = q4;
+                assert_eq!(
+                    sites.power_test(a, b, c, d),
+                    reference(a, b, c, d),
+                    "{q4:?}"
+                );
+            }
+            assert_eq!(
+                sites.power_test(first, first + 1, first + 2, first + 3),
+                Ordering::Equal
+            );
+            assert!(sites.exact_evaluations.load(Relaxed) > 0);
+        }
     }
 
     #[test]

@@ -5,7 +5,7 @@
 use super::{Def, Role, Sites, Track, MIN_DUAL, VERTEX_FRACS};
 use crate::backend::Triangulation;
 use crate::complex::Complex;
-use crate::geom::{orient, q, qp, Iv};
+use crate::geom::{orient, Dyadic, Iv};
 use crate::{FastMap, FastSet};
 use std::cmp::Ordering;
 
@@ -220,14 +220,16 @@ impl Sites {
         let (a, b, x) = (iv(pv), iv(pk), self.iv[s]);
         let d = |a: [Iv; 2]| (x[0] - a[0]).sqr() + (x[1] - a[1]).sqr();
         let filtered = d(b) - Iv::of(wk) - d(a) + Iv::of(wv);
+        // Times H^2 > 0 at the homogeneous position (X, Y) / H.
         self.decide(filtered, || {
-            let (pos, _) = self.exact(s);
-            let d = |p: [f64; 2]| {
-                let p = qp(p);
-                let (dx, dy) = (&pos[0] - &p[0], &pos[1] - &p[1]);
-                &dx * &dx + &dy * &dy
+            let [x, y, _, h] = self.homogeneous(s);
+            let h2 = h.sqr();
+            let power = |p: [f64; 2], w: f64| {
+                let dx = &x - &(&h * &Dyadic::of(p[0]));
+                let dy = &y - &(&h * &Dyadic::of(p[1]));
+                &(&dx.sqr() + &dy.sqr()) - &(&h2 * &Dyadic::of(w))
             };
-            d(pk) - q(wk) - d(pv) + q(wv)
+            (&power(pk, wk) - &power(pv, wv)).sign()
         })
     }
 }
