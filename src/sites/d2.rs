@@ -436,6 +436,11 @@ impl Sites {
     /// Whether site a lies strictly inside its cell with respect to site b:
     /// |a - b|^2 + omega_a - omega_b > 0.
     pub fn inside_wrt(&self, a: usize, b: usize) -> bool {
+        let (ea, eb) = (self.ev(a), self.ev(b));
+        let quick = (ea[0] - eb[0]).sqr() + (ea[1] - eb[1]).sqr() + ea[2] - eb[2];
+        if let Some(o) = quick.sign() {
+            return o == Ordering::Greater;
+        }
         let (pa, pb) = (self.iv[a], self.iv[b]);
         let v = (pa[0] - pb[0]).sqr() + (pa[1] - pb[1]).sqr() + pa[2] - pb[2];
         // Times H_a^2 H_b^2 > 0.
