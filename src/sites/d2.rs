@@ -12,7 +12,6 @@ use crate::backend::Triangulation;
 use crate::complex::Complex;
 use crate::generate::scatter;
 use crate::geom::{det3, det3_ev, det3_sign, det4_sign, q, qp, Dyadic, Ev, Iv, QPoint, Q};
-use crate::FastMap;
 use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
@@ -690,19 +689,19 @@ impl Sites {
     /// A site whose position or weight is beyond the range of doubles, or
     /// that doubles cannot tell from the other site of its segment.
     pub fn unrepresentable(&self) -> Option<usize> {
-        let pairs = self.segment_pairs(self.len());
-        let partner: FastMap<u32, u32> = pairs
-            .iter()
-            .filter(|p| p[0] != u32::MAX)
-            .flat_map(|&[l, r]| [(l, r), (r, l)])
-            .collect();
-        (0..self.len()).find(|&s| {
+        // The other site of each segment site's pair (a vector, not a map:
+        // two million sites at 10^6 segments).
+        let mut partner = vec![u32::MAX; self.len()];
+        for [l, r] in self.segment_pairs(self.len()) {
+            if l != u32::MAX && r != u32::MAX {
+                (partner[l as usize], partner[r as usize]) = (r, l);
+            }
+        }
+        (0..self.len()).into_par_iter().position_first(|s| {
             self.iv[s]
                 .iter()
                 .any(|x| !(x.lo.is_finite() && x.hi.is_finite()))
-                || partner
-                    .get(&(s as u32))
-                    .is_some_and(|&o| self.def[o as usize] == self.def[s])
+                || (partner[s] != u32::MAX && self.def[partner[s] as usize] == self.def[s])
         })
     }
 
