@@ -667,23 +667,34 @@ impl Sites {
         ]
     }
 
-    /// The power centre of three sites exactly, rounded to doubles.
+    /// The power centre of three sites exactly, rounded to doubles: from
+    /// their homogeneous coordinates in dyadic integers, with one rational
+    /// division per coordinate at the end.
     pub fn centre_exact(&self, t: [u32; 3]) -> [f64; 2] {
         self.exact_evaluations.fetch_add(1, Relaxed);
-        let [(p0, w0), (p1, w1), (p2, w2)] = t.map(|s| self.exact(s as usize));
-        let u = [&p1[0] - &p0[0], &p1[1] - &p0[1]];
-        let v = [&p2[0] - &p0[0], &p2[1] - &p0[1]];
-        let det = &u[0] * &v[1] - &u[1] * &v[0];
-        if det == 0 {
+        let [[x0, y0, w0, h0], [x1, y1, w1, h1], [x2, y2, w2, h2]] =
+            t.map(|s| self.homogeneous(s as usize));
+        // u = p1 - p0 and v = p2 - p0 times h0 h1 and h0 h2.
+        let u = [&(&x1 * &h0) - &(&x0 * &h1), &(&y1 * &h0) - &(&y0 * &h1)];
+        let v = [&(&x2 * &h0) - &(&x0 * &h2), &(&y2 * &h0) - &(&y0 * &h2)];
+        let det = &(&u[0] * &v[1]) - &(&u[1] * &v[0]);
+        if det.sign() == Ordering::Equal {
             return self.centre_estimate(t).0;
         }
-        // y = c - p0 solves 2 y.u = |u|^2 - w1 + w0, 2 y.v = |v|^2 - w2 + w0
-        let ru = &u[0] * &u[0] + &u[1] * &u[1] - w1 + &w0;
-        let rv = &v[0] * &v[0] + &v[1] * &v[1] - w2 + &w0;
-        let two_det = det * Q::from(2);
-        let x = &p0[0] + (&ru * &v[1] - &rv * &u[1]) / &two_det;
-        let y = &p0[1] + (&rv * &u[0] - &ru * &v[0]) / &two_det;
-        [crate::geom::f(&x), crate::geom::f(&y)]
+        // y = c - p0 solves 2 y.u = |u|^2 - w1 + w0, 2 y.v = |v|^2 - w2 + w0,
+        // whose right sides are ru / (h0 h1)^2 and rv / (h0 h2)^2.
+        let h0s = h0.sqr();
+        let ru = &(&(&u[0].sqr() + &u[1].sqr()) - &(&w1 * &h0s)) + &(&w0 * &h1.sqr());
+        let rv = &(&(&v[0].sqr() + &v[1].sqr()) - &(&w2 * &h0s)) + &(&w0 * &h2.sqr());
+        let (ru, rv) = (&ru * &h2, &rv * &h1);
+        // c = (2 det h1 h2 p0 h0 + n) / (2 det h0 h1 h2).
+        let two_det_h12 = &(&det * &Dyadic::int(2)) * &(&h1 * &h2);
+        let den = (&two_det_h12 * &h0).exact();
+        let nx = &(&ru * &v[1]) - &(&rv * &u[1]);
+        let ny = &(&rv * &u[0]) - &(&ru * &v[0]);
+        let coord =
+            |p: &Dyadic, n: &Dyadic| crate::geom::f(&((&(&two_det_h12 * p) + n).exact() / &den));
+        [coord(&x0, &nx), coord(&y0, &ny)]
     }
 
     /// A site whose position or weight is beyond the range of doubles, or
@@ -924,6 +935,77 @@ pub(crate) mod tests {
             );
             assert!(sites.exact_evaluations.load(Relaxed) > 0);
         }
+    }
+
+    #[test]
+    fn exact_centres_are_the_rationals_rounded() {
+        // Weighted points and line sites in general position and the
+        // field's symmetric four: the centre of every triple, against the
+        // power centre solved in rationals.
+        let pts = [
+            [0.0, 3.0],
+            [0.0, 2.0],
+            [0.0, 1.0],
+            [1.08, 2.3],
+            [1.0, 2.0],
+            [1.08, 1.7],
+        ];
+        let mut s = weighted_sites(&pts, &[0.3, -0.2, 0.1, 0.05, 0.01, -0.05]);
+        let lines = [
+            (3, 4, -0.9),
+            (0, 1, 0.2215),
+            (4, 5, -0.9),
+            (1, 2, 0.2215),
+            (0, 4, 0.1),
+        ];
+        for (k, &(i, j, t)) in lines.iter().enumerate() {
+            let kind = Def::Line { i, j, t };
+            let track = Track {
+                ta: t,
+                tb: t,
+                kind,
+                dir: [0.0; 2],
+            };
+            s.push(
+                Role::Segment {
+                    seg: k as u32,
+                    left: true,
+                },
+                track,
+                0.0,
+                false,
+            );
+        }
+        let reference = |t: [u32; 3]| {
+            let [(p0, w0), (p1, w1), (p2, w2)] = t.map(|k| s.exact(k as usize));
+            let u = [&p1[0] - &p0[0], &p1[1] - &p0[1]];
+            let v = [&p2[0] - &p0[0], &p2[1] - &p0[1]];
+            let det = &u[0] * &v[1] - &u[1] * &v[0];
+            let ru = &u[0] * &u[0] + &u[1] * &u[1] - w1 + &w0;
+            let rv = &v[0] * &v[0] + &v[1] * &v[1] - w2 + &w0;
+            let two_det = det * Q::from(2);
+            let x = &p0[0] + (&ru * &v[1] - &rv * &u[1]) / &two_det;
+            let y = &p0[1] + (&rv * &u[0] - &ru * &v[0]) / &two_det;
+            [crate::geom::f(&x), crate::geom::f(&y)]
+        };
+        let n = s.len() as u32;
+        let mut checked = 0;
+        for a in 0..n {
+            for b in a + 1..n {
+                for c in b + 1..n {
+                    if s.orient(a as usize, b as usize, c as usize) == Ordering::Equal {
+                        continue;
+                    }
+                    assert_eq!(
+                        s.centre_exact([a, b, c]),
+                        reference([a, b, c]),
+                        "{a} {b} {c}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 150, "{checked}");
     }
 
     #[test]
