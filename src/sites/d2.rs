@@ -765,6 +765,9 @@ impl crate::backend::FlipTests for Sites {
 }
 
 #[cfg(test)]
+mod exact_tests;
+
+#[cfg(test)]
 pub(crate) mod tests {
     use super::*;
 
@@ -856,156 +859,6 @@ pub(crate) mod tests {
             assert!(q(i.lo) <= *x && *x <= q(i.hi));
         }
         assert!(q(s.iv[2][2].lo) <= w && w <= q(s.iv[2][2].hi));
-    }
-
-    #[test]
-    fn exact_fallbacks_agree_with_the_rationals() {
-        // A cavity side (0, 3)-(0, 2)-(0, 1) and a well's vertex (1, 2) with
-        // its neighbours, mirror images about y = 2 (generate field's
-        // cavities): the four segment sites are exactly co-orthogonal.
-        let pts = [
-            [0.0, 3.0],
-            [0.0, 2.0],
-            [0.0, 1.0],
-            [1.0803847577293368, 2.3],
-            [1.0, 2.0],
-            [1.0803847577293368, 1.7000000000000002],
-        ];
-        let (t1, t2) = (-0.9003206314411143, 0.22150239020997187);
-        let lines = [(3, 4, t1), (0, 1, t2), (4, 5, t1), (1, 2, t2), (0, 4, 0.1)];
-        let make = |w: &[f64]| {
-            let mut s = weighted_sites(&pts, w);
-            for (k, &(i, j, t)) in lines.iter().enumerate() {
-                let kind = Def::Line { i, j, t };
-                let track = Track {
-                    ta: t,
-                    tb: t,
-                    kind,
-                    dir: [0.0; 2],
-                };
-                s.push(
-                    Role::Segment {
-                        seg: k as u32,
-                        left: true,
-                    },
-                    track,
-                    0.0,
-                    false,
-                );
-            }
-            s
-        };
-        // Unweighted, and under weights symmetric about y = 2, which keep
-        // the four co-orthogonal.
-        for sites in [make(&[0.0; 6]), make(&[0.3, -0.2, 0.3, 0.05, 0.01, 0.05])] {
-            let n = sites.len();
-            for (k, h) in (0..n).map(|k| (k, sites.homogeneous(k))) {
-                let (p, wt) = sites.exact(k);
-                let hq = h[3].exact();
-                assert_eq!(h[0].exact(), &p[0] * &hq, "site {k}");
-                assert_eq!(h[1].exact(), &p[1] * &hq, "site {k}");
-                assert_eq!(h[2].exact(), &wt * &hq * &hq, "site {k}");
-            }
-            let reference = |a: usize, b: usize, c: usize, d: usize| {
-                let (qd, wd) = sites.exact(d);
-                let rows: Vec<[Q; 3]> = [a, b, c]
-                    .map(|s| {
-                        let (p, w) = sites.exact(s);
-                        let (dx, dy) = (&p[0] - &qd[0], &p[1] - &qd[1]);
-                        let z = &dx * &dx + &dy * &dy - w + &wd;
-                        [dx, dy, z]
-                    })
-                    .into();
-                let r = |k: usize| [&rows[k][0], &rows[k][1], &rows[k][2]];
-                crate::geom::det3_q([r(0), r(1), r(2)]).cmp(&Q::from(0))
-            };
-            let first = 6;
-            let quads = [[0, 1, 2, 3], [1, 0, 2, 3], [0, 1, 2, 4], [4, 3, 1, 0]];
-            for q4 in quads.map(|q| q.map(|k| first + k)) {
-                let [a, b, c, d] = q4;
-                assert_eq!(
-                    sites.power_test(a, b, c, d),
-                    reference(a, b, c, d),
-                    "{q4:?}"
-                );
-            }
-            assert_eq!(
-                sites.power_test(first, first + 1, first + 2, first + 3),
-                Ordering::Equal
-            );
-            assert!(sites.exact_evaluations.load(Relaxed) > 0);
-        }
-    }
-
-    #[test]
-    fn exact_centres_are_the_rationals_rounded() {
-        // Weighted points and line sites in general position and the
-        // field's symmetric four: the centre of every triple, against the
-        // power centre solved in rationals.
-        let pts = [
-            [0.0, 3.0],
-            [0.0, 2.0],
-            [0.0, 1.0],
-            [1.08, 2.3],
-            [1.0, 2.0],
-            [1.08, 1.7],
-        ];
-        let mut s = weighted_sites(&pts, &[0.3, -0.2, 0.1, 0.05, 0.01, -0.05]);
-        let lines = [
-            (3, 4, -0.9),
-            (0, 1, 0.2215),
-            (4, 5, -0.9),
-            (1, 2, 0.2215),
-            (0, 4, 0.1),
-        ];
-        for (k, &(i, j, t)) in lines.iter().enumerate() {
-            let kind = Def::Line { i, j, t };
-            let track = Track {
-                ta: t,
-                tb: t,
-                kind,
-                dir: [0.0; 2],
-            };
-            s.push(
-                Role::Segment {
-                    seg: k as u32,
-                    left: true,
-                },
-                track,
-                0.0,
-                false,
-            );
-        }
-        let reference = |t: [u32; 3]| {
-            let [(p0, w0), (p1, w1), (p2, w2)] = t.map(|k| s.exact(k as usize));
-            let u = [&p1[0] - &p0[0], &p1[1] - &p0[1]];
-            let v = [&p2[0] - &p0[0], &p2[1] - &p0[1]];
-            let det = &u[0] * &v[1] - &u[1] * &v[0];
-            let ru = &u[0] * &u[0] + &u[1] * &u[1] - w1 + &w0;
-            let rv = &v[0] * &v[0] + &v[1] * &v[1] - w2 + &w0;
-            let two_det = det * Q::from(2);
-            let x = &p0[0] + (&ru * &v[1] - &rv * &u[1]) / &two_det;
-            let y = &p0[1] + (&rv * &u[0] - &ru * &v[0]) / &two_det;
-            [crate::geom::f(&x), crate::geom::f(&y)]
-        };
-        let n = s.len() as u32;
-        let mut checked = 0;
-        for a in 0..n {
-            for b in a + 1..n {
-                for c in b + 1..n {
-                    if s.orient(a as usize, b as usize, c as usize) == Ordering::Equal {
-                        continue;
-                    }
-                    assert_eq!(
-                        s.centre_exact([a, b, c]),
-                        reference([a, b, c]),
-                        "{a} {b} {c}"
-                    );
-                    checked += 1;
-                }
-            }
-        }
-        assert!(checked > 150, "{checked}");
     }
 
     #[test]
