@@ -262,9 +262,34 @@ impl std::ops::Neg for Iv {
     }
 }
 
-/// 3x3 determinant of interval rows.
-pub fn det3(r: [[Iv; 3]; 3]) -> Iv {
-    let m = |a: Iv, b: Iv, c: Iv, d: Iv| a * b - c * d;
+/// The arithmetic a filter evaluates a predicate in (intervals, or doubles
+/// with running error bounds): each predicate's expression is written once,
+/// generic over it, and evaluated in each filter in turn.
+pub trait Filter:
+    Copy + std::ops::Add<Output = Self> + std::ops::Sub<Output = Self> + std::ops::Mul<Output = Self>
+{
+    /// The exact double x.
+    fn of(x: f64) -> Self;
+    fn sqr(self) -> Self;
+    /// The sign of every value the result stands for, or None.
+    fn sign(self) -> Option<Ordering>;
+}
+
+impl Filter for Iv {
+    fn of(x: f64) -> Iv {
+        Iv::of(x)
+    }
+    fn sqr(self) -> Iv {
+        Iv::sqr(self)
+    }
+    fn sign(self) -> Option<Ordering> {
+        Iv::sign(self)
+    }
+}
+
+/// 3x3 determinant of filtered rows.
+pub fn det3<T: Filter>(r: [[T; 3]; 3]) -> T {
+    let m = |a: T, b: T, c: T, d: T| a * b - c * d;
     r[0][0] * (m(r[1][1], r[2][2], r[1][2], r[2][1]))
         - r[0][1] * (m(r[1][0], r[2][2], r[1][2], r[2][0]))
         + r[0][2] * (m(r[1][0], r[2][1], r[1][1], r[2][0]))

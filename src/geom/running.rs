@@ -5,7 +5,7 @@
 //! and maximum and two outward steps. Decides only what the bound allows;
 //! the rest goes on to intervals and exact arithmetic.
 
-use super::Iv;
+use super::{Filter, Iv};
 use std::cmp::Ordering;
 use std::ops::{Add, Mul, Sub};
 
@@ -23,12 +23,6 @@ pub struct Ev {
 }
 
 impl Ev {
-    /// The exact double x.
-    #[cfg(test)]
-    pub fn of(x: f64) -> Ev {
-        Ev { v: x, e: 0.0 }
-    }
-
     /// A double inside an enclosure, with its distance to either end
     /// (rounded up: the subtraction may round down by a relative U, the
     /// product too).
@@ -38,8 +32,14 @@ impl Ev {
             e: (i.hi - v).max(v - i.lo) * (1.0 + 4.0 * U) + TINY,
         }
     }
+}
 
-    pub fn sqr(self) -> Ev {
+impl Filter for Ev {
+    fn of(x: f64) -> Ev {
+        Ev { v: x, e: 0.0 }
+    }
+
+    fn sqr(self) -> Ev {
         let v = self.v * self.v;
         let a = self.v.abs();
         Ev {
@@ -51,7 +51,7 @@ impl Ev {
     /// The sign of every value within the bound, or None. Each bound above
     /// was itself rounded (down by at most a relative U per operation, over
     /// fewer than 60 operations in any predicate here), hence the margin.
-    pub fn sign(self) -> Option<Ordering> {
+    fn sign(self) -> Option<Ordering> {
         let bound = self.e * (1.0 + 128.0 * U);
         if !(bound.is_finite() && self.v.is_finite()) || self.v.abs() <= bound {
             return None;
@@ -97,18 +97,10 @@ impl Mul for Ev {
     }
 }
 
-/// 3x3 determinant of rows carried with their bounds (as `det3`).
-pub fn det3_ev(r: [[Ev; 3]; 3]) -> Ev {
-    let m = |a: Ev, b: Ev, c: Ev, d: Ev| a * b - c * d;
-    r[0][0] * (m(r[1][1], r[2][2], r[1][2], r[2][1]))
-        - r[0][1] * (m(r[1][0], r[2][2], r[1][2], r[2][0]))
-        + r[0][2] * (m(r[1][0], r[2][1], r[1][1], r[2][0]))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::{det3_q, q, Q};
+    use crate::geom::{det3, det3_q, q, Q};
 
     /// Rows near singular at every scale: whatever the filter decides, the
     /// rationals agree.
@@ -128,7 +120,7 @@ mod tests {
                 r[2][j] = f64::from_bits((x.to_bits() as i64 + ulps * (k as i64 % 3)) as u64);
             }
             let r = r.map(|row| row.map(|x| x * scale));
-            let filtered = det3_ev(r.map(|row| row.map(Ev::of))).sign();
+            let filtered = det3(r.map(|row| row.map(Ev::of))).sign();
             let exact = {
                 let qr = r.map(|row| row.map(q));
                 let rows = [&qr[0], &qr[1], &qr[2]].map(|row| [&row[0], &row[1], &row[2]]);

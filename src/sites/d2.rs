@@ -11,7 +11,7 @@
 use crate::backend::Triangulation;
 use crate::complex::Complex;
 use crate::generate::scatter;
-use crate::geom::{det3, det3_ev, det3_sign, det4_sign, q, qp, Dyadic, Ev, Iv, QPoint, Q};
+use crate::geom::{det3, det3_sign, det4_sign, q, qp, Dyadic, Ev, Filter, Iv, QPoint, Q};
 use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
@@ -335,11 +335,31 @@ impl Sites {
             .find(|v| sites[1..].iter().all(|&s| self.served_by(s).contains(v)))
     }
 
-    fn decide(&self, filtered: Iv, exact: impl FnOnce() -> Ordering) -> Ordering {
-        filtered.sign().unwrap_or_else(|| {
-            self.exact_evaluations.fetch_add(1, Relaxed);
-            exact()
-        })
+    /// A predicate's sign: its expression in doubles with running error
+    /// bounds (`quick`), else in intervals (`filtered`), else `exact`.
+    fn decide(
+        &self,
+        quick: Ev,
+        filtered: impl FnOnce() -> Iv,
+        exact: impl FnOnce() -> Ordering,
+    ) -> Ordering {
+        quick
+            .sign()
+            .or_else(|| filtered().sign())
+            .unwrap_or_else(|| {
+                self.exact_evaluations.fetch_add(1, Relaxed);
+                exact()
+            })
+    }
+
+    /// Site s's position and weight in each filter's arithmetic.
+    fn ev(&self, s: usize) -> [Ev; 3] {
+        let (iv, approx) = (&self.iv[s], &self.approx[s]);
+        [0, 1, 2].map(|k| Ev::within(iv[k], approx[k]))
+    }
+
+    fn iv(&self, s: usize) -> [Iv; 3] {
+        self.iv[s]
     }
 
     /// Site s exactly and homogeneously, [X, Y, W, H]: its position is
@@ -377,25 +397,16 @@ impl Sites {
 
     /// Orientation of three sites (Greater: counter-clockwise).
     pub fn orient(&self, a: usize, b: usize, c: usize) -> Ordering {
-        let [ea, eb, ec] = [a, b, c].map(|s| self.ev(s));
-        let filtered = (eb[0] - ea[0]) * (ec[1] - ea[1]) - (eb[1] - ea[1]) * (ec[0] - ea[0]);
-        if let Some(o) = filtered.sign() {
-            return o;
-        }
-        let [pa, pb, pc] = [a, b, c].map(|s| self.iv[s]);
-        let d = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
+        let t = [a, b, c];
         // det [x y 1] of the three, each row times its H > 0.
-        self.decide(d, || {
-            let h = [a, b, c].map(|s| self.homogeneous(s));
-            det3_sign(h.each_ref().map(|[x, y, _, w]| [x, y, w]))
-        })
-    }
-
-    /// Site s's position and weight as doubles with error bounds (the
-    /// first filter).
-    fn ev(&self, s: usize) -> [Ev; 3] {
-        let (iv, approx) = (&self.iv[s], &self.approx[s]);
-        [0, 1, 2].map(|k| Ev::within(iv[k], approx[k]))
+        self.decide(
+            orient_expr(t.map(|s| self.ev(s))),
+            || orient_expr(t.map(|s| self.iv(s))),
+            || {
+                let h = t.map(|s| self.homogeneous(s));
+                det3_sign(h.each_ref().map(|[x, y, _, w]| [x, y, w]))
+            },
+        )
     }
 
     /// Power test: Greater when d has less power than the orthogonal circle of
@@ -405,51 +416,39 @@ impl Sites {
         if self.common_vertex(&[a, b, c, d]).is_some() {
             return Ordering::Equal;
         }
-        let ed = self.ev(d);
-        let ev_row = |s: usize| {
-            let p = self.ev(s);
-            let (dx, dy) = (p[0] - ed[0], p[1] - ed[1]);
-            [dx, dy, dx.sqr() + dy.sqr() - p[2] + ed[2]]
-        };
-        if let Some(o) = det3_ev([ev_row(a), ev_row(b), ev_row(c)]).sign() {
-            return o;
-        }
-        let pd = self.iv[d];
-        let row = |s: usize| {
-            let p = self.iv[s];
-            let (dx, dy) = (p[0] - pd[0], p[1] - pd[1]);
-            [dx, dy, dx.sqr() + dy.sqr() - p[2] + pd[2]]
-        };
+        let t = [a, b, c, d];
         // The same determinant is det [x y (x^2 + y^2 - w) 1] of a, b, c, d;
         // each row times H^2 > 0.
-        self.decide(det3([row(a), row(b), row(c)]), || {
-            let rows = [a, b, c, d].map(|s| {
-                let [x, y, w, h] = self.homogeneous(s);
-                let z = &(&x.sqr() + &y.sqr()) - &w;
-                [&x * &h, &y * &h, z, h.sqr()]
-            });
-            det4_sign(&rows)
-        })
+        self.decide(
+            power_expr(t.map(|s| self.ev(s))),
+            || power_expr(t.map(|s| self.iv(s))),
+            || {
+                let rows = t.map(|s| {
+                    let [x, y, w, h] = self.homogeneous(s);
+                    let z = &(&x.sqr() + &y.sqr()) - &w;
+                    [&x * &h, &y * &h, z, h.sqr()]
+                });
+                det4_sign(&rows)
+            },
+        )
     }
 
     /// Whether site a lies strictly inside its cell with respect to site b:
     /// |a - b|^2 + omega_a - omega_b > 0.
     pub fn inside_wrt(&self, a: usize, b: usize) -> bool {
-        let (ea, eb) = (self.ev(a), self.ev(b));
-        let quick = (ea[0] - eb[0]).sqr() + (ea[1] - eb[1]).sqr() + ea[2] - eb[2];
-        if let Some(o) = quick.sign() {
-            return o == Ordering::Greater;
-        }
-        let (pa, pb) = (self.iv[a], self.iv[b]);
-        let v = (pa[0] - pb[0]).sqr() + (pa[1] - pb[1]).sqr() + pa[2] - pb[2];
         // Times H_a^2 H_b^2 > 0.
-        self.decide(v, || {
-            let ([xa, ya, wa, ha], [xb, yb, wb, hb]) = (self.homogeneous(a), self.homogeneous(b));
-            let dx = &(&xa * &hb) - &(&xb * &ha);
-            let dy = &(&ya * &hb) - &(&yb * &ha);
-            let lhs = &(&dx.sqr() + &dy.sqr()) + &(&wa * &hb.sqr());
-            (&lhs - &(&wb * &ha.sqr())).sign()
-        }) == Ordering::Greater
+        let t = [a, b];
+        self.decide(
+            inside_expr(t.map(|s| self.ev(s))),
+            || inside_expr(t.map(|s| self.iv(s))),
+            || {
+                let [[xa, ya, wa, ha], [xb, yb, wb, hb]] = t.map(|s| self.homogeneous(s));
+                let dx = &(&xa * &hb) - &(&xb * &ha);
+                let dy = &(&ya * &hb) - &(&yb * &ha);
+                let lhs = &(&dx.sqr() + &dy.sqr()) + &(&wa * &hb.sqr());
+                (&lhs - &(&wb * &ha.sqr())).sign()
+            },
+        ) == Ordering::Greater
     }
 
     /// The parameters of the power centres of the triangles left and right
@@ -752,6 +751,25 @@ impl Sites {
     pub fn is_empty(&self) -> bool {
         self.def.is_empty()
     }
+}
+
+/// det [b - a, c - a] of three sites' positions, in a filter's arithmetic.
+fn orient_expr<T: Filter>([a, b, c]: [[T; 3]; 3]) -> T {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+/// The power test of sites a, b, c, d (rows relative to d).
+fn power_expr<T: Filter>([a, b, c, d]: [[T; 3]; 4]) -> T {
+    let row = |p: [T; 3]| {
+        let (dx, dy) = (p[0] - d[0], p[1] - d[1]);
+        [dx, dy, dx.sqr() + dy.sqr() - p[2] + d[2]]
+    };
+    det3([row(a), row(b), row(c)])
+}
+
+/// |a - b|^2 + omega_a - omega_b.
+fn inside_expr<T: Filter>([a, b]: [[T; 3]; 2]) -> T {
+    (a[0] - b[0]).sqr() + (a[1] - b[1]).sqr() + a[2] - b[2]
 }
 
 impl crate::backend::FlipTests for Sites {

@@ -5,7 +5,7 @@
 use super::{Def, Role, Sites, Track, MIN_DUAL, VERTEX_FRACS};
 use crate::backend::Triangulation;
 use crate::complex::Complex;
-use crate::geom::{orient, Dyadic, Iv};
+use crate::geom::{orient, Dyadic, Filter};
 use crate::{FastMap, FastSet};
 use std::cmp::Ordering;
 
@@ -216,21 +216,27 @@ impl Sites {
     fn nearer(&self, s: usize, v: u32, k: u32) -> Ordering {
         let (pv, pk) = (self.points[v as usize], self.points[k as usize]);
         let (wv, wk) = (self.weights[v as usize], self.weights[k as usize]);
-        let iv = |p: [f64; 2]| p.map(Iv::of);
-        let (a, b, x) = (iv(pv), iv(pk), self.iv[s]);
-        let d = |a: [Iv; 2]| (x[0] - a[0]).sqr() + (x[1] - a[1]).sqr();
-        let filtered = d(b) - Iv::of(wk) - d(a) + Iv::of(wv);
+        // pow_k - pow_v at x, in a filter's arithmetic.
+        fn expr<T: Filter>(x: [T; 3], (pv, wv): ([f64; 2], f64), (pk, wk): ([f64; 2], f64)) -> T {
+            let d = |a: [f64; 2]| (x[0] - T::of(a[0])).sqr() + (x[1] - T::of(a[1])).sqr();
+            d(pk) - T::of(wk) - d(pv) + T::of(wv)
+        }
+        let (v, k) = ((pv, wv), (pk, wk));
         // Times H^2 > 0 at the homogeneous position (X, Y) / H.
-        self.decide(filtered, || {
-            let [x, y, _, h] = self.homogeneous(s);
-            let h2 = h.sqr();
-            let power = |p: [f64; 2], w: f64| {
-                let dx = &x - &(&h * &Dyadic::of(p[0]));
-                let dy = &y - &(&h * &Dyadic::of(p[1]));
-                &(&dx.sqr() + &dy.sqr()) - &(&h2 * &Dyadic::of(w))
-            };
-            (&power(pk, wk) - &power(pv, wv)).sign()
-        })
+        self.decide(
+            expr(self.ev(s), v, k),
+            || expr(self.iv(s), v, k),
+            || {
+                let [x, y, _, h] = self.homogeneous(s);
+                let h2 = h.sqr();
+                let power = |p: [f64; 2], w: f64| {
+                    let dx = &x - &(&h * &Dyadic::of(p[0]));
+                    let dy = &y - &(&h * &Dyadic::of(p[1]));
+                    &(&dx.sqr() + &dy.sqr()) - &(&h2 * &Dyadic::of(w))
+                };
+                (&power(pk, wk) - &power(pv, wv)).sign()
+            },
+        )
     }
 }
 
