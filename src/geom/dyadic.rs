@@ -8,7 +8,7 @@
 use malachite_base::num::arithmetic::traits::Sign;
 use malachite_nz::integer::Integer;
 use std::cmp::Ordering;
-use std::ops::{Add, Mul, Neg, Sub};
+use std::ops::{Add, Mul, Sub};
 
 /// The exact value `m 2^e`.
 #[derive(Debug, Clone, PartialEq)]
@@ -105,16 +105,6 @@ impl Mul for &Dyadic {
         Dyadic {
             m: &self.m * &o.m,
             e: self.e + o.e,
-        }
-    }
-}
-
-impl Neg for &Dyadic {
-    type Output = Dyadic;
-    fn neg(self) -> Dyadic {
-        Dyadic {
-            m: -&self.m,
-            e: self.e,
         }
     }
 }
