@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The test suite: Rust unit, integration and property tests, then the meshes
 # the tests wrote, read back by the readers users run (vtk, pyvista, meshio),
-# then the FFI tests under valgrind.
+# the simulator decks they wrote run by OPM Flow, then the FFI tests under
+# valgrind.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -13,4 +14,5 @@ cargo test --doc --features pure-rust "$@"
 # The build without CGAL: the pure-Rust backend alone runs every test.
 cargo test --all-targets --no-default-features --features pure-rust "$@"
 python3 tests/readers.py "$ORTHOMESH_TEST_OUT"
+python3 tests/decks.py "$ORTHOMESH_TEST_OUT"
 bash scripts/valgrind.sh

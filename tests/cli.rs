@@ -121,7 +121,13 @@ fn demo_writes_mesh_picture_and_report() {
     let dir = scratch("demo");
     let (code, err) = orthomesh(&["demo", "--out-dir", dir.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
-    for f in ["demo.vtu", "demo.svg", "demo.json", "demo.mesh"] {
+    for f in [
+        "demo.vtu",
+        "demo.svg",
+        "demo.json",
+        "demo.mesh",
+        "demo.DATA",
+    ] {
         assert!(dir.join(f).exists(), "{f}");
     }
     assert!(

@@ -2,12 +2,14 @@
 //! the library, and writes every output whole or none.
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use orthomesh::reservoir::deck::{DeckChoices, WellLinks};
 use orthomesh::reservoir::{self as hybrid, HybridOptions, WellAt, WellInput};
 use orthomesh::reservoir::{hybrid3, Hybrid3Options, Well3};
 use orthomesh::Keep;
 use orthomesh::Progress;
-use orthomesh::{io, Backend, Complex, Complex3, Mesher, Options, Outcome, D2, D3};
+use orthomesh::{io, Backend, CellArray, CellMesh, Complex, Complex3, Mesher, Network, Options};
 use orthomesh::{Error, Result};
+use orthomesh::{Outcome, D2, D3};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -118,6 +120,14 @@ struct ConformArgs {
     /// them (clip_facets).
     #[arg(long)]
     clip_hull: bool,
+    #[command(flatten)]
+    deck: DeckArgs,
+    /// Deck, 2D: the cells' thickness (m).
+    #[arg(long, default_value_t = 1.0)]
+    thickness: f64,
+    /// Deck, 2D: the cells' mid-depth (m).
+    #[arg(long, default_value_t = 1000.0)]
+    depth: f64,
 }
 
 #[derive(Args)]
@@ -180,6 +190,8 @@ struct HybridArgs {
     #[arg(long, value_name = "MESH")]
     tough: Option<PathBuf>,
     #[command(flatten)]
+    simulator: DeckArgs,
+    #[command(flatten)]
     out: Outputs,
 }
 
@@ -212,9 +224,81 @@ struct GenerateArgs {
 
 #[derive(Args)]
 struct DemoArgs {
-    /// Where to write demo.vtu, demo.svg and demo.json.
+    /// Where to write demo.vtu, demo.svg, demo.json, demo.mesh (TOUGH) and
+    /// demo.DATA (OPM Flow).
     #[arg(long, default_value = "orthomesh-demo")]
     out_dir: PathBuf,
+}
+
+/// An OPM Flow deck of the mesh (docs/simulators.md).
+#[derive(Args)]
+struct DeckArgs {
+    /// Also write an Eclipse deck that OPM Flow runs: one cell per mesh
+    /// cell, every connection an NNC with its two-point transmissibility,
+    /// wells connected through their innermost ring, single-phase water.
+    #[arg(long, value_name = "CASE.DATA")]
+    eclipse: Option<PathBuf>,
+    /// Deck: permeability (mD, along x, y and z; default 100).
+    #[arg(long, value_name = "MD")]
+    perm: Option<f64>,
+    /// Deck: porosity (default 0.2).
+    #[arg(long)]
+    poro: Option<f64>,
+    /// Deck: every well produces water at this rate (sm3/day); default: at
+    /// a bottom-hole pressure 10 bar below the initial 200 bar.
+    #[arg(long, value_name = "SM3/DAY")]
+    rate: Option<f64>,
+}
+
+impl DeckArgs {
+    /// The deck's file and text for a network and its wells, with what it
+    /// assumed said on standard error.
+    fn text(
+        &self,
+        title: &str,
+        network: &Network,
+        wells: &[WellLinks],
+        length: Option<(f64, String)>,
+    ) -> Result<DeckOut> {
+        let Some(path) = &self.eclipse else {
+            if self.perm.is_some() || self.poro.is_some() || self.rate.is_some() {
+                return Err(Error::Usage(
+                    "--perm, --poro and --rate are for --eclipse".into(),
+                ));
+            }
+            return Ok(DeckOut::default());
+        };
+        let choices = DeckChoices {
+            length,
+            perm: self.perm,
+            poro: self.poro,
+            rate: self.rate,
+        };
+        let (text, notes, position) = orthomesh::io::deck::write(title, network, wells, &choices)?;
+        for n in notes {
+            eprintln!("deck: {n}");
+        }
+        let cells = position.iter().map(|&i| i as i64 + 1).collect();
+        Ok(DeckOut {
+            files: vec![(path.clone(), text)],
+            cells: Some(CellArray::int("deck_cell", 1, cells)),
+        })
+    }
+}
+
+/// A deck's file, and its cell of each mesh cell (1-based) for the VTU.
+#[derive(Default)]
+struct DeckOut {
+    files: Vec<(PathBuf, String)>,
+    cells: Option<CellArray>,
+}
+
+impl DeckOut {
+    /// The VTU text of a mesh, with the deck's cells when there is a deck.
+    fn vtu(&self, mut mesh: CellMesh) -> String {
+        mesh.data.extend(self.cells.clone());
+        io::vtu::to_string(&mesh)
+    }
 }
 
 /// Where the results go.
@@ -300,6 +384,15 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
     } else {
         out.report.timing.clone()
     };
+    if !(a.thickness > 0.0 && a.thickness.is_finite() && a.depth.is_finite()) {
+        return Err(Error::Usage(
+            "--thickness must be positive and --depth finite".into(),
+        ));
+    }
+    let network = orthomesh::reservoir::deck::plane_network(&out.mesh, a.thickness, a.depth);
+    let deck = a
+        .deck
+        .text(&a.input.display().to_string(), &network, &[], None)?;
     let o = &a.out;
     write_all(
         &out,
@@ -308,6 +401,7 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
         &o.output,
         o.svg.as_deref(),
         o.report.as_deref(),
+        deck,
     )?;
     if let Some(t) = timing {
         eprintln!(
@@ -342,6 +436,12 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
     if a.out.reproducible {
         out.report.timing = None;
     }
+    let deck = a.deck.text(
+        &a.input.display().to_string(),
+        &out.mesh.network(),
+        &[],
+        None,
+    )?;
     let o = &a.out;
     write_all3(
         &out,
@@ -350,7 +450,22 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
         &o.output,
         a.tough.as_deref(),
         o.report.as_deref(),
+        deck,
     )
+}
+
+/// The grid's length unit: its GRIDUNIT, else the unit system of the
+/// grid or of the deck of wells (None when --eclipse is not asked for).
+fn grid_unit(a: &HybridArgs) -> Result<Option<(f64, String)>> {
+    if a.simulator.eclipse.is_none() {
+        return Ok(None);
+    }
+    for p in std::iter::once(&a.grid).chain(&a.deck) {
+        if let Some((f, name)) = io::eclipse::length_unit(p)? {
+            return Ok(Some((f, format!("{name} in {}", p.display()))));
+        }
+    }
+    Ok(None)
 }
 
 /// `hybrid --3d`: one well through a Cartesian block.
@@ -372,10 +487,19 @@ fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     if a.out.reproducible {
         h.report.transition.timing = None;
     }
-    let mut texts = vec![(a.out.output.clone(), io::vtu::to_string(&h.cells()))];
-    if let Some(p) = a.tough {
-        texts.push((p, io::tough::to_string(&h.mesh.network())?));
+    let network = h.mesh.network();
+    let links = [WellLinks {
+        name: w.name.clone(),
+        radius: w.radius,
+        links: h.wellbore.clone(),
+    }];
+    let title = format!("{} (3D)", a.grid.display());
+    let deck = a.simulator.text(&title, &network, &links, grid_unit(&a)?)?;
+    let mut texts = vec![(a.out.output.clone(), deck.vtu(h.cells()))];
+    if let Some(p) = a.tough.clone() {
+        texts.push((p, io::tough::to_string(&network)?));
     }
+    texts.extend(deck.files);
     if let Some(p) = &a.out.report {
         texts.push((p.clone(), report_text(&h.report, &a.grid)?));
     }
@@ -471,15 +595,27 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             g.nz,
             l.split_faces
         );
-        texts.push((a.out.output.clone(), io::vtu::to_string(&l.cells(&h))));
-        if let Some(p) = a.tough {
-            texts.push((p, io::tough::to_string(&l.network(&h))?));
+        let network = l.network(&h);
+        let title = format!("{} (2.5D)", a.grid.display());
+        let deck = a
+            .simulator
+            .text(&title, &network, &l.well_links(&h), grid_unit(&a)?)?;
+        texts.push((a.out.output.clone(), deck.vtu(l.cells(&h))));
+        if let Some(p) = a.tough.clone() {
+            texts.push((p, io::tough::to_string(&network)?));
         }
+        texts.extend(deck.files);
     } else {
-        texts.push((a.out.output.clone(), io::vtu::to_string(&h.cells())));
-        if let Some(p) = a.tough {
-            texts.push((p, io::tough::to_string(&h.network())?));
+        let network = h.network();
+        let title = format!("{}, layer {}", a.grid.display(), a.layer);
+        let deck = a
+            .simulator
+            .text(&title, &network, &h.well_links(), grid_unit(&a)?)?;
+        texts.push((a.out.output.clone(), deck.vtu(h.cells())));
+        if let Some(p) = a.tough.clone() {
+            texts.push((p, io::tough::to_string(&network)?));
         }
+        texts.extend(deck.files);
     }
     if let Some(p) = a.out.svg {
         let inside = vec![true; h.mesh.cells.len()];
@@ -518,7 +654,8 @@ fn generate(a: GenerateArgs) -> Result<()> {
     Ok(())
 }
 
-/// `demo`: the built-in hybrid mesh, its picture, report and TOUGH MESH.
+/// `demo`: the built-in hybrid mesh, its picture, report, TOUGH MESH and
+/// OPM Flow deck.
 fn demo(backend: &dyn Backend, a: DemoArgs) -> Result<()> {
     let (g, wells, opts) = hybrid::demo();
     let h = hybrid::build(backend, &g, &wells, &opts)?;
@@ -530,8 +667,20 @@ fn demo(backend: &dyn Backend, a: DemoArgs) -> Result<()> {
     let inside = vec![true; h.mesh.cells.len()];
     let report =
         serde_json::to_string_pretty(&h.report).map_err(|e| Error::Usage(e.to_string()))?;
+    let choices = DeckChoices {
+        length: Some((1.0, "metres (the built-in grid)".into())),
+        ..Default::default()
+    };
+    let network = h.network();
+    let (deck, _, position) =
+        orthomesh::io::deck::write("orthomesh demo", &network, &h.well_links(), &choices)?;
+    let cells = position.iter().map(|&i| i as i64 + 1).collect();
+    let deck_cells = DeckOut {
+        files: vec![],
+        cells: Some(CellArray::int("deck_cell", 1, cells)),
+    };
     let texts = [
-        (out_dir.join("demo.vtu"), io::vtu::to_string(&h.cells())),
+        (out_dir.join("demo.vtu"), deck_cells.vtu(h.cells())),
         (
             out_dir.join("demo.svg"),
             io::svg::to_string(&h.mesh, &inside, &h.constraints),
@@ -541,6 +690,7 @@ fn demo(backend: &dyn Backend, a: DemoArgs) -> Result<()> {
             out_dir.join("demo.mesh"),
             io::tough::to_string(&h.network())?,
         ),
+        (out_dir.join("demo.DATA"), deck),
     ];
     write_texts(&texts, || {
         summarise("built-in grid (15 x 15 cells, a fault)", &h);
@@ -578,11 +728,13 @@ fn write_all(
     vtu: &Path,
     svg: Option<&Path>,
     report: Option<&Path>,
+    deck: DeckOut,
 ) -> Result<()> {
     let mut texts = vec![(
         vtu.to_path_buf(),
-        io::vtu::to_string(&out.mesh.cells(&out.site_inside)),
+        deck.vtu(out.mesh.cells(&out.site_inside)),
     )];
+    texts.extend(deck.files);
     if let Some(p) = svg {
         texts.push((
             p.to_path_buf(),
@@ -647,8 +799,10 @@ fn write_all3(
     vtu: &Path,
     tough: Option<&Path>,
     report: Option<&Path>,
+    deck: DeckOut,
 ) -> Result<()> {
-    let mut texts = vec![(vtu.to_path_buf(), io::vtu::to_string(&out.mesh.cells()))];
+    let mut texts = vec![(vtu.to_path_buf(), deck.vtu(out.mesh.cells()))];
+    texts.extend(deck.files);
     if let Some(p) = tough {
         texts.push((p.to_path_buf(), io::tough::to_string(&out.mesh.network())?));
     }

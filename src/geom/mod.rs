@@ -25,3 +25,49 @@ pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
         (state >> 11) as f64 / (1u64 << 53) as f64
     }
 }
+
+/// Hilbert index of (x, y) on a 2^16 grid: an order of points that
+/// keeps neighbours near (the pure backend's insertion order, the
+/// simulator decks' cell order).
+pub fn hilbert(mut x: u32, mut y: u32) -> u64 {
+    let mut d = 0u64;
+    let mut s = 1u32 << 15;
+    while s > 0 {
+        let rx = u32::from(x & s > 0);
+        let ry = u32::from(y & s > 0);
+        d += u64::from(s) * u64::from(s) * u64::from((3 * rx) ^ ry);
+        if ry == 0 {
+            if rx == 1 {
+                x = s.wrapping_mul(2).wrapping_sub(1).wrapping_sub(x) & 0xffff;
+                y = s.wrapping_mul(2).wrapping_sub(1).wrapping_sub(y) & 0xffff;
+            }
+            std::mem::swap(&mut x, &mut y);
+        }
+        s >>= 1;
+    }
+    d
+}
+
+/// Hilbert keys of points, on a 2^16 grid over their bounding box per axis
+/// (an axis of zero or infinite span keys 0).
+pub fn hilbert_keys(points: &[[f64; 2]]) -> Vec<u64> {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for a in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(a[k]);
+            hi[k] = hi[k].max(a[k]);
+        }
+    }
+    let cell = |k: usize, v: f64| {
+        let span = hi[k] - lo[k];
+        if span > 0.0 && span.is_finite() {
+            (((v - lo[k]) / span) * 65535.0).clamp(0.0, 65535.0) as u32
+        } else {
+            0
+        }
+    };
+    points
+        .iter()
+        .map(|a| hilbert(cell(0, a[0]), cell(1, a[1])))
+        .collect()
+}

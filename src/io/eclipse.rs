@@ -583,3 +583,53 @@ ACTNUM 1 /
         );
     }
 }
+
+fn unit_name(metres: f64) -> &'static str {
+    match metres {
+        1.0 => "metres",
+        0.01 => "centimetres",
+        _ => "feet",
+    }
+}
+
+/// The length unit of a grid or deck in metres, and its name: GRIDUNIT's
+/// (FEET, METRES, CM), else the unit system's (FIELD: feet, METRIC:
+/// metres, LAB: centimetres); None when the file says neither.
+pub fn length_unit(path: &Path) -> Result<Option<(f64, String)>> {
+    let ts = Tokens::read(path, true)?;
+    let mut system = None;
+    let mut k = 0;
+    while k < ts.toks.len() {
+        let kw = ts.toks[k].clone();
+        k += 1;
+        if !is_keyword(&kw) {
+            continue;
+        }
+        let unit = |u: &str| match u {
+            "FEET" | "FIELD" => Some(0.3048),
+            "METRES" | "METRIC" => Some(1.0),
+            "CM" | "LAB" => Some(0.01),
+            _ => None,
+        };
+        match kw.text.as_str() {
+            "GRIDUNIT" => {
+                let (rec, _) = record(&ts, k, &kw)?;
+                let name = rec
+                    .first()
+                    .cloned()
+                    .flatten()
+                    .map(|t| t.text.to_uppercase());
+                let Some(f) = name.as_deref().and_then(unit) else {
+                    return Err(ts.error(&kw, "GRIDUNIT is not FEET, METRES or CM".into()));
+                };
+                let what = format!("{} (GRIDUNIT {})", unit_name(f), name.unwrap_or_default());
+                return Ok(Some((f, what)));
+            }
+            "FIELD" | "METRIC" | "LAB" if system.is_none() => {
+                system = unit(&kw.text).map(|f| (f, format!("{} ({})", unit_name(f), kw.text)));
+            }
+            _ => {}
+        }
+    }
+    Ok(system)
+}

@@ -1,5 +1,6 @@
 //! Readers and writers.
 
+pub mod deck;
 pub mod eclipse;
 pub mod edg;
 pub mod poly;

@@ -251,6 +251,33 @@ impl Layered {
         }
     }
 
+    /// Each well's links to its innermost ring in every layer, by element
+    /// (for `reservoir::deck`; the well is open over the whole grid).
+    pub fn well_links(&self, h: &Hybrid) -> Vec<crate::reservoir::deck::WellLinks> {
+        let m = &h.mesh;
+        h.wells
+            .iter()
+            .map(|w| {
+                // Per inner cell, its factor per unit thickness.
+                let unit: crate::FastMap<u32, f64> = w.links(|_| 1.0).into_iter().collect();
+                let links = self
+                    .origin
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(e, (c, _))| {
+                        let g = unit.get(c)?;
+                        Some((e, g * self.volume[e] / m.area(&m.cells[*c as usize])))
+                    })
+                    .collect();
+                crate::reservoir::deck::WellLinks {
+                    name: w.name.clone(),
+                    radius: w.radius,
+                    links,
+                }
+            })
+            .collect()
+    }
+
     /// The two-point flux network: lateral connections from the 2D faces
     /// in each layer (area: face length x the mean thickness of the two
     /// cells), vertical ones between a cell and the one below it (area: the

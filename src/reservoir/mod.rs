@@ -4,6 +4,7 @@
 //! every layer (`layers`, 2.5D) or built in true 3D (`hybrid3`), and the
 //! two-point flux check against Thiem's solution (`flow`).
 
+pub mod deck;
 pub mod flow;
 mod grid;
 pub mod hybrid;
@@ -11,6 +12,8 @@ pub mod hybrid3;
 pub mod layers;
 
 pub use grid::{CornerPointGrid, Fault, FaultFace};
-pub use hybrid::{build, demo, Hybrid, HybridOptions, HybridReport, Region, WellAt, WellInput};
+pub use hybrid::{
+    build, demo, Hybrid, HybridOptions, HybridReport, Region, WellAt, WellInput, WellMesh,
+};
 pub use hybrid3::{Hybrid3, Hybrid3Options, Hybrid3Report, Well3};
 pub use layers::{extrude, Layered};

@@ -11,7 +11,7 @@
 use super::points::{power_q, sign_q, F64Points};
 use super::{Backend, FlipTests, Tetrahedralisation, Triangulation};
 use crate::error::{Error, Result};
-use crate::geom::{q, Q};
+use crate::geom::{hilbert_keys, q, Q};
 use std::cmp::Ordering;
 
 /// Weighted points as the engine sees them: exact predicates by index.
@@ -133,26 +133,6 @@ impl Rng {
     }
 }
 
-/// Hilbert index of (x, y) on a 2^16 grid.
-fn hilbert(mut x: u32, mut y: u32) -> u64 {
-    let mut d = 0u64;
-    let mut s = 1u32 << 15;
-    while s > 0 {
-        let rx = u32::from(x & s > 0);
-        let ry = u32::from(y & s > 0);
-        d += u64::from(s) * u64::from(s) * u64::from((3 * rx) ^ ry);
-        if ry == 0 {
-            if rx == 1 {
-                x = s.wrapping_mul(2).wrapping_sub(1).wrapping_sub(x) & 0xffff;
-                y = s.wrapping_mul(2).wrapping_sub(1).wrapping_sub(y) & 0xffff;
-            }
-            std::mem::swap(&mut x, &mut y);
-        }
-        s >>= 1;
-    }
-    d
-}
-
 /// Biased randomised insertion order: rounds of doubling size, each sorted
 /// along a Hilbert curve.
 fn brio<P: Weighted>(p: &P) -> Vec<u32> {
@@ -162,28 +142,8 @@ fn brio<P: Weighted>(p: &P) -> Vec<u32> {
     for i in (1..n).rev() {
         order.swap(i, (rng.next() % (i as u64 + 1)) as usize);
     }
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for i in 0..n as u32 {
-        let a = p.approx(i);
-        for k in 0..2 {
-            lo[k] = lo[k].min(a[k]);
-            hi[k] = hi[k].max(a[k]);
-        }
-    }
-    let cell = |k: usize, v: f64| {
-        let span = hi[k] - lo[k];
-        if span > 0.0 && span.is_finite() {
-            (((v - lo[k]) / span) * 65535.0).clamp(0.0, 65535.0) as u32
-        } else {
-            0
-        }
-    };
-    let key: Vec<u64> = (0..n as u32)
-        .map(|i| {
-            let a = p.approx(i);
-            hilbert(cell(0, a[0]), cell(1, a[1]))
-        })
-        .collect();
+    let points: Vec<[f64; 2]> = (0..n as u32).map(|i| p.approx(i)).collect();
+    let key = hilbert_keys(&points);
     let mut start = 0;
     let mut size = 64.min(n);
     while start < n {

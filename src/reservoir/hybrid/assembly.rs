@@ -5,7 +5,7 @@
 use super::map::distance_to_polygon;
 use super::transition::Transition;
 use super::wells::{polygon_point, radial_site, site_radii, Placed};
-use super::{Hybrid, HybridOptions, HybridReport, Layer, Region};
+use super::{Hybrid, HybridOptions, HybridReport, Layer, Region, WellMesh};
 use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::{FastMap, FastSet};
@@ -21,6 +21,7 @@ struct Assembly {
     ijk: Vec<Option<[usize; 3]>>,
     thickness: Vec<f64>,
     depth: Vec<f64>,
+    wells: Vec<WellMesh>,
 }
 
 impl Assembly {
@@ -122,6 +123,15 @@ impl Assembly {
             // the sites beside it.
             let half = TAU / (2 * m) as f64;
             let rho = site_radii(r, m);
+            // The innermost ring comes first: its m cells face the wellbore.
+            let first = self.mesh.cells.len() as u32;
+            self.wells.push(WellMesh {
+                name: w.name.clone(),
+                centre: w.centre,
+                radius: r[0],
+                site_radius: rho[0],
+                inner: (first..first + m as u32).collect(),
+            });
             let mut wt = vec![0.0; opts.rings];
             for q in 1..opts.rings {
                 let h = r[q] * half.cos();
@@ -252,6 +262,7 @@ pub(super) fn assemble(
         ijk,
         thickness,
         depth,
+        wells,
         ..
     } = a;
     let unmatched = mesh.match_faces(&boundary);
@@ -314,6 +325,7 @@ pub(super) fn assemble(
         constraints: t.cx,
         thickness,
         depth,
+        wells,
         report,
     })
 }

@@ -126,11 +126,60 @@ pub struct Hybrid {
     pub thickness: Vec<f64>,
     /// Per cell, its mid-depth.
     pub depth: Vec<f64>,
+    /// The radial mesh of each well.
+    pub wells: Vec<WellMesh>,
     /// What the build did.
     pub report: HybridReport,
 }
 
+/// A well's radial mesh, as a simulator connects to it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WellMesh {
+    /// The well's name.
+    pub name: String,
+    /// Its axis in map view.
+    pub centre: [f64; 2],
+    /// The wellbore's radius.
+    pub radius: f64,
+    /// The radius of the innermost ring's sites.
+    pub site_radius: f64,
+    /// The innermost ring's cells, one per sector (of equal angles).
+    pub inner: Vec<u32>,
+}
+
+impl WellMesh {
+    /// Per inner cell, the geometric part of its connection to the
+    /// wellbore: radial flow from the wellbore to the site's radius within
+    /// the sector is exact, theta h / ln(rho / r_w), times k and Darcy's
+    /// constant for a connection factor (thickness h of each cell).
+    pub fn links(&self, thickness: impl Fn(u32) -> f64) -> Vec<(u32, f64)> {
+        let theta = std::f64::consts::TAU / self.inner.len() as f64;
+        let log = (self.site_radius / self.radius).ln();
+        self.inner
+            .iter()
+            .map(|&c| (c, theta * thickness(c) / log))
+            .collect()
+    }
+}
+
 impl Hybrid {
+    /// Each well's links to its innermost ring, by cell (for
+    /// `reservoir::deck`).
+    pub fn well_links(&self) -> Vec<crate::reservoir::deck::WellLinks> {
+        self.wells
+            .iter()
+            .map(|w| crate::reservoir::deck::WellLinks {
+                name: w.name.clone(),
+                radius: w.radius,
+                links: w
+                    .links(|c| self.thickness[c as usize])
+                    .into_iter()
+                    .map(|(c, g)| (c as usize, g))
+                    .collect(),
+            })
+            .collect()
+    }
+
     /// The two-point flux network: an element per cell at its site and
     /// mid-depth (z up), volume = area x thickness; a connection per
     /// interior face with each site's distance to the face, the face's area

@@ -307,6 +307,7 @@ pub(super) fn assemble(
     let first_t = a.transition(&t);
     let first_w = a.wells(w);
     a.well_links(w, first_w);
+    let wellbore = wellbore(w, first_w);
     a.interfaces(&t, cavity, w, &res_cell, [first_t, first_w]);
     let Assembly {
         mut out,
@@ -347,6 +348,25 @@ pub(super) fn assemble(
         mesh: out,
         region,
         ijk,
+        wellbore,
         report,
     }
+}
+
+/// The innermost ring's cells and the geometric part of their connection
+/// to the wellbore: radial flow from the wellbore to the sites' radius
+/// within a sector is exact, theta L / ln(rho / r_w), L the cell's length
+/// along the axis.
+fn wellbore(w: &Radial, first_w: usize) -> Vec<(usize, f64)> {
+    let (m, rings) = (w.m, w.rings);
+    let rho = site_radii(&w.r, m);
+    let log = (rho[0] / w.r[0]).ln();
+    let theta = TAU / m as f64;
+    (0..w.nl)
+        .flat_map(|k| {
+            let (a, b) = (w.at(0.0, 0.0, w.levels[k]), w.at(0.0, 0.0, w.levels[k + 1]));
+            let length = (0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt();
+            (0..m).map(move |s| (first_w + k * rings * m + s, theta * length / log))
+        })
+        .collect()
 }

@@ -97,6 +97,9 @@ pub struct Hybrid3 {
     pub region: Vec<Region>,
     /// Per cell, its grid cell (reservoir cells).
     pub ijk: Vec<Option<[usize; 3]>>,
+    /// The cells facing the wellbore, each with the geometric part of its
+    /// connection factor (m; `reservoir::deck`).
+    pub wellbore: Vec<(usize, f64)>,
     /// What the build did.
     pub report: Hybrid3Report,
 }

@@ -1,0 +1,477 @@
+//! Simulator decks from meshes (docs/simulators.md): a two-point flux
+//! network with rock properties per element and wells linked to elements
+//! becomes an OPM Flow deck (`io::deck`) whose cells follow a Hilbert curve
+//! (measured: a random order ran 2.7x slower in Flow than a local one).
+
+use crate::error::{Error, Result};
+use crate::mesh::{Element, Mesh, Network};
+
+/// A deck cell.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeckCell {
+    /// Pore volume (m^3): what the cell holds, whatever its dummy size.
+    pub pore_volume: f64,
+    /// Depth of its node (m, down).
+    pub depth: f64,
+    /// Permeability along x, y, z (mD), for reference (the NNCs carry it).
+    pub perm: [f64; 3],
+    /// Porosity, for reference (the pore volume carries it).
+    pub poro: f64,
+}
+
+/// A connection between deck cells (0-based) and its transmissibility
+/// (METRIC: cP m^3 / day / bar).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Nnc {
+    /// The two cells.
+    pub cells: [usize; 2],
+    /// Its transmissibility.
+    pub transmissibility: f64,
+}
+
+/// How a well is run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Control {
+    /// Produces water at this bottom-hole pressure (bar).
+    ProduceAtBhp(f64),
+    /// Produces water at this rate (sm^3/day), down to a bottom-hole
+    /// pressure of 1 bar.
+    ProduceRate(f64),
+    /// Injects water at this rate (sm^3/day), up to 1,000 bar.
+    InjectRate(f64),
+}
+
+/// A well: its connections (cell, connection factor in cP m^3 / day /
+/// bar) and control.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeckWell {
+    /// Up to eight characters, as Eclipse reads names.
+    pub name: String,
+    /// Connections: cell (0-based) and connection factor.
+    pub connections: Vec<(usize, f64)>,
+    /// Wellbore diameter (m), for reference (the factors carry it).
+    pub diameter: f64,
+    /// How it runs.
+    pub control: Control,
+}
+
+/// Water and rock (PVTW, ROCK, DENSITY).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fluid {
+    /// Reference pressure (bar).
+    pub pressure: f64,
+    /// Formation volume factor at the reference pressure.
+    pub fvf: f64,
+    /// Water compressibility (1/bar).
+    pub compressibility: f64,
+    /// Water viscosity (cP).
+    pub viscosity: f64,
+    /// Rock compressibility (1/bar).
+    pub rock_compressibility: f64,
+    /// Water density at surface conditions (kg/m^3).
+    pub density: f64,
+}
+
+impl Default for Fluid {
+    fn default() -> Self {
+        Fluid {
+            pressure: 200.0,
+            fvf: 1.0,
+            compressibility: 4.5e-5,
+            viscosity: 0.5,
+            rock_compressibility: 4.5e-5,
+            density: 1000.0,
+        }
+    }
+}
+
+/// A whole deck.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Deck {
+    /// TITLE.
+    pub title: String,
+    /// Comment lines written at the top (what was assumed).
+    pub notes: Vec<String>,
+    /// Cells, in deck order.
+    pub cells: Vec<DeckCell>,
+    /// Connections.
+    pub nnc: Vec<Nnc>,
+    /// Wells.
+    pub wells: Vec<DeckWell>,
+    /// Cells whose pressure goes into the summary (BPR).
+    pub watch: Vec<usize>,
+    /// Water and rock.
+    pub fluid: Fluid,
+    /// Initial pressure (bar) at the shallowest node's depth, in
+    /// hydrostatic equilibrium (EQUIL).
+    pub pressure: f64,
+    /// Instead, every cell's initial pressure (bar; PRESSURE).
+    pub pressures: Option<Vec<f64>>,
+    /// Report steps (days).
+    pub steps: Vec<f64>,
+}
+
+/// Darcy's constant in METRIC units: transmissibility (cP m^3 / day / bar)
+/// from permeability (mD), area (m^2) and length (m).
+pub const DARCY: f64 = 0.00852702;
+
+/// Rock properties per element.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rock {
+    /// Permeability along x, y, z (mD).
+    pub perm: Vec<[f64; 3]>,
+    /// Porosity (pore volume over bulk volume).
+    pub poro: Vec<f64>,
+}
+
+impl Rock {
+    /// The same rock in n elements.
+    pub fn uniform(n: usize, perm: [f64; 3], poro: f64) -> Rock {
+        Rock {
+            perm: vec![perm; n],
+            poro: vec![poro; n],
+        }
+    }
+}
+
+/// A well's links to the network: per element the geometric part of its
+/// connection factor (theta h / ln(rho / r_w), in m; `WellMesh::links`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WellLinks {
+    /// The well's name.
+    pub name: String,
+    /// The wellbore's radius (m).
+    pub radius: f64,
+    /// (element, geometric factor).
+    pub links: Vec<(usize, f64)>,
+}
+
+/// What the deck runs: well control, initial pressure, report steps,
+/// fluid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeckSettings {
+    /// The control of every well.
+    pub control: Control,
+    /// Initial pressure (bar) at the shallowest node.
+    pub pressure: f64,
+    /// Report steps (days).
+    pub steps: Vec<f64>,
+    /// Water and rock compressibility.
+    pub fluid: Fluid,
+}
+
+impl Default for DeckSettings {
+    fn default() -> Self {
+        DeckSettings {
+            control: Control::ProduceAtBhp(190.0),
+            pressure: 200.0,
+            steps: vec![1.0; 10],
+            fluid: Fluid::default(),
+        }
+    }
+}
+
+/// Elements in the order of a Hilbert curve over their nodes' map
+/// positions, deeper after shallower where the map position is the same.
+pub fn hilbert_order(network: &Network) -> Vec<usize> {
+    let nodes: Vec<[f64; 3]> = network.elements.iter().map(|e| e.node).collect();
+    let map: Vec<[f64; 2]> = nodes.iter().map(|p| [p[0], p[1]]).collect();
+    let key = crate::geom::hilbert_keys(&map);
+    let mut order: Vec<usize> = (0..nodes.len()).collect();
+    order.sort_by(|&a, &b| {
+        key[a]
+            .cmp(&key[b])
+            .then(nodes[b][2].total_cmp(&nodes[a][2]))
+            .then(a.cmp(&b))
+    });
+    order
+}
+
+/// Transmissibility of a connection: Darcy's constant times the area over
+/// the two half-distances, each over its cell's permeability along the
+/// connection's axis.
+fn transmissibility(area: f64, d: [f64; 2], k: [f64; 2]) -> f64 {
+    DARCY * area / (d[0] / k[0] + d[1] / k[1])
+}
+
+/// The deck of a network, and each element's deck cell (0-based). The
+/// writer (`io::deck::to_string`) refuses what Flow could not run: a
+/// non-positive transmissibility (a site outside its cell) or pore volume.
+pub fn deck(
+    title: &str,
+    network: &Network,
+    rock: &Rock,
+    wells: &[WellLinks],
+    settings: &DeckSettings,
+) -> (Deck, Vec<usize>) {
+    let order = hilbert_order(network);
+    let mut position = vec![0; order.len()];
+    for (i, &e) in order.iter().enumerate() {
+        position[e] = i;
+    }
+    let cells = order
+        .iter()
+        .map(|&e| {
+            let el = &network.elements[e];
+            DeckCell {
+                pore_volume: el.volume * rock.poro[e],
+                depth: -el.node[2],
+                perm: rock.perm[e],
+                poro: rock.poro[e],
+            }
+        })
+        .collect();
+    let nnc = network
+        .connections
+        .iter()
+        .filter(|c| c.area != 0.0)
+        .map(|c| {
+            let [a, b] = c.elements;
+            let axis = usize::from(c.isot.clamp(1, 3)) - 1;
+            Nnc {
+                cells: [position[a], position[b]],
+                transmissibility: transmissibility(
+                    c.area,
+                    c.d,
+                    [rock.perm[a][axis], rock.perm[b][axis]],
+                ),
+            }
+        })
+        .collect();
+    let wells = wells
+        .iter()
+        .map(|w| DeckWell {
+            name: w.name.clone(),
+            connections: w
+                .links
+                .iter()
+                .map(|&(e, g)| {
+                    let [kx, ky, _] = rock.perm[e];
+                    (position[e], DARCY * (kx * ky).sqrt() * g)
+                })
+                .collect(),
+            diameter: 2.0 * w.radius,
+            control: settings.control,
+        })
+        .collect();
+    let deck = Deck {
+        title: title.into(),
+        notes: vec![],
+        cells,
+        nnc,
+        wells,
+        watch: vec![],
+        fluid: settings.fluid,
+        pressure: settings.pressure,
+        pressures: None,
+        steps: settings.steps.clone(),
+    };
+    (deck, position)
+}
+
+/// The network of a plane mesh of one thickness at one mid-depth: as
+/// `Hybrid::network`, for `conform`'s meshes.
+pub fn plane_network(mesh: &Mesh, thickness: f64, depth: f64) -> Network {
+    let node = |c: usize| [mesh.sites[c][0], mesh.sites[c][1], -depth];
+    Network {
+        elements: (0..mesh.cells.len())
+            .map(|c| Element {
+                volume: mesh.area(&mesh.cells[c]) * thickness,
+                node: node(c),
+            })
+            .collect(),
+        connections: crate::reservoir::flow::connections(mesh)
+            .into_iter()
+            .map(|c| {
+                let [a, b] = c.cells.map(|x| x as usize);
+                crate::mesh::Connection::lateral([a, b], node(a), node(b), c.d, c.area * thickness)
+            })
+            .collect(),
+    }
+}
+
+/// A network and its wells with lengths in units of f metres, in metres.
+pub fn in_metres(network: &Network, wells: &[WellLinks], f: f64) -> (Network, Vec<WellLinks>) {
+    let mut n = network.clone();
+    for e in &mut n.elements {
+        e.volume *= f * f * f;
+        e.node = e.node.map(|x| x * f);
+    }
+    for c in &mut n.connections {
+        c.area *= f * f;
+        c.d = c.d.map(|x| x * f);
+    }
+    let wells = wells
+        .iter()
+        .map(|w| WellLinks {
+            name: w.name.clone(),
+            radius: w.radius * f,
+            links: w.links.iter().map(|&(e, g)| (e, g * f)).collect(),
+        })
+        .collect();
+    (n, wells)
+}
+
+/// What a user chose for a deck; None takes the default, which the
+/// deck's notes say.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DeckChoices {
+    /// The input's length unit in metres and its name (None: metres, said).
+    pub length: Option<(f64, String)>,
+    /// Permeability (mD) along x, y and z.
+    pub perm: Option<f64>,
+    /// Porosity.
+    pub poro: Option<f64>,
+    /// Every well's water production rate (sm^3/day).
+    pub rate: Option<f64>,
+}
+
+/// Permeability where neither input nor user gives one (mD).
+pub const DEFAULT_PERM: f64 = 100.0;
+/// Porosity where neither input nor user gives one.
+pub const DEFAULT_PORO: f64 = 0.2;
+
+/// The deck of a network with uniform rock, its notes (what was assumed,
+/// also written at the deck's top) and each element's deck cell (0-based).
+/// Err on choices out of range.
+pub fn prepare(
+    title: &str,
+    network: &Network,
+    wells: &[WellLinks],
+    choices: &DeckChoices,
+) -> Result<(Deck, Vec<String>, Vec<usize>)> {
+    let positive = |v: Option<f64>, what: &str, max: f64| match v {
+        Some(x) if !(x > 0.0 && x <= max) => Err(Error::Usage(format!(
+            "{what} {x} is out of range (0, {max}]"
+        ))),
+        _ => Ok(()),
+    };
+    positive(choices.perm, "--perm", 1e9)?;
+    positive(choices.poro, "--poro", 1.0)?;
+    positive(choices.rate, "--rate", 1e12)?;
+    let perm = choices.perm.unwrap_or(DEFAULT_PERM);
+    let poro = choices.poro.unwrap_or(DEFAULT_PORO);
+    let said = |given: bool, flag: &str| {
+        if given {
+            format!("({flag})")
+        } else {
+            format!("(default, the input gives none; {flag} sets it)")
+        }
+    };
+    let mut settings = DeckSettings::default();
+    let mut notes = vec![
+        format!("permeability {perm} mD along x, y and z {}", said(choices.perm.is_some(), "--perm")),
+        format!("porosity {poro} {}", said(choices.poro.is_some(), "--poro")),
+        format!(
+            "initial pressure {} bar at the shallowest node; water of viscosity {} cP; {} report steps of {} day",
+            settings.pressure,
+            settings.fluid.viscosity,
+            settings.steps.len(),
+            settings.steps[0]
+        ),
+    ];
+    if let Some(q) = choices.rate {
+        settings.control = Control::ProduceRate(q);
+    }
+    notes.push(match (wells.len(), settings.control) {
+        (0, _) => "no wells: the mesh has none, so the deck runs its initial state".into(),
+        (n, Control::ProduceRate(q)) => {
+            format!("{n} wells, each producing {q} sm3/day of water (--rate), down to 1 bar")
+        }
+        (n, _) => format!(
+            "{n} wells, each producing water at a bottom-hole pressure of 190 bar (default: 10 bar below the initial pressure; --rate sets a rate)"
+        ),
+    });
+    let (network, wells) = match &choices.length {
+        Some((f, name)) if *f != 1.0 => {
+            notes.push(format!("lengths in {name} converted to metres"));
+            in_metres(network, wells, *f)
+        }
+        Some((_, name)) => {
+            notes.push(format!("lengths in {name}"));
+            (network.clone(), wells.to_vec())
+        }
+        None => {
+            notes.push("lengths taken as metres (the input does not say its unit)".into());
+            (network.clone(), wells.to_vec())
+        }
+    };
+    let rock = Rock::uniform(network.elements.len(), [perm; 3], poro);
+    let (mut deck, position) = deck(title, &network, &rock, &wells, &settings);
+    deck.watch = deck
+        .wells
+        .iter()
+        .filter_map(|w| w.connections.first())
+        .map(|c| c.0)
+        .collect();
+    deck.watch.push(0);
+    deck.watch.push(deck.cells.len().saturating_sub(1));
+    deck.watch.sort_unstable();
+    deck.watch.dedup();
+    deck.notes = notes.clone();
+    Ok((deck, notes, position))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{Connection, Element};
+
+    fn row(n: usize) -> Network {
+        Network {
+            elements: (0..n)
+                .map(|i| Element {
+                    volume: 10.0,
+                    node: [i as f64, 0.0, -1000.0],
+                })
+                .collect(),
+            connections: (1..n)
+                .map(|i| Connection {
+                    elements: [i - 1, i],
+                    isot: 1,
+                    d: [0.5, 0.5],
+                    area: 2.0,
+                    cos_gravity: 0.0,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn transmissibility_is_harmonic_in_the_half_distances() {
+        // Equal halves: T = c A k / d.
+        let t = transmissibility(2.0, [0.5, 0.5], [100.0, 100.0]);
+        assert!((t - DARCY * 2.0 * 100.0 / 1.0).abs() < 1e-12);
+        // A tight half dominates.
+        let t = transmissibility(1.0, [1.0, 1.0], [1.0, 1e9]);
+        assert!((t / DARCY - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn cells_follow_the_curve_and_links_follow_the_cells() {
+        // Two elements listed right to left; the curve starts at the left.
+        let mut net = row(2);
+        net.elements.reverse();
+        let rock = Rock::uniform(2, [100.0, 100.0, 10.0], 0.25);
+        let wells = [WellLinks {
+            name: "W".into(),
+            radius: 0.1,
+            links: vec![(0, 2.0)],
+        }];
+        let (deck, position) = deck("row", &net, &rock, &wells, &DeckSettings::default());
+        assert_eq!(position, vec![1, 0]);
+        assert_eq!(deck.cells[0].pore_volume, 2.5);
+        assert_eq!(deck.nnc[0].cells, [1, 0]);
+        assert_eq!(deck.wells[0].connections, vec![(1, DARCY * 100.0 * 2.0)]);
+    }
+
+    #[test]
+    fn a_column_goes_down_before_the_curve_moves_on() {
+        let mut net = row(2);
+        net.elements.push(Element {
+            volume: 1.0,
+            node: [0.0, 0.0, -1010.0],
+        });
+        assert_eq!(hilbert_order(&net), vec![0, 2, 1]);
+    }
+}

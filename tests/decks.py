@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""The OPM Flow decks that tests/decks.rs wrote (DIR/decks/*.DATA, each with
+a JSON sidecar), checked with what reservoir engineers run:
+
+- opm-common's parser reads each deck; its NNCs are the mesh's connections
+  (count and total transmissibility);
+- OPM Flow runs each deck to its end;
+- Thiem's cases: the pressure drop between the well (its bottom-hole
+  pressure, plus the hydrostatic head to each cell's depth) and the cells
+  at r = L/4 is within 0.5% of Thiem's, printed;
+- SPE9's top layer: every one of its 26 wells produces.
+
+Usage: python3 tests/decks.py DIR   (scripts/test.sh runs it)
+"""
+import glob
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+from opm.io.ecl_state import EclipseState
+from opm.io.parser import Parser
+from resdata.summary import Summary
+
+# opm-common reports transmissibilities in SI units (m^3): one METRIC unit
+# (cP m^3 / day / bar) in them.
+METRIC_TRANSMISSIBILITY = 1e-3 / 86400.0 / 1e5
+# Tight enough for a steady state to 1e-5 of the drop (measured with Thiem).
+FLOW_ARGS = ["--tolerance-cnv=1e-5", "--tolerance-mb=1e-9", "--relaxed-max-pv-fraction=0"]
+
+
+def parsed(deck, side):
+    state = EclipseState(Parser().parse(deck))
+    nnc = state.input_nnc()
+    total = sum(n[2] for n in nnc) / METRIC_TRANSMISSIBILITY
+    assert len(nnc) == side["nnc"], f"{deck}: opm reads {len(nnc)} NNCs, the mesh has {side['nnc']}"
+    if "transmissibility" in side:
+        t = side["transmissibility"]
+        assert abs(total - t) <= 1e-9 * t, f"{deck}: NNC total {total}, mesh {t}"
+    assert state.grid().nactive == side["cells"], deck
+    return len(nnc)
+
+
+def run_flow(deck):
+    out = os.path.splitext(deck)[0] + ".flow"
+    shutil.rmtree(out, ignore_errors=True)
+    p = subprocess.run(["flow", deck, f"--output-dir={out}", *FLOW_ARGS],
+                       capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"{deck}: flow failed ({p.returncode}):\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}")
+    stem = os.path.basename(os.path.splitext(deck)[0]).upper()
+    return Summary(os.path.join(out, stem))
+
+
+def thiem(deck, side, summary):
+    t = side["thiem"]
+    bhp = summary.numpy_vector(f"WBHP:{t['well']}")[-1]
+    got, want = [], []
+    for cell, r, depth in t["band"]:
+        # The wellbore's pressure at the cell's depth (hydrostatic head).
+        well = bhp + t["gradient"] * (depth - t["ref_depth"])
+        got.append(summary.numpy_vector(f"BPR:{cell}")[-1] - well)
+        want.append(t["slope"] * math.log(r / t["rw"]))
+    g, w = sum(got) / len(got), sum(want) / len(want)
+    err = abs(g - w) / w
+    name = os.path.basename(deck)
+    print(f"{name}: OPM Flow's pressure drop from the well to r = L/4 is {g:.5f} bar, "
+          f"Thiem's {w:.5f} bar: {100 * err:.3f}% off ({len(got)} cells)")
+    assert err < float(os.environ.get("THIEM_TOL", "0.005")), f"{name}: {100 * err:.3f}% off Thiem"
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    if shutil.which("flow") is None:
+        sys.exit("decks.py: OPM Flow (`flow`) is not installed: bash scripts/setup.sh installs it")
+    decks = sorted(glob.glob(os.path.join(sys.argv[1], "decks", "*.DATA")))
+    if not decks:
+        sys.exit(f"decks.py: no decks in {sys.argv[1]}/decks (tests/decks.rs writes them)")
+    for deck in decks:
+        side = json.load(open(os.path.splitext(deck)[0] + ".json"))
+        n = parsed(deck, side)
+        summary = run_flow(deck)
+        print(f"{os.path.basename(deck)}: {side['cells']} cells, {n} NNCs; Flow ran "
+              f"{len(summary.dates)} report steps")
+        if "thiem" in side:
+            thiem(deck, side, summary)
+        if "wells" in side:
+            names = [k.split(":")[1] for k in summary.keys("WWPR:*")]
+            assert len(names) == side["wells"], names
+            dry = [w for w in names if summary.numpy_vector(f"WWPR:{w}")[-1] <= 0.0]
+            assert not dry, f"{deck}: wells without production: {dry}"
+
+
+if __name__ == "__main__":
+    main()
