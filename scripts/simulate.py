@@ -44,7 +44,7 @@ def main():
     plot = pv.Plotter(off_screen=True, window_size=(1200, 1000))
     plot.add_mesh(mesh, scalars="pressure (bar)", show_edges=True, edge_color="grey",
                   line_width=0.5, cmap="viridis")
-    plot.add_text(f"{os.path.basename(a.deck)}: pressure after {steps - 1} report steps",
+    plot.add_text(f"{os.path.basename(a.deck)}: pressure at the end of the run",
                   font_size=12)
     plot.view_xy()
     plot.screenshot(picture)

@@ -83,8 +83,10 @@ def main():
         side = json.load(open(os.path.splitext(deck)[0] + ".json"))
         n = parsed(deck, side)
         summary = run_flow(deck)
+        days = (summary.dates[-1] - summary.start_time).total_seconds() / 86400.0
         print(f"{os.path.basename(deck)}: {side['cells']} cells, {n} NNCs; Flow ran "
-              f"{len(summary.dates)} report steps")
+              f"{days:g} days in {len(summary.dates)} time steps")
+        assert abs(days - side["days"]) < 1e-6, f"{deck}: Flow stopped at day {days}"
         if "thiem" in side:
             thiem(deck, side, summary)
         if "wells" in side:

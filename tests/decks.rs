@@ -40,6 +40,7 @@ fn write(stem: &str, d: &Deck, mut extra: serde_json::Value) {
     extra["nnc"] = json!(d.nnc.len());
     extra["transmissibility"] = json!(d.nnc.iter().map(|c| c.transmissibility).sum::<f64>());
     extra["cells"] = json!(d.cells.len());
+    extra["days"] = json!(d.steps.iter().sum::<f64>());
     let side = serde_json::to_string_pretty(&extra).unwrap();
     orthomesh::io::write_atomic(&dir.join(format!("{stem}.json")), side.as_bytes()).unwrap();
 }
@@ -249,14 +250,22 @@ fn thiem_deck_in_3d() {
 fn demo_and_spe9_decks() {
     let (g, wells, opts) = orthomesh::reservoir::demo();
     let h = build(&default_backend(), &g, &wells, &opts).unwrap();
-    let choices = Default::default();
+    // As `orthomesh demo` writes it: an open boundary.
+    let choices = orthomesh::reservoir::deck::DeckChoices {
+        aquifer: h.outer_cells(),
+        ..Default::default()
+    };
+    assert_eq!(choices.aquifer.len(), 56);
     let net = h.network();
     let (text, notes, _) =
         orthomesh::io::deck::write("demo", &net, &h.well_links(), &choices).unwrap();
     assert!(notes.iter().any(|n| n.contains("default")));
+    assert!(notes
+        .iter()
+        .any(|n| n.contains("open boundary: its 56 cells")));
     let dir = out_dir();
     orthomesh::io::write_atomic(&dir.join("demo.DATA"), text.as_bytes()).unwrap();
-    let sidecar = json!({ "nnc": net.connections.len(), "cells": net.elements.len() });
+    let sidecar = json!({ "nnc": net.connections.len(), "cells": net.elements.len(), "wells": 1, "days": 10.0 });
     orthomesh::io::write_atomic(&dir.join("demo.json"), sidecar.to_string().as_bytes()).unwrap();
 
     let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
@@ -284,7 +293,7 @@ fn demo_and_spe9_decks() {
         orthomesh::io::deck::write("SPE9 top layer", &net, &h.well_links(), &choices).unwrap();
     assert!(notes.iter().any(|n| n.contains("feet")), "{notes:?}");
     orthomesh::io::write_atomic(&dir.join("spe9-top.DATA"), text.as_bytes()).unwrap();
-    let sidecar = json!({ "nnc": net.connections.len(), "cells": net.elements.len(), "wells": 26 });
+    let sidecar = json!({ "nnc": net.connections.len(), "cells": net.elements.len(), "wells": 26, "days": 10.0 });
     orthomesh::io::write_atomic(&dir.join("spe9-top.json"), sidecar.to_string().as_bytes())
         .unwrap();
 }
@@ -357,6 +366,7 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
         vec!["--eclipse", "BAD.DATA", "--perm=-3"],
         vec!["--eclipse", "BAD.DATA", "--poro", "1.5"],
         vec!["--perm", "10"],
+        vec!["--eclipse", "BAD.DATA", "--aquifer"],
     ] {
         let vtu = p("bad.vtu");
         let mut args = vec!["conform", &poly, "-o", &vtu];
@@ -373,7 +383,10 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
         args.extend(bad.iter().map(|s| s.as_str()));
         let (code, err) = run(&args);
         assert_eq!(code, Some(1), "{args:?}");
-        assert!(err.contains("--perm") || err.contains("--poro"), "{err}");
+        assert!(
+            err.contains("--perm") || err.contains("--poro") || err.contains("--aquifer"),
+            "{err}"
+        );
         assert!(!dir.join("bad.vtu").exists() && !dir.join("BAD.DATA").exists());
     }
 }

@@ -324,7 +324,15 @@ pub struct DeckChoices {
     pub poro: Option<f64>,
     /// Every well's water production rate (sm^3/day).
     pub rate: Option<f64>,
+    /// Elements held at their initial pressure (an open boundary, as an
+    /// aquifer around the field); empty: a closed boundary.
+    pub aquifer: Vec<usize>,
 }
+
+/// How much an aquifer cell's pore volume grows: enough that a well's
+/// production for the deck's ten days moves its pressure by far less than
+/// a bar.
+pub const AQUIFER: f64 = 1e6;
 
 /// Permeability where neither input nor user gives one (mD).
 pub const DEFAULT_PERM: f64 = 100.0;
@@ -398,6 +406,15 @@ pub fn prepare(
     };
     let rock = Rock::uniform(network.elements.len(), [perm; 3], poro);
     let (mut deck, position) = deck(title, &network, &rock, &wells, &settings);
+    if !choices.aquifer.is_empty() {
+        for &e in &choices.aquifer {
+            deck.cells[position[e]].pore_volume *= AQUIFER;
+        }
+        notes.push(format!(
+            "an open boundary: its {} cells hold their initial pressure (pore volume x {AQUIFER:e})",
+            choices.aquifer.len()
+        ));
+    }
     deck.watch = deck
         .wells
         .iter()

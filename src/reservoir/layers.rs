@@ -251,6 +251,15 @@ impl Layered {
         }
     }
 
+    /// The elements over the 2D mesh's outer cells (`Hybrid::outer_cells`),
+    /// in every layer.
+    pub fn outer_cells(&self, h: &Hybrid) -> Vec<usize> {
+        let outer: crate::FastSet<u32> = h.outer_cells().into_iter().map(|c| c as u32).collect();
+        (0..self.origin.len())
+            .filter(|&e| outer.contains(&self.origin[e].0))
+            .collect()
+    }
+
     /// Each well's links to its innermost ring in every layer, by element
     /// (for `reservoir::deck`; the well is open over the whole grid).
     pub fn well_links(&self, h: &Hybrid) -> Vec<crate::reservoir::deck::WellLinks> {

@@ -180,6 +180,19 @@ impl Hybrid {
             .collect()
     }
 
+    /// The cells on the mesh's outer boundary, wellbores left out: what an
+    /// open boundary holds (`reservoir::deck::DeckChoices::aquifer`).
+    pub fn outer_cells(&self) -> Vec<usize> {
+        let inner: crate::FastSet<u32> = self.wells.iter().flat_map(|w| w.inner.clone()).collect();
+        let mut cells: Vec<usize> = crate::reservoir::flow::boundary_faces(&self.mesh)
+            .into_iter()
+            .filter(|f| !inner.contains(&f.cell))
+            .map(|f| f.cell as usize)
+            .collect();
+        cells.dedup();
+        cells
+    }
+
     /// The two-point flux network: an element per cell at its site and
     /// mid-depth (z up), volume = area x thickness; a connection per
     /// interior face with each site's distance to the face, the face's area

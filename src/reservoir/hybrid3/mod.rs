@@ -161,6 +161,17 @@ fn axes(g: &CornerPointGrid) -> Result<[Vec<f64>; 3]> {
 }
 
 impl Hybrid3 {
+    /// The reservoir cells in the grid's outermost columns: what an open
+    /// boundary holds (`reservoir::deck::DeckChoices::aquifer`).
+    pub fn outer_cells(&self, g: &CornerPointGrid) -> Vec<usize> {
+        let (nx, ny) = (g.nx, g.ny);
+        (0..self.ijk.len())
+            .filter(|&k| {
+                self.ijk[k].is_some_and(|[i, j, _]| i == 0 || j == 0 || i + 1 == nx || j + 1 == ny)
+            })
+            .collect()
+    }
+
     /// Polyhedra with cell data site, weight, volume, region, ijk
     /// (1-based, -1 outside the grid).
     pub fn cells(&self) -> CellMesh {

@@ -7,9 +7,12 @@ use orthomesh::reservoir::{self as hybrid, HybridOptions, WellAt, WellInput};
 use orthomesh::reservoir::{hybrid3, Hybrid3Options, Well3};
 use orthomesh::Keep;
 use orthomesh::Progress;
-use orthomesh::{io, Backend, CellArray, CellMesh, Complex, Complex3, Mesher, Network, Options};
+use orthomesh::{io, Backend, CellArray, Complex, Complex3, Mesher, Options};
 use orthomesh::{Error, Result};
 use orthomesh::{Outcome, D2, D3};
+mod deck;
+
+use deck::{grid_unit, DeckArgs, DeckOut};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -230,77 +233,6 @@ struct DemoArgs {
     out_dir: PathBuf,
 }
 
-/// An OPM Flow deck of the mesh (docs/simulators.md).
-#[derive(Args)]
-struct DeckArgs {
-    /// Also write an Eclipse deck that OPM Flow runs: one cell per mesh
-    /// cell, every connection an NNC with its two-point transmissibility,
-    /// wells connected through their innermost ring, single-phase water.
-    #[arg(long, value_name = "CASE.DATA")]
-    eclipse: Option<PathBuf>,
-    /// Deck: permeability (mD, along x, y and z; default 100).
-    #[arg(long, value_name = "MD")]
-    perm: Option<f64>,
-    /// Deck: porosity (default 0.2).
-    #[arg(long)]
-    poro: Option<f64>,
-    /// Deck: every well produces water at this rate (sm3/day); default: at
-    /// a bottom-hole pressure 10 bar below the initial 200 bar.
-    #[arg(long, value_name = "SM3/DAY")]
-    rate: Option<f64>,
-}
-
-impl DeckArgs {
-    /// The deck's file and text for a network and its wells, with what it
-    /// assumed said on standard error.
-    fn text(
-        &self,
-        title: &str,
-        network: &Network,
-        wells: &[WellLinks],
-        length: Option<(f64, String)>,
-    ) -> Result<DeckOut> {
-        let Some(path) = &self.eclipse else {
-            if self.perm.is_some() || self.poro.is_some() || self.rate.is_some() {
-                return Err(Error::Usage(
-                    "--perm, --poro and --rate are for --eclipse".into(),
-                ));
-            }
-            return Ok(DeckOut::default());
-        };
-        let choices = DeckChoices {
-            length,
-            perm: self.perm,
-            poro: self.poro,
-            rate: self.rate,
-        };
-        let (text, notes, position) = orthomesh::io::deck::write(title, network, wells, &choices)?;
-        for n in notes {
-            eprintln!("deck: {n}");
-        }
-        let cells = position.iter().map(|&i| i as i64 + 1).collect();
-        Ok(DeckOut {
-            files: vec![(path.clone(), text)],
-            cells: Some(CellArray::int("deck_cell", 1, cells)),
-        })
-    }
-}
-
-/// A deck's file, and its cell of each mesh cell (1-based) for the VTU.
-#[derive(Default)]
-struct DeckOut {
-    files: Vec<(PathBuf, String)>,
-    cells: Option<CellArray>,
-}
-
-impl DeckOut {
-    /// The VTU text of a mesh, with the deck's cells when there is a deck.
-    fn vtu(&self, mut mesh: CellMesh) -> String {
-        mesh.data.extend(self.cells.clone());
-        io::vtu::to_string(&mesh)
-    }
-}
-
 /// Where the results go.
 #[derive(Args)]
 struct Outputs {
@@ -392,7 +324,7 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
     let network = orthomesh::reservoir::deck::plane_network(&out.mesh, a.thickness, a.depth);
     let deck = a
         .deck
-        .text(&a.input.display().to_string(), &network, &[], None)?;
+        .text(&a.input.display().to_string(), &network, &[], None, || None)?;
     let o = &a.out;
     write_all(
         &out,
@@ -441,6 +373,7 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
         &out.mesh.network(),
         &[],
         None,
+        || None,
     )?;
     let o = &a.out;
     write_all3(
@@ -452,20 +385,6 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
         o.report.as_deref(),
         deck,
     )
-}
-
-/// The grid's length unit: its GRIDUNIT, else the unit system of the
-/// grid or of the deck of wells (None when --eclipse is not asked for).
-fn grid_unit(a: &HybridArgs) -> Result<Option<(f64, String)>> {
-    if a.simulator.eclipse.is_none() {
-        return Ok(None);
-    }
-    for p in std::iter::once(&a.grid).chain(&a.deck) {
-        if let Some((f, name)) = io::eclipse::length_unit(p)? {
-            return Ok(Some((f, format!("{name} in {}", p.display()))));
-        }
-    }
-    Ok(None)
 }
 
 /// `hybrid --3d`: one well through a Cartesian block.
@@ -494,7 +413,10 @@ fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         links: h.wellbore.clone(),
     }];
     let title = format!("{} (3D)", a.grid.display());
-    let deck = a.simulator.text(&title, &network, &links, grid_unit(&a)?)?;
+    let outer = || Some(h.outer_cells(&g));
+    let deck = a
+        .simulator
+        .text(&title, &network, &links, grid_unit(&a)?, outer)?;
     let mut texts = vec![(a.out.output.clone(), deck.vtu(h.cells()))];
     if let Some(p) = a.tough.clone() {
         texts.push((p, io::tough::to_string(&network)?));
@@ -597,9 +519,11 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         );
         let network = l.network(&h);
         let title = format!("{} (2.5D)", a.grid.display());
+        let outer = || Some(l.outer_cells(&h));
+        let links = l.well_links(&h);
         let deck = a
             .simulator
-            .text(&title, &network, &l.well_links(&h), grid_unit(&a)?)?;
+            .text(&title, &network, &links, grid_unit(&a)?, outer)?;
         texts.push((a.out.output.clone(), deck.vtu(l.cells(&h))));
         if let Some(p) = a.tough.clone() {
             texts.push((p, io::tough::to_string(&network)?));
@@ -608,9 +532,11 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     } else {
         let network = h.network();
         let title = format!("{}, layer {}", a.grid.display(), a.layer);
+        let outer = || Some(h.outer_cells());
+        let links = h.well_links();
         let deck = a
             .simulator
-            .text(&title, &network, &h.well_links(), grid_unit(&a)?)?;
+            .text(&title, &network, &links, grid_unit(&a)?, outer)?;
         texts.push((a.out.output.clone(), deck.vtu(h.cells())));
         if let Some(p) = a.tough.clone() {
             texts.push((p, io::tough::to_string(&network)?));
@@ -669,6 +595,7 @@ fn demo(backend: &dyn Backend, a: DemoArgs) -> Result<()> {
         serde_json::to_string_pretty(&h.report).map_err(|e| Error::Usage(e.to_string()))?;
     let choices = DeckChoices {
         length: Some((1.0, "metres (the built-in grid)".into())),
+        aquifer: h.outer_cells(),
         ..Default::default()
     };
     let network = h.network();

@@ -1,0 +1,102 @@
+//! The command line's OPM Flow decks (`--eclipse`, docs/simulators.md).
+
+use clap::Args;
+use orthomesh::reservoir::deck::{DeckChoices, WellLinks};
+use orthomesh::{io, CellArray, CellMesh, Error, Network, Result};
+use std::path::PathBuf;
+
+/// An OPM Flow deck of the mesh (docs/simulators.md).
+#[derive(Args)]
+pub(crate) struct DeckArgs {
+    /// Also write an Eclipse deck that OPM Flow runs: one cell per mesh
+    /// cell, every connection an NNC with its two-point transmissibility,
+    /// wells connected through their innermost ring, single-phase water.
+    #[arg(long, value_name = "CASE.DATA")]
+    pub(crate) eclipse: Option<PathBuf>,
+    /// Deck: permeability (mD, along x, y and z; default 100).
+    #[arg(long, value_name = "MD")]
+    perm: Option<f64>,
+    /// Deck: porosity (default 0.2).
+    #[arg(long)]
+    poro: Option<f64>,
+    /// Deck: every well produces water at this rate (sm3/day); default: at
+    /// a bottom-hole pressure 10 bar below the initial 200 bar.
+    #[arg(long, value_name = "SM3/DAY")]
+    rate: Option<f64>,
+    /// Deck, `hybrid`: hold the cells on the mesh's outer boundary at their
+    /// initial pressure (an open boundary, as an aquifer around the field).
+    #[arg(long)]
+    aquifer: bool,
+}
+
+impl DeckArgs {
+    /// The deck's file and text for a network and its wells, with what it
+    /// assumed said on standard error.
+    pub(crate) fn text(
+        &self,
+        title: &str,
+        network: &Network,
+        wells: &[WellLinks],
+        length: Option<(f64, String)>,
+        outer: impl FnOnce() -> Option<Vec<usize>>,
+    ) -> Result<DeckOut> {
+        let Some(path) = &self.eclipse else {
+            if self.perm.is_some() || self.poro.is_some() || self.rate.is_some() || self.aquifer {
+                return Err(Error::Usage(
+                    "--perm, --poro, --rate and --aquifer are for --eclipse".into(),
+                ));
+            }
+            return Ok(DeckOut::default());
+        };
+        let aquifer = match (self.aquifer, outer()) {
+            (false, _) => vec![],
+            (true, Some(cells)) => cells,
+            (true, None) => return Err(Error::Usage("--aquifer is for `hybrid`".into())),
+        };
+        let choices = DeckChoices {
+            length,
+            aquifer,
+            perm: self.perm,
+            poro: self.poro,
+            rate: self.rate,
+        };
+        let (text, notes, position) = orthomesh::io::deck::write(title, network, wells, &choices)?;
+        for n in notes {
+            eprintln!("deck: {n}");
+        }
+        let cells = position.iter().map(|&i| i as i64 + 1).collect();
+        Ok(DeckOut {
+            files: vec![(path.clone(), text)],
+            cells: Some(CellArray::int("deck_cell", 1, cells)),
+        })
+    }
+}
+
+/// A deck's file, and its cell of each mesh cell (1-based) for the VTU.
+#[derive(Default)]
+pub(crate) struct DeckOut {
+    pub(crate) files: Vec<(PathBuf, String)>,
+    pub(crate) cells: Option<CellArray>,
+}
+
+impl DeckOut {
+    /// The VTU text of a mesh, with the deck's cells when there is a deck.
+    pub(crate) fn vtu(&self, mut mesh: CellMesh) -> String {
+        mesh.data.extend(self.cells.clone());
+        io::vtu::to_string(&mesh)
+    }
+}
+
+/// The grid's length unit: its GRIDUNIT, else the unit system of the
+/// grid or of the deck of wells (None when --eclipse is not asked for).
+pub(crate) fn grid_unit(a: &crate::HybridArgs) -> Result<Option<(f64, String)>> {
+    if a.simulator.eclipse.is_none() {
+        return Ok(None);
+    }
+    for p in std::iter::once(&a.grid).chain(&a.deck) {
+        if let Some((f, name)) = io::eclipse::length_unit(p)? {
+            return Ok(Some((f, format!("{name} in {}", p.display()))));
+        }
+    }
+    Ok(None)
+}
