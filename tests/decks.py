@@ -71,6 +71,22 @@ def thiem(deck, side, summary):
     assert err < float(os.environ.get("THIEM_TOL", "0.005")), f"{name}: {100 * err:.3f}% off Thiem"
 
 
+def scheduled(deck, controls, summary, flow):
+    """Each well at its scheduled rate, or at its bottom-hole pressure limit."""
+    at_rate = at_limit = 0
+    for w, (kind, rate, limit) in controls.items():
+        bhp = summary.numpy_vector(f"WBHP:{w}")[-1]
+        if abs(flow[w] - rate) <= 1e-4 * rate:
+            at_rate += 1
+        else:
+            assert abs(bhp - limit) <= 1e-3 * limit, \
+                f"{deck}: {w} ({kind}) flows {flow[w]:.4f} sm3/day, scheduled {rate:.4f}, at BHP {bhp:.3f} bar (limit {limit:.3f})"
+            at_limit += 1
+    if controls:
+        print(f"{os.path.basename(deck)}: {at_rate} wells at their scheduled rate, "
+              f"{at_limit} at their bottom-hole pressure limit")
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -92,8 +108,11 @@ def main():
         if "wells" in side:
             names = [k.split(":")[1] for k in summary.keys("WWPR:*")]
             assert len(names) == side["wells"], names
-            dry = [w for w in names if summary.numpy_vector(f"WWPR:{w}")[-1] <= 0.0]
+            flow = {w: summary.numpy_vector(f"WWPR:{w}")[-1] + summary.numpy_vector(f"WWIR:{w}")[-1]
+                    for w in names}
+            dry = [w for w in names if flow[w] <= 0.0]
             assert not dry, f"{deck}: wells without production: {dry}"
+            scheduled(deck, side.get("scheduled", {}), summary, flow)
 
 
 if __name__ == "__main__":

@@ -92,7 +92,10 @@ impl Thiem {
         // within a day (phi mu c_t L^2 / (c k)), and in 20 days the boundary,
         // of a million times its pore volume, drifts by 1e-3 bar.
         let settings = DeckSettings {
-            control: Control::ProduceRate(RATE),
+            control: Control::Produce {
+                rate: RATE,
+                min_bhp: 1.0,
+            },
             pressure: P0,
             steps: vec![2.0; 10],
             fluid: Fluid::default(),
@@ -285,15 +288,47 @@ fn demo_and_spe9_decks() {
     // SPE9 is in feet: the deck is in metres.
     let length = orthomesh::io::eclipse::length_unit(&data.join("SPE9_CP.DATA")).unwrap();
     assert_eq!(length.as_ref().map(|l| l.0), Some(0.3048));
+    // Its own schedule for 310 days: producers at 1500 stb/day for 300
+    // days, then at 100; the injector at 5000 stb/day up to 4000 psia; an
+    // open boundary.
+    let names: Vec<String> = h.wells.iter().map(|w| w.name.clone()).collect();
+    let (periods, said) =
+        orthomesh::io::eclipse::read_schedule(&data.join("SPE9_CP.DATA"), &names).unwrap();
+    assert_eq!(periods.len(), 3);
+    assert_eq!(periods[0].controls.len(), 26);
     let choices = orthomesh::reservoir::deck::DeckChoices {
         length,
+        aquifer: h.outer_cells(),
+        schedule: Some((periods, said)),
+        days: Some(310.0),
         ..Default::default()
     };
     let (text, notes, _) =
         orthomesh::io::deck::write("SPE9 top layer", &net, &h.well_links(), &choices).unwrap();
     assert!(notes.iter().any(|n| n.contains("feet")), "{notes:?}");
+    assert!(
+        notes
+            .iter()
+            .any(|n| n.contains("schedule: 2 periods, 310 days")),
+        "{notes:?}"
+    );
     orthomesh::io::write_atomic(&dir.join("spe9-top.DATA"), text.as_bytes()).unwrap();
-    let sidecar = json!({ "nnc": net.connections.len(), "cells": net.elements.len(), "wells": 26, "days": 10.0 });
+    // The controls of the last period, in METRIC units.
+    let stb = 0.158_987_294_928;
+    let psi = 0.068_947_572_931_783_1;
+    let mut scheduled = serde_json::Map::new();
+    for n in &names {
+        let control = if n.starts_with("PRODU") {
+            json!(["produce", 100.0 * stb, 1000.0 * psi])
+        } else {
+            json!(["inject", 5000.0 * stb, 4000.0 * psi])
+        };
+        scheduled.insert(n.clone(), control);
+    }
+    let sidecar = json!({
+        "nnc": net.connections.len(), "cells": net.elements.len(), "wells": 26, "days": 310.0,
+        "scheduled": scheduled
+    });
     orthomesh::io::write_atomic(&dir.join("spe9-top.json"), sidecar.to_string().as_bytes())
         .unwrap();
 }

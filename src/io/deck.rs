@@ -7,7 +7,7 @@
 //! values written are the ones it uses. Single-phase water, METRIC units.
 
 use crate::error::{Error, Result};
-pub use crate::reservoir::deck::{Control, Deck, DeckCell, DeckWell, Fluid, Nnc};
+pub use crate::reservoir::deck::{Control, Deck, DeckCell, DeckWell, Fluid, Nnc, Period};
 use std::fmt::Write;
 
 /// Numbers as the deck reads them: the shortest text that reads back to
@@ -104,6 +104,20 @@ fn check(deck: &Deck) -> Result<()> {
             return bad(format!(
                 "{} initial pressures for {n} cells, or one not finite",
                 p.len()
+            ));
+        }
+    }
+    let steps = deck
+        .steps
+        .iter()
+        .chain(deck.later.iter().flat_map(|p| &p.steps));
+    if let Some(d) = steps.into_iter().find(|d| !(**d > 0.0 && d.is_finite())) {
+        return bad(format!("a report step of {d} days"));
+    }
+    for (name, _) in deck.later.iter().flat_map(|p| &p.controls) {
+        if !deck.wells.iter().any(|w| w.name == *name) {
+            return bad(format!(
+                "the schedule controls well {name}, which the deck does not have"
             ));
         }
     }
@@ -223,48 +237,67 @@ fn schedule(s: &mut String, deck: &Deck) {
             }
         }
         s.push_str("/\n\n");
-        let producers: Vec<&DeckWell> = deck
+        let first: Vec<(String, Control)> = deck
             .wells
             .iter()
-            .filter(|w| !matches!(w.control, Control::InjectRate(_)))
+            .map(|w| (w.name.clone(), w.control))
             .collect();
-        if !producers.is_empty() {
-            s.push_str("WCONPROD\n");
-            for w in producers {
-                let _ = match w.control {
-                    Control::ProduceAtBhp(p) => {
-                        writeln!(s, " '{}' 'OPEN' 'BHP' 5* {} /", w.name, num(p))
-                    }
-                    Control::ProduceRate(q) => {
-                        writeln!(s, " '{}' 'OPEN' 'WRAT' 1* {} 3* 1 /", w.name, num(q))
-                    }
-                    Control::InjectRate(_) => Ok(()),
-                };
-            }
-            s.push_str("/\n\n");
-        }
-        let injectors: Vec<(&str, f64)> = deck
-            .wells
-            .iter()
-            .filter_map(|w| match w.control {
-                Control::InjectRate(q) => Some((w.name.as_str(), q)),
-                _ => None,
-            })
-            .collect();
-        if !injectors.is_empty() {
-            s.push_str("WCONINJE\n");
-            for (name, q) in injectors {
-                let _ = writeln!(s, " '{name}' 'WATER' 'OPEN' 'RATE' {} 1* 1000 /", num(q));
-            }
-            s.push_str("/\n\n");
-        }
+        controls(s, &first);
     }
+    tstep(s, &deck.steps);
+    for p in &deck.later {
+        controls(s, &p.controls);
+        tstep(s, &p.steps);
+    }
+    s.push_str("END\n");
+}
+
+/// Report steps.
+fn tstep(s: &mut String, steps: &[f64]) {
     s.push_str("TSTEP\n");
-    let steps: Vec<String> = deck.steps.iter().map(|&d| num(d)).collect();
+    let steps: Vec<String> = steps.iter().map(|&d| num(d)).collect();
     for line in steps.chunks(8) {
         let _ = writeln!(s, " {}", line.join(" "));
     }
-    s.push_str("/\n\nEND\n");
+    s.push_str("/\n\n");
+}
+
+/// Well controls: producers (and shut wells) in WCONPROD, injectors in
+/// WCONINJE.
+fn controls(s: &mut String, list: &[(String, Control)]) {
+    let (inject, produce): (Vec<_>, Vec<_>) = list
+        .iter()
+        .partition(|(_, c)| matches!(c, Control::Inject { .. }));
+    if !produce.is_empty() {
+        s.push_str("WCONPROD\n");
+        for (name, c) in produce {
+            let _ = match *c {
+                Control::ProduceAtBhp(p) => writeln!(s, " '{name}' 'OPEN' 'BHP' 5* {} /", num(p)),
+                Control::Produce { rate, min_bhp } => writeln!(
+                    s,
+                    " '{name}' 'OPEN' 'WRAT' 1* {} 3* {} /",
+                    num(rate),
+                    num(min_bhp)
+                ),
+                _ => writeln!(s, " '{name}' 'SHUT' 'BHP' 5* 1 /"),
+            };
+        }
+        s.push_str("/\n\n");
+    }
+    if !inject.is_empty() {
+        s.push_str("WCONINJE\n");
+        for (name, c) in inject {
+            if let Control::Inject { rate, max_bhp } = *c {
+                let _ = writeln!(
+                    s,
+                    " '{name}' 'WATER' 'OPEN' 'RATE' {} 1* {} /",
+                    num(rate),
+                    num(max_bhp)
+                );
+            }
+        }
+        s.push_str("/\n\n");
+    }
 }
 
 /// The deck's text; Err naming what would make Flow refuse it or run it
@@ -308,13 +341,17 @@ mod tests {
                 name: "W1".into(),
                 connections: vec![(1, 3.5)],
                 diameter: 0.2,
-                control: Control::ProduceRate(5.0),
+                control: Control::Produce {
+                    rate: 5.0,
+                    min_bhp: 1.0,
+                },
             }],
             watch: vec![0],
             fluid: Fluid::default(),
             pressure: 200.0,
             pressures: None,
             steps: vec![1.0; 3],
+            later: vec![],
         }
     }
 
@@ -330,6 +367,7 @@ mod tests {
             " 'W1' 'G1' 2 1 1000.5 'WATER' /",
             " 'W1' 2 1 1 1 'OPEN' 1* 3.5 0.2 /",
             " 'W1' 'OPEN' 'WRAT' 1* 5 3* 1 /",
+            "TSTEP\n 1 1 1\n/\n\nEND",
             "BPR\n 1 1 1 /\n/",
             "-- permeability 100 mD (default)",
         ] {

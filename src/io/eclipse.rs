@@ -7,6 +7,7 @@
 //! simulator computes geometry in). MAPAXES is read and kept, not applied.
 
 use crate::error::{Error, Result};
+use crate::reservoir::deck::{Control, Period};
 use crate::reservoir::{CornerPointGrid, Fault, FaultFace};
 use std::path::{Path, PathBuf};
 
@@ -498,6 +499,183 @@ pub fn read_wells(path: &Path) -> Result<(Vec<Well>, Vec<String>)> {
     Ok((wells, ts.missing))
 }
 
+fn unit_name(metres: f64) -> &'static str {
+    match metres {
+        1.0 => "metres",
+        0.01 => "centimetres",
+        _ => "feet",
+    }
+}
+
+/// The length unit of a grid or deck in metres, and its name: GRIDUNIT's
+/// (FEET, METRES, CM), else the unit system's (FIELD: feet, METRIC:
+/// metres, LAB: centimetres); None when the file says neither.
+pub fn length_unit(path: &Path) -> Result<Option<(f64, String)>> {
+    let ts = Tokens::read(path, true)?;
+    let mut system = None;
+    let mut k = 0;
+    while k < ts.toks.len() {
+        let kw = ts.toks[k].clone();
+        k += 1;
+        if !is_keyword(&kw) {
+            continue;
+        }
+        let unit = |u: &str| match u {
+            "FEET" | "FIELD" => Some(0.3048),
+            "METRES" | "METRIC" => Some(1.0),
+            "CM" | "LAB" => Some(0.01),
+            _ => None,
+        };
+        match kw.text.as_str() {
+            "GRIDUNIT" => {
+                let (rec, _) = record(&ts, k, &kw)?;
+                let name = rec
+                    .first()
+                    .cloned()
+                    .flatten()
+                    .map(|t| t.text.to_uppercase());
+                let Some(f) = name.as_deref().and_then(unit) else {
+                    return Err(ts.error(&kw, "GRIDUNIT is not FEET, METRES or CM".into()));
+                };
+                let what = format!("{} (GRIDUNIT {})", unit_name(f), name.unwrap_or_default());
+                return Ok(Some((f, what)));
+            }
+            "FIELD" | "METRIC" | "LAB" if system.is_none() => {
+                system = unit(&kw.text).map(|f| (f, format!("{} ({})", unit_name(f), kw.text)));
+            }
+            _ => {}
+        }
+    }
+    Ok(system)
+}
+
+/// Standard barrels per cubic metre, and bar per psi (FIELD to METRIC).
+const STB: f64 = 0.158_987_294_928;
+const PSI: f64 = 0.068_947_572_931_783_1;
+
+/// A deck's schedule as single-phase water controls in METRIC units: its
+/// periods, each the controls that change (WCONPROD, WCONINJE; names with a
+/// trailing '*' match every well of `names` they start) and then its report
+/// steps (TSTEP). Every translation is said in the notes. Reading stops at
+/// DATES (said).
+pub fn read_schedule(path: &Path, names: &[String]) -> Result<(Vec<Period>, Vec<String>)> {
+    let (rate, press) = match length_unit(path)? {
+        Some((f, _)) if f == 0.3048 => (STB, PSI),
+        Some((f, _)) if f == 0.01 => {
+            return Err(Error::Usage(format!(
+                "{}: LAB units in a schedule are not read",
+                path.display()
+            )))
+        }
+        _ => (1.0, 1.0),
+    };
+    let ts = Tokens::read(path, true)?;
+    let mut notes: Vec<String> = vec![];
+    let (mut periods, mut pending) = (vec![], vec![]);
+    let mut k = 0;
+    let value = |r: &Record, n: usize| -> Result<Option<f64>> {
+        match r.get(n).cloned().flatten() {
+            None => Ok(None),
+            Some(t) => number(&ts, &Some(t.clone()), &t, "a number").map(Some),
+        }
+    };
+    let word = |r: &Record, n: usize, default: &str| {
+        r.get(n)
+            .cloned()
+            .flatten()
+            .map_or(default.to_string(), |t| t.text.to_uppercase())
+    };
+    while k < ts.toks.len() {
+        let kw = ts.toks[k].clone();
+        k += 1;
+        if !is_keyword(&kw) {
+            continue;
+        }
+        match kw.text.as_str() {
+            "WCONPROD" | "WCONINJE" => loop {
+                let (rec, next) = record(&ts, k, &kw)?;
+                k = next;
+                if rec.is_empty() {
+                    break;
+                }
+                let pattern = word(&rec, 0, "");
+                let control = if kw.text == "WCONPROD" {
+                    let bhp = value(&rec, 8)?.map_or(1.01325, |p| p * press);
+                    let mode = word(&rec, 2, "");
+                    let item = ["ORAT", "WRAT", "GRAT", "LRAT", "RESV"]
+                        .iter()
+                        .position(|m| *m == mode);
+                    match (word(&rec, 1, "OPEN").as_str(), item) {
+                        ("SHUT" | "STOP", _) => Control::Shut,
+                        (_, Some(2)) | (_, None) => {
+                            notes.push(format!(
+                                "{pattern}: {mode} control written as BHP {bhp:.4} bar"
+                            ));
+                            Control::ProduceAtBhp(bhp)
+                        }
+                        (_, Some(i)) => Control::Produce {
+                            rate: value(&rec, 3 + i)?.unwrap_or(0.0) * rate,
+                            min_bhp: bhp,
+                        },
+                    }
+                } else {
+                    let max_bhp = value(&rec, 6)?.map_or(1000.0, |p| p * press);
+                    let kind = word(&rec, 1, "WATER");
+                    if kind != "WATER" {
+                        notes.push(format!("{pattern}: injects water, not {kind}"));
+                    }
+                    match (
+                        word(&rec, 2, "OPEN").as_str(),
+                        word(&rec, 3, "RATE").as_str(),
+                    ) {
+                        ("SHUT" | "STOP", _) => Control::Shut,
+                        (_, "RATE") => Control::Inject {
+                            rate: value(&rec, 4)?.unwrap_or(0.0) * rate,
+                            max_bhp,
+                        },
+                        (_, mode) => {
+                            notes.push(format!("{pattern}: {mode} control written as a rate of 1e5 sm3/day up to {max_bhp:.4} bar"));
+                            Control::Inject { rate: 1e5, max_bhp }
+                        }
+                    }
+                };
+                let matched: Vec<&String> = names
+                    .iter()
+                    .filter(|n| match pattern.strip_suffix('*') {
+                        Some(prefix) => n.starts_with(prefix),
+                        None => **n == pattern,
+                    })
+                    .collect();
+                if matched.is_empty() {
+                    notes.push(format!(
+                        "{} '{pattern}' matches no well of the mesh",
+                        kw.text
+                    ));
+                }
+                pending.retain(|(n, _): &(String, Control)| !matched.contains(&n));
+                pending.extend(matched.into_iter().map(|n| (n.clone(), control)));
+            },
+            "TSTEP" => {
+                let (rec, next) = record(&ts, k, &kw)?;
+                k = next;
+                let steps = (0..rec.len())
+                    .map(|n| value(&rec, n).map(|v| v.unwrap_or(0.0)))
+                    .collect::<Result<Vec<f64>>>()?;
+                periods.push(Period {
+                    controls: std::mem::take(&mut pending),
+                    steps,
+                });
+            }
+            "DATES" => {
+                notes.push("the schedule is read up to its first DATES".into());
+                break;
+            }
+            _ => {}
+        }
+    }
+    Ok((periods, notes))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -582,54 +760,46 @@ ACTNUM 1 /
             }]
         );
     }
-}
 
-fn unit_name(metres: f64) -> &'static str {
-    match metres {
-        1.0 => "metres",
-        0.01 => "centimetres",
-        _ => "feet",
-    }
-}
-
-/// The length unit of a grid or deck in metres, and its name: GRIDUNIT's
-/// (FEET, METRES, CM), else the unit system's (FIELD: feet, METRIC:
-/// metres, LAB: centimetres); None when the file says neither.
-pub fn length_unit(path: &Path) -> Result<Option<(f64, String)>> {
-    let ts = Tokens::read(path, true)?;
-    let mut system = None;
-    let mut k = 0;
-    while k < ts.toks.len() {
-        let kw = ts.toks[k].clone();
-        k += 1;
-        if !is_keyword(&kw) {
-            continue;
-        }
-        let unit = |u: &str| match u {
-            "FEET" | "FIELD" => Some(0.3048),
-            "METRES" | "METRIC" => Some(1.0),
-            "CM" | "LAB" => Some(0.01),
-            _ => None,
+    #[test]
+    fn schedules_become_water_controls_in_metric_units() {
+        let p = write(
+            "SCHED.DATA",
+            "FIELD\nSCHEDULE\nWCONPROD\n 'P*' 'OPEN' 'ORAT' 1500 4* 1000 /\n 'X' 'SHUT' 'ORAT' 1 /\n/\n\
+             WCONINJE\n 'I' 'WATER' 'OPEN' 'RATE' 5000 1* 4000 /\n/\nTSTEP\n 2*10 /\n\
+             WCONPROD\n 'P1' 'OPEN' 'BHP' 5* 500 /\n/\nTSTEP\n 5 /\nDATES\n 1 'JAN' 2030 /\n/\nTSTEP\n 7 /\n",
+        );
+        let names: Vec<String> = ["P1", "P2", "I"].iter().map(|s| s.to_string()).collect();
+        let (periods, notes) = read_schedule(&p, &names).unwrap();
+        assert_eq!(periods.len(), 2);
+        assert_eq!(periods[0].steps, vec![10.0, 10.0]);
+        let produce = Control::Produce {
+            rate: 1500.0 * STB,
+            min_bhp: 1000.0 * PSI,
         };
-        match kw.text.as_str() {
-            "GRIDUNIT" => {
-                let (rec, _) = record(&ts, k, &kw)?;
-                let name = rec
-                    .first()
-                    .cloned()
-                    .flatten()
-                    .map(|t| t.text.to_uppercase());
-                let Some(f) = name.as_deref().and_then(unit) else {
-                    return Err(ts.error(&kw, "GRIDUNIT is not FEET, METRES or CM".into()));
-                };
-                let what = format!("{} (GRIDUNIT {})", unit_name(f), name.unwrap_or_default());
-                return Ok(Some((f, what)));
-            }
-            "FIELD" | "METRIC" | "LAB" if system.is_none() => {
-                system = unit(&kw.text).map(|f| (f, format!("{} ({})", unit_name(f), kw.text)));
-            }
-            _ => {}
-        }
+        assert_eq!(periods[0].controls[0], ("P1".to_string(), produce));
+        assert_eq!(periods[0].controls[1], ("P2".to_string(), produce));
+        let inject = Control::Inject {
+            rate: 5000.0 * STB,
+            max_bhp: 4000.0 * PSI,
+        };
+        assert_eq!(periods[0].controls[2], ("I".to_string(), inject));
+        assert_eq!(
+            periods[1].controls,
+            vec![("P1".to_string(), Control::ProduceAtBhp(500.0 * PSI))]
+        );
+        assert!(
+            notes.iter().any(|n| n.contains("'X' matches no well")),
+            "{notes:?}"
+        );
+        assert!(notes.iter().any(|n| n.contains("DATES")), "{notes:?}");
+        assert_eq!(length_unit(&p).unwrap().map(|u| u.0), Some(0.3048));
+        let g = write("UNIT.grdecl", "GRIDUNIT\n 'METRES' /\n");
+        assert_eq!(length_unit(&g).unwrap().map(|u| u.0), Some(1.0));
+        let bad = write("BAD.grdecl", "GRIDUNIT\n 'FURLONGS' /\n");
+        assert!(length_unit(&bad)
+            .unwrap_err()
+            .to_string()
+            .contains("GRIDUNIT"));
     }
-    Ok(system)
 }

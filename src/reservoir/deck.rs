@@ -34,11 +34,34 @@ pub struct Nnc {
 pub enum Control {
     /// Produces water at this bottom-hole pressure (bar).
     ProduceAtBhp(f64),
-    /// Produces water at this rate (sm^3/day), down to a bottom-hole
-    /// pressure of 1 bar.
-    ProduceRate(f64),
-    /// Injects water at this rate (sm^3/day), up to 1,000 bar.
-    InjectRate(f64),
+    /// Produces water at a rate (sm^3/day) down to a bottom-hole pressure
+    /// (bar).
+    Produce {
+        /// The rate.
+        rate: f64,
+        /// The lowest bottom-hole pressure.
+        min_bhp: f64,
+    },
+    /// Injects water at a rate (sm^3/day) up to a bottom-hole pressure
+    /// (bar).
+    Inject {
+        /// The rate.
+        rate: f64,
+        /// The highest bottom-hole pressure.
+        max_bhp: f64,
+    },
+    /// Shut.
+    Shut,
+}
+
+/// A period of a schedule: controls that change at its start, then its
+/// report steps (days).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Period {
+    /// (well, control) for the wells whose control changes.
+    pub controls: Vec<(String, Control)>,
+    /// Report steps.
+    pub steps: Vec<f64>,
 }
 
 /// A well: its connections (cell, connection factor in cP m^3 / day /
@@ -107,8 +130,10 @@ pub struct Deck {
     pub pressure: f64,
     /// Instead, every cell's initial pressure (bar; PRESSURE).
     pub pressures: Option<Vec<f64>>,
-    /// Report steps (days).
+    /// Report steps (days) under the wells' first controls.
     pub steps: Vec<f64>,
+    /// Later periods: controls that change, and their steps.
+    pub later: Vec<Period>,
 }
 
 /// Darcy's constant in METRIC units: transmissibility (cP m^3 / day / bar)
@@ -265,6 +290,7 @@ pub fn deck(
         pressure: settings.pressure,
         pressures: None,
         steps: settings.steps.clone(),
+        later: vec![],
     };
     (deck, position)
 }
@@ -327,6 +353,66 @@ pub struct DeckChoices {
     /// Elements held at their initial pressure (an open boundary, as an
     /// aquifer around the field); empty: a closed boundary.
     pub aquifer: Vec<usize>,
+    /// The input deck's schedule (`io::eclipse::read_schedule`) and what
+    /// its reading said; `rate` replaces it.
+    pub schedule: Option<(Vec<Period>, Vec<String>)>,
+    /// Run only this many days.
+    pub days: Option<f64>,
+}
+
+/// The first `days` of a schedule (whole periods, the last one cut).
+fn first_days(periods: &[Period], days: f64) -> Vec<Period> {
+    let mut left = days;
+    let mut out = vec![];
+    for p in periods {
+        if left <= 0.0 {
+            break;
+        }
+        let mut steps = vec![];
+        for &d in &p.steps {
+            if left <= 0.0 {
+                break;
+            }
+            steps.push(d.min(left));
+            left -= d;
+        }
+        out.push(Period {
+            controls: p.controls.clone(),
+            steps,
+        });
+    }
+    out
+}
+
+/// Puts a schedule on a deck: its first period's controls on the wells
+/// (wells it does not name stay shut, said), its steps, the later periods.
+fn apply_schedule(deck: &mut Deck, periods: &[Period], notes: &mut Vec<String>) {
+    let Some(first) = periods.first() else {
+        return;
+    };
+    let mut shut = vec![];
+    for w in &mut deck.wells {
+        match first.controls.iter().find(|(n, _)| *n == w.name) {
+            Some((_, c)) => w.control = *c,
+            None => {
+                w.control = Control::Shut;
+                shut.push(w.name.clone());
+            }
+        }
+    }
+    if !shut.is_empty() {
+        notes.push(format!(
+            "no control before the schedule's first step, so shut: {}",
+            shut.join(", ")
+        ));
+    }
+    deck.steps = first.steps.clone();
+    deck.later = periods[1..].to_vec();
+    let days: f64 = periods.iter().flat_map(|p| &p.steps).sum();
+    notes.push(format!(
+        "the input deck's schedule: {} periods, {days} days, as single-phase water (oil, liquid and reservoir rates become water rates)",
+        periods.len()
+    ));
 }
 
 /// How much an aquifer cell's pore volume grows: enough that a well's
@@ -368,22 +454,49 @@ pub fn prepare(
     };
     let mut settings = DeckSettings::default();
     let mut notes = vec![
-        format!("permeability {perm} mD along x, y and z {}", said(choices.perm.is_some(), "--perm")),
+        format!(
+            "permeability {perm} mD along x, y and z {}",
+            said(choices.perm.is_some(), "--perm")
+        ),
         format!("porosity {poro} {}", said(choices.poro.is_some(), "--poro")),
         format!(
-            "initial pressure {} bar at the shallowest node; water of viscosity {} cP; {} report steps of {} day",
-            settings.pressure,
-            settings.fluid.viscosity,
-            settings.steps.len(),
-            settings.steps[0]
+            "initial pressure {} bar at the shallowest node; water of viscosity {} cP",
+            settings.pressure, settings.fluid.viscosity,
         ),
     ];
     if let Some(q) = choices.rate {
-        settings.control = Control::ProduceRate(q);
+        settings.control = Control::Produce {
+            rate: q,
+            min_bhp: 1.0,
+        };
     }
+    if let Some(d) = choices.days {
+        settings.steps = first_days(
+            &[Period {
+                controls: vec![],
+                steps: settings.steps,
+            }],
+            d,
+        )
+        .into_iter()
+        .flat_map(|p| p.steps)
+        .collect();
+    }
+    let schedule = match &choices.schedule {
+        Some((periods, said)) if !periods.is_empty() && !wells.is_empty() => {
+            if choices.rate.is_some() {
+                notes.push("--rate replaces the input deck's schedule".into());
+                None
+            } else {
+                Some((periods, said))
+            }
+        }
+        _ => None,
+    };
     notes.push(match (wells.len(), settings.control) {
+        _ if schedule.is_some() => format!("{} wells on the input deck's schedule", wells.len()),
         (0, _) => "no wells: the mesh has none, so the deck runs its initial state".into(),
-        (n, Control::ProduceRate(q)) => {
+        (n, Control::Produce { rate: q, .. }) => {
             format!("{n} wells, each producing {q} sm3/day of water (--rate), down to 1 bar")
         }
         (n, _) => format!(
@@ -406,6 +519,16 @@ pub fn prepare(
     };
     let rock = Rock::uniform(network.elements.len(), [perm; 3], poro);
     let (mut deck, position) = deck(title, &network, &rock, &wells, &settings);
+    if let Some((periods, said)) = schedule {
+        let periods = match choices.days {
+            Some(d) => first_days(periods, d),
+            None => periods.clone(),
+        };
+        apply_schedule(&mut deck, &periods, &mut notes);
+        let mut said = said.clone();
+        said.dedup();
+        notes.extend(said);
+    }
     if !choices.aquifer.is_empty() {
         for &e in &choices.aquifer {
             deck.cells[position[e]].pore_volume *= AQUIFER;
@@ -415,6 +538,22 @@ pub fn prepare(
             choices.aquifer.len()
         ));
     }
+    let steps: Vec<f64> = deck
+        .steps
+        .iter()
+        .chain(deck.later.iter().flat_map(|p| &p.steps))
+        .copied()
+        .collect();
+    notes.push(format!(
+        "{} report steps, {} days{}",
+        steps.len(),
+        steps.iter().sum::<f64>(),
+        if choices.days.is_some() {
+            " (--days)"
+        } else {
+            ""
+        }
+    ));
     deck.watch = deck
         .wells
         .iter()

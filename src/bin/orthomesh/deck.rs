@@ -3,7 +3,7 @@
 use clap::Args;
 use orthomesh::reservoir::deck::{DeckChoices, WellLinks};
 use orthomesh::{io, CellArray, CellMesh, Error, Network, Result};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// An OPM Flow deck of the mesh (docs/simulators.md).
 #[derive(Args)]
@@ -27,6 +27,10 @@ pub(crate) struct DeckArgs {
     /// initial pressure (an open boundary, as an aquifer around the field).
     #[arg(long)]
     aquifer: bool,
+    /// Deck: run only this many days (default: 10 days, or the whole
+    /// schedule of the input deck).
+    #[arg(long)]
+    days: Option<f64>,
 }
 
 impl DeckArgs {
@@ -39,15 +43,24 @@ impl DeckArgs {
         wells: &[WellLinks],
         length: Option<(f64, String)>,
         outer: impl FnOnce() -> Option<Vec<usize>>,
+        schedule: Option<&Path>,
     ) -> Result<DeckOut> {
         let Some(path) = &self.eclipse else {
-            if self.perm.is_some() || self.poro.is_some() || self.rate.is_some() || self.aquifer {
+            let given = [self.perm, self.poro, self.rate, self.days];
+            if given.iter().any(Option::is_some) || self.aquifer {
                 return Err(Error::Usage(
-                    "--perm, --poro, --rate and --aquifer are for --eclipse".into(),
+                    "--perm, --poro, --rate, --days and --aquifer are for --eclipse".into(),
                 ));
             }
             return Ok(DeckOut::default());
         };
+        if self.days.is_some_and(|d| !(d > 0.0 && d <= 1e6)) {
+            return Err(Error::Usage("--days must be in (0, 1e6]".into()));
+        }
+        let names: Vec<String> = wells.iter().map(|w| w.name.clone()).collect();
+        let schedule = schedule
+            .map(|p| io::eclipse::read_schedule(p, &names))
+            .transpose()?;
         let aquifer = match (self.aquifer, outer()) {
             (false, _) => vec![],
             (true, Some(cells)) => cells,
@@ -59,6 +72,8 @@ impl DeckArgs {
             perm: self.perm,
             poro: self.poro,
             rate: self.rate,
+            schedule,
+            days: self.days,
         };
         let (text, notes, position) = orthomesh::io::deck::write(title, network, wells, &choices)?;
         for n in notes {

@@ -322,9 +322,14 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
         ));
     }
     let network = orthomesh::reservoir::deck::plane_network(&out.mesh, a.thickness, a.depth);
-    let deck = a
-        .deck
-        .text(&a.input.display().to_string(), &network, &[], None, || None)?;
+    let deck = a.deck.text(
+        &a.input.display().to_string(),
+        &network,
+        &[],
+        None,
+        || None,
+        None,
+    )?;
     let o = &a.out;
     write_all(
         &out,
@@ -374,6 +379,7 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
         &[],
         None,
         || None,
+        None,
     )?;
     let o = &a.out;
     write_all3(
@@ -416,7 +422,7 @@ fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     let outer = || Some(h.outer_cells(&g));
     let deck = a
         .simulator
-        .text(&title, &network, &links, grid_unit(&a)?, outer)?;
+        .text(&title, &network, &links, grid_unit(&a)?, outer, None)?;
     let mut texts = vec![(a.out.output.clone(), deck.vtu(h.cells()))];
     if let Some(p) = a.tough.clone() {
         texts.push((p, io::tough::to_string(&network)?));
@@ -521,9 +527,14 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         let title = format!("{} (2.5D)", a.grid.display());
         let outer = || Some(l.outer_cells(&h));
         let links = l.well_links(&h);
-        let deck = a
-            .simulator
-            .text(&title, &network, &links, grid_unit(&a)?, outer)?;
+        let deck = a.simulator.text(
+            &title,
+            &network,
+            &links,
+            grid_unit(&a)?,
+            outer,
+            a.deck.as_deref(),
+        )?;
         texts.push((a.out.output.clone(), deck.vtu(l.cells(&h))));
         if let Some(p) = a.tough.clone() {
             texts.push((p, io::tough::to_string(&network)?));
@@ -534,9 +545,14 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         let title = format!("{}, layer {}", a.grid.display(), a.layer);
         let outer = || Some(h.outer_cells());
         let links = h.well_links();
-        let deck = a
-            .simulator
-            .text(&title, &network, &links, grid_unit(&a)?, outer)?;
+        let deck = a.simulator.text(
+            &title,
+            &network,
+            &links,
+            grid_unit(&a)?,
+            outer,
+            a.deck.as_deref(),
+        )?;
         texts.push((a.out.output.clone(), deck.vtu(h.cells())));
         if let Some(p) = a.tough.clone() {
             texts.push((p, io::tough::to_string(&network)?));
