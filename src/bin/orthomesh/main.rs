@@ -514,8 +514,9 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     if a.out.reproducible {
         h.report.transition.timing = None;
     }
-    let mut texts = vec![];
-    if a.layers {
+    // The mesh as written (2D, or its layers in 2.5D), its network, wells,
+    // outer cells and title.
+    let (cells, network, links, outer, title) = if a.layers {
         let l = orthomesh::reservoir::extrude(&h, &g)?;
         eprintln!(
             "2.5D: {} polyhedra over {} layers ({} top faces split where the horizon warps)",
@@ -523,42 +524,38 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             g.nz,
             l.split_faces
         );
-        let network = l.network(&h);
         let title = format!("{} (2.5D)", a.grid.display());
-        let outer = || Some(l.outer_cells(&h));
-        let links = l.well_links(&h);
-        let deck = a.simulator.text(
-            &title,
-            &network,
-            &links,
-            grid_unit(&a)?,
-            outer,
-            a.deck.as_deref(),
-        )?;
-        texts.push((a.out.output.clone(), deck.vtu(l.cells(&h))));
-        if let Some(p) = a.tough.clone() {
-            texts.push((p, io::tough::to_string(&network)?));
-        }
-        texts.extend(deck.files);
+        (
+            l.cells(&h),
+            l.network(&h),
+            l.well_links(&h),
+            l.outer_cells(&h),
+            title,
+        )
     } else {
-        let network = h.network();
         let title = format!("{}, layer {}", a.grid.display(), a.layer);
-        let outer = || Some(h.outer_cells());
-        let links = h.well_links();
-        let deck = a.simulator.text(
-            &title,
-            &network,
-            &links,
-            grid_unit(&a)?,
-            outer,
-            a.deck.as_deref(),
-        )?;
-        texts.push((a.out.output.clone(), deck.vtu(h.cells())));
-        if let Some(p) = a.tough.clone() {
-            texts.push((p, io::tough::to_string(&network)?));
-        }
-        texts.extend(deck.files);
+        (
+            h.cells(),
+            h.network(),
+            h.well_links(),
+            h.outer_cells(),
+            title,
+        )
+    };
+    let unit = grid_unit(&a)?;
+    let deck = a.simulator.text(
+        &title,
+        &network,
+        &links,
+        unit,
+        || Some(outer),
+        a.deck.as_deref(),
+    )?;
+    let mut texts = vec![(a.out.output.clone(), deck.vtu(cells))];
+    if let Some(p) = a.tough.clone() {
+        texts.push((p, io::tough::to_string(&network)?));
     }
+    texts.extend(deck.files);
     if let Some(p) = a.out.svg {
         let inside = vec![true; h.mesh.cells.len()];
         texts.push((p, io::svg::to_string(&h.mesh, &inside, &h.constraints)));
