@@ -363,7 +363,7 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
         "--deck",
         &wells,
         "-o",
-        &p("spe9.vtu"),
+        &p("hybrid-spe9.vtu"),
         "--eclipse",
         &p("SPE9.DATA"),
         "--rate",
