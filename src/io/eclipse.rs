@@ -560,8 +560,8 @@ const PSI: f64 = 0.068_947_572_931_783_1;
 /// DATES (said).
 pub fn read_schedule(path: &Path, names: &[String]) -> Result<(Vec<Period>, Vec<String>)> {
     let (rate, press) = match length_unit(path)? {
-        Some((f, _)) if f == 0.3048 => (STB, PSI),
-        Some((f, _)) if f == 0.01 => {
+        Some((0.3048, _)) => (STB, PSI),
+        Some((0.01, _)) => {
             return Err(Error::Usage(format!(
                 "{}: LAB units in a schedule are not read",
                 path.display()
