@@ -253,6 +253,12 @@ fn thiem_deck_in_3d() {
 fn demo_and_spe9_decks() {
     let (g, wells, opts) = orthomesh::reservoir::demo();
     let h = build(&default_backend(), &g, &wells, &opts).unwrap();
+    // The well's innermost ring lies in its own column (6, 7), and every
+    // cell takes the rock of a grid cell of the layer.
+    for &c in &h.wells[0].inner {
+        assert_eq!(h.host[c as usize], [6, 7, 0]);
+    }
+    assert!(h.host.iter().all(|&[i, j, k]| i < 15 && j < 15 && k == 0));
     // As `orthomesh demo` writes it: an open boundary.
     let choices = orthomesh::reservoir::deck::DeckChoices {
         aquifer: h.outer_cells(),
@@ -296,8 +302,17 @@ fn demo_and_spe9_decks() {
         orthomesh::io::eclipse::read_schedule(&data.join("SPE9_CP.DATA"), &names).unwrap();
     assert_eq!(periods.len(), 3);
     assert_eq!(periods[0].controls.len(), 26);
+    // Its rock: the deck's PORO on every cell's host (PERM is in an
+    // include the shared data lacks: the default).
+    let cells = grid.nx * grid.ny * grid.nz;
+    let paths = [data.join("SPE9.GRDECL"), data.join("SPE9_CP.DATA")];
+    let paths: Vec<&std::path::Path> = paths.iter().map(|p| p.as_path()).collect();
+    let (props, _) = orthomesh::io::eclipse::read_properties(&paths, cells).unwrap();
+    let rock = orthomesh::io::deck::rock_from(&props, &h.host, [grid.nx, grid.ny]);
+    assert!(rock.0.poro.iter().all(|&p| p == 0.087));
     let choices = orthomesh::reservoir::deck::DeckChoices {
         length,
+        rock: Some(rock),
         aquifer: h.outer_cells(),
         schedule: Some((periods, said)),
         days: Some(310.0),
@@ -376,6 +391,13 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
     );
     let deck = std::fs::read_to_string(dir.join("SPE9.DATA")).unwrap();
     assert_eq!(deck.matches("'G1'").count(), 26);
+    // The top layer's porosity from the deck's PORO; its permeabilities'
+    // include is not in the shared data.
+    assert!(deck.contains("PORO\n 0.087 0.087"), "{}", &deck[..2000]);
+    assert!(
+        err.contains("PORO from the input") && err.contains("PERMVALUES.DATA not found"),
+        "{err}"
+    );
     assert!(deck.contains("WCONPROD"));
 
     let poly = root.join("pslg/double_hex2.poly").display().to_string();

@@ -43,6 +43,56 @@ pub fn write(
     Ok((to_string(&deck)?, notes, position))
 }
 
+/// Rock per element from a grid's arrays, each element taking the grid
+/// cell `hosts[e]` (i, j, k) of an nx x ny grid; what is missing takes the
+/// defaults (PERMY and PERMZ: PERMX's). NTG scales the pore volume and
+/// the horizontal permeabilities, as Eclipse does. The notes say where
+/// each value came from.
+pub fn rock_from(
+    props: &crate::io::eclipse::Properties,
+    hosts: &[[usize; 3]],
+    [nx, ny]: [usize; 2],
+) -> (crate::reservoir::deck::Rock, Vec<String>) {
+    use crate::reservoir::deck::{DEFAULT_PERM, DEFAULT_PORO};
+    let at =
+        |v: &Option<Vec<f64>>, h: [usize; 3]| v.as_ref().map(|v| v[h[0] + nx * (h[1] + ny * h[2])]);
+    let mut notes = vec![];
+    let from = |v: &Option<Vec<f64>>, key: &str, fallback: String| match v {
+        Some(_) => format!("{key} from the input"),
+        None => fallback,
+    };
+    notes.push(from(
+        &props.poro,
+        "PORO",
+        format!("porosity {DEFAULT_PORO} (default, the input gives no PORO; --poro sets it)"),
+    ));
+    notes.push(from(
+        &props.perm[0],
+        "PERMX",
+        format!(
+            "permeability {DEFAULT_PERM} mD (default, the input gives no PERMX; --perm sets it)"
+        ),
+    ));
+    for (k, key) in [(1, "PERMY"), (2, "PERMZ")] {
+        if props.perm[0].is_some() && props.perm[k].is_none() {
+            notes.push(format!("{key}: PERMX's (the input gives none)"));
+        }
+    }
+    if props.ntg.is_some() {
+        notes.push("NTG from the input, on pore volumes and horizontal permeabilities".into());
+    }
+    let (mut perm, mut poro) = (vec![], vec![]);
+    for &h in hosts {
+        let ntg = at(&props.ntg, h).unwrap_or(1.0);
+        let kx = at(&props.perm[0], h).unwrap_or(DEFAULT_PERM);
+        let ky = at(&props.perm[1], h).unwrap_or(kx);
+        let kz = at(&props.perm[2], h).unwrap_or(kx);
+        perm.push([kx * ntg, ky * ntg, kz]);
+        poro.push(at(&props.poro, h).unwrap_or(DEFAULT_PORO) * ntg);
+    }
+    (crate::reservoir::deck::Rock { perm, poro }, notes)
+}
+
 /// What makes a deck unrunnable, named.
 fn check(deck: &Deck) -> Result<()> {
     let bad = |what: String| Err(Error::Usage(format!("cannot write the deck: {what}")));
@@ -398,5 +448,26 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("TOO-LONG-NAME"));
+    }
+
+    #[test]
+    fn rock_comes_from_the_host_cells_with_ntg_and_defaults() {
+        use crate::io::eclipse::Properties;
+        // A 2 x 1 x 2 grid: PORO and PERMX given, NTG halves the first cell.
+        let props = Properties {
+            poro: Some(vec![0.1, 0.2, 0.3, 0.4]),
+            perm: [Some(vec![10.0, 20.0, 30.0, 40.0]), None, None],
+            ntg: Some(vec![0.5, 1.0, 1.0, 1.0]),
+        };
+        let (rock, notes) = rock_from(&props, &[[0, 0, 0], [1, 0, 1]], [2, 1]);
+        assert_eq!(rock.poro, vec![0.05, 0.4]);
+        assert_eq!(rock.perm, vec![[5.0, 5.0, 10.0], [40.0, 40.0, 40.0]]);
+        assert!(
+            notes.iter().any(|n| n.starts_with("PERMY: PERMX's")),
+            "{notes:?}"
+        );
+        let (rock, notes) = rock_from(&Properties::default(), &[[0, 0, 0]], [1, 1]);
+        assert_eq!(rock.poro, vec![crate::reservoir::deck::DEFAULT_PORO]);
+        assert!(notes.iter().any(|n| n.contains("default")), "{notes:?}");
     }
 }

@@ -676,6 +676,51 @@ pub fn read_schedule(path: &Path, names: &[String]) -> Result<(Vec<Period>, Vec<
     Ok((periods, notes))
 }
 
+/// Rock arrays of a grid or deck, per grid cell (i + nx (j + ny k)).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Properties {
+    /// PORO.
+    pub poro: Option<Vec<f64>>,
+    /// PERMX, PERMY, PERMZ (mD in METRIC and FIELD alike).
+    pub perm: [Option<Vec<f64>>; 3],
+    /// NTG.
+    pub ntg: Option<Vec<f64>>,
+}
+
+/// PORO, PERMX/Y/Z and NTG of a grid or deck with `cells` cells, later
+/// files' arrays replacing earlier ones; included files that are missing
+/// are named in the second value.
+pub fn read_properties(paths: &[&Path], cells: usize) -> Result<(Properties, Vec<String>)> {
+    let mut props = Properties::default();
+    let mut missing = vec![];
+    for path in paths {
+        let ts = Tokens::read(path, true)?;
+        missing.extend(ts.missing.iter().cloned());
+        let mut k = 0;
+        while k < ts.toks.len() {
+            let kw = ts.toks[k].clone();
+            k += 1;
+            let slot = match kw.text.as_str() {
+                _ if !is_keyword(&kw) => continue,
+                "PORO" => &mut props.poro,
+                "PERMX" => &mut props.perm[0],
+                "PERMY" => &mut props.perm[1],
+                "PERMZ" => &mut props.perm[2],
+                "NTG" => &mut props.ntg,
+                _ => continue,
+            };
+            let (rec, next) = record(&ts, k, &kw)?;
+            k = next;
+            let values = reals(&ts, &kw, &rec, cells)?;
+            if let Some(v) = values.iter().find(|v| **v < 0.0) {
+                return Err(ts.error(&kw, format!("{}: negative value {v}", kw.text)));
+            }
+            *slot = Some(values);
+        }
+    }
+    Ok((props, missing))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -801,5 +846,22 @@ ACTNUM 1 /
             .unwrap_err()
             .to_string()
             .contains("GRIDUNIT"));
+    }
+
+    #[test]
+    fn rock_arrays_are_read_with_their_counts_checked() {
+        let p = write(
+            "ROCK.DATA",
+            "PORO\n 2*0.1 0.2 0.3 /\nNTG\n 4*1 /\nPERMX\n 4*50 /\n",
+        );
+        let (props, missing) = read_properties(&[&p], 4).unwrap();
+        assert_eq!(props.poro, Some(vec![0.1, 0.1, 0.2, 0.3]));
+        assert_eq!(props.perm[0], Some(vec![50.0; 4]));
+        assert!(props.perm[1].is_none() && missing.is_empty());
+        let e = read_properties(&[&p], 5).unwrap_err().to_string();
+        assert!(e.contains("PORO has 4 values, the grid needs 5"), "{e}");
+        let bad = write("NEG.DATA", "PERMZ\n 1 -2 /\n");
+        let e = read_properties(&[&bad], 2).unwrap_err().to_string();
+        assert!(e.contains("negative value -2"), "{e}");
     }
 }

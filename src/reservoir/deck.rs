@@ -358,6 +358,9 @@ pub struct DeckChoices {
     pub schedule: Option<(Vec<Period>, Vec<String>)>,
     /// Run only this many days.
     pub days: Option<f64>,
+    /// Rock per element from the input (`io::deck::rock_from`) and what it
+    /// assumed; `perm` and `poro` replace its values where given.
+    pub rock: Option<(Rock, Vec<String>)>,
 }
 
 /// The first `days` of a schedule (whole periods, the last one cut).
@@ -425,9 +428,63 @@ pub const DEFAULT_PERM: f64 = 100.0;
 /// Porosity where neither input nor user gives one.
 pub const DEFAULT_PORO: f64 = 0.2;
 
-/// The deck of a network with uniform rock, its notes (what was assumed,
-/// also written at the deck's top) and each element's deck cell (0-based).
-/// Err on choices out of range.
+/// The rock of n elements (the input's, or uniform) with `--perm` and
+/// `--poro` applied, and the notes that say where it came from.
+fn rock_of(n: usize, choices: &DeckChoices) -> Result<(Rock, Vec<String>)> {
+    let perm = choices.perm.unwrap_or(DEFAULT_PERM);
+    let poro = choices.poro.unwrap_or(DEFAULT_PORO);
+    let said = |given: bool, flag: &str| {
+        if given {
+            format!("({flag})")
+        } else {
+            format!("(default, the input gives none; {flag} sets it)")
+        }
+    };
+    let mut notes = match &choices.rock {
+        Some((_, said)) => said.clone(),
+        None => vec![
+            format!(
+                "permeability {perm} mD along x, y and z {}",
+                said(choices.perm.is_some(), "--perm")
+            ),
+            format!("porosity {poro} {}", said(choices.poro.is_some(), "--poro")),
+        ],
+    };
+    if choices.rock.is_some() {
+        if let Some(k) = choices.perm {
+            notes.push(format!(
+                "permeability {k} mD along x, y and z everywhere (--perm)"
+            ));
+        }
+        if let Some(f) = choices.poro {
+            notes.push(format!("porosity {f} everywhere (--poro)"));
+        }
+    }
+    let rock = match &choices.rock {
+        Some((r, _)) => Rock {
+            perm: match choices.perm {
+                Some(k) => vec![[k; 3]; r.perm.len()],
+                None => r.perm.clone(),
+            },
+            poro: match choices.poro {
+                Some(f) => vec![f; r.poro.len()],
+                None => r.poro.clone(),
+            },
+        },
+        None => Rock::uniform(n, [perm; 3], poro),
+    };
+    if rock.perm.len() != n || rock.poro.len() != n {
+        return Err(Error::Usage(format!(
+            "rock for {} cells, the mesh has {n}",
+            rock.poro.len()
+        )));
+    }
+    Ok((rock, notes))
+}
+
+/// The deck of a network with its rock (the input's, or uniform), its
+/// notes (what was assumed, also written at the deck's top) and each
+/// element's deck cell (0-based). Err on choices out of range.
 pub fn prepare(
     title: &str,
     network: &Network,
@@ -443,27 +500,12 @@ pub fn prepare(
     positive(choices.perm, "--perm", 1e9)?;
     positive(choices.poro, "--poro", 1.0)?;
     positive(choices.rate, "--rate", 1e12)?;
-    let perm = choices.perm.unwrap_or(DEFAULT_PERM);
-    let poro = choices.poro.unwrap_or(DEFAULT_PORO);
-    let said = |given: bool, flag: &str| {
-        if given {
-            format!("({flag})")
-        } else {
-            format!("(default, the input gives none; {flag} sets it)")
-        }
-    };
+    let (rock, mut notes) = rock_of(network.elements.len(), choices)?;
     let mut settings = DeckSettings::default();
-    let mut notes = vec![
-        format!(
-            "permeability {perm} mD along x, y and z {}",
-            said(choices.perm.is_some(), "--perm")
-        ),
-        format!("porosity {poro} {}", said(choices.poro.is_some(), "--poro")),
-        format!(
-            "initial pressure {} bar at the shallowest node; water of viscosity {} cP",
-            settings.pressure, settings.fluid.viscosity,
-        ),
-    ];
+    notes.push(format!(
+        "initial pressure {} bar at the shallowest node; water of viscosity {} cP",
+        settings.pressure, settings.fluid.viscosity,
+    ));
     if let Some(q) = choices.rate {
         settings.control = Control::Produce {
             rate: q,
@@ -517,7 +559,6 @@ pub fn prepare(
             (network.clone(), wells.to_vec())
         }
     };
-    let rock = Rock::uniform(network.elements.len(), [perm; 3], poro);
     let (mut deck, position) = deck(title, &network, &rock, &wells, &settings);
     if let Some((periods, said)) = schedule {
         let periods = match choices.days {

@@ -1,7 +1,7 @@
 //! The command line's OPM Flow decks (`--eclipse`, docs/simulators.md).
 
 use clap::Args;
-use orthomesh::reservoir::deck::{DeckChoices, WellLinks};
+use orthomesh::reservoir::deck::{DeckChoices, Rock, WellLinks};
 use orthomesh::{io, CellArray, CellMesh, Error, Network, Result};
 use std::path::{Path, PathBuf};
 
@@ -36,14 +36,13 @@ pub(crate) struct DeckArgs {
 impl DeckArgs {
     /// The deck's file and text for a network and its wells, with what it
     /// assumed said on standard error.
-    pub(crate) fn text(
+    pub(crate) fn text<'a>(
         &self,
         title: &str,
         network: &Network,
         wells: &[WellLinks],
-        length: Option<(f64, String)>,
         outer: impl FnOnce() -> Option<Vec<usize>>,
-        schedule: Option<&Path>,
+        input: impl FnOnce() -> Result<FromInput<'a>>,
     ) -> Result<DeckOut> {
         let Some(path) = &self.eclipse else {
             let given = [self.perm, self.poro, self.rate, self.days];
@@ -57,8 +56,10 @@ impl DeckArgs {
         if self.days.is_some_and(|d| !(d > 0.0 && d <= 1e6)) {
             return Err(Error::Usage("--days must be in (0, 1e6]".into()));
         }
+        let input = input()?;
         let names: Vec<String> = wells.iter().map(|w| w.name.clone()).collect();
-        let schedule = schedule
+        let schedule = input
+            .schedule
             .map(|p| io::eclipse::read_schedule(p, &names))
             .transpose()?;
         let aquifer = match (self.aquifer, outer()) {
@@ -67,7 +68,8 @@ impl DeckArgs {
             (true, None) => return Err(Error::Usage("--aquifer is for `hybrid`".into())),
         };
         let choices = DeckChoices {
-            length,
+            length: input.length,
+            rock: input.rock,
             aquifer,
             perm: self.perm,
             poro: self.poro,
@@ -85,6 +87,33 @@ impl DeckArgs {
             cells: Some(CellArray::int("deck_cell", 1, cells)),
         })
     }
+}
+
+/// What the input gives a deck: its length unit, its schedule (a deck's
+/// path), its rock per mesh cell.
+#[derive(Default)]
+pub(crate) struct FromInput<'a> {
+    pub(crate) length: Option<(f64, String)>,
+    pub(crate) schedule: Option<&'a Path>,
+    pub(crate) rock: Option<(Rock, Vec<String>)>,
+}
+
+/// The rock of a grid's cells (`hosts`), from the grid and the deck of
+/// wells, with what was assumed and which includes were missing.
+pub(crate) fn grid_rock(
+    a: &crate::HybridArgs,
+    g: &orthomesh::reservoir::CornerPointGrid,
+    hosts: &[[usize; 3]],
+) -> Result<(Rock, Vec<String>)> {
+    let paths: Vec<&Path> = std::iter::once(a.grid.as_path())
+        .chain(a.deck.as_deref())
+        .collect();
+    let (props, missing) = io::eclipse::read_properties(&paths, g.nx * g.ny * g.nz)?;
+    let (rock, mut notes) = io::deck::rock_from(&props, hosts, [g.nx, g.ny]);
+    for m in missing {
+        notes.push(format!("include {m} not found: its arrays are not used"));
+    }
+    Ok((rock, notes))
 }
 
 /// A deck's file, and its cell of each mesh cell (1-based) for the VTU.

@@ -12,7 +12,7 @@ use orthomesh::{Error, Result};
 use orthomesh::{Outcome, D2, D3};
 mod deck;
 
-use deck::{grid_unit, DeckArgs, DeckOut};
+use deck::{grid_unit, DeckArgs, DeckOut, FromInput};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -326,9 +326,8 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
         &a.input.display().to_string(),
         &network,
         &[],
-        None,
         || None,
-        None,
+        || Ok(FromInput::default()),
     )?;
     let o = &a.out;
     write_all(
@@ -377,9 +376,8 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
         &a.input.display().to_string(),
         &out.mesh.network(),
         &[],
-        None,
         || None,
-        None,
+        || Ok(FromInput::default()),
     )?;
     let o = &a.out;
     write_all3(
@@ -420,9 +418,12 @@ fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     }];
     let title = format!("{} (3D)", a.grid.display());
     let outer = || Some(h.outer_cells(&g));
-    let deck = a
-        .simulator
-        .text(&title, &network, &links, grid_unit(&a)?, outer, None)?;
+    let deck = a.simulator.text(&title, &network, &links, outer, || {
+        Ok(FromInput {
+            length: grid_unit(&a)?,
+            ..Default::default()
+        })
+    })?;
     let mut texts = vec![(a.out.output.clone(), deck.vtu(h.cells()))];
     if let Some(p) = a.tough.clone() {
         texts.push((p, io::tough::to_string(&network)?));
@@ -516,7 +517,7 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     }
     // The mesh as written (2D, or its layers in 2.5D), its network, wells,
     // outer cells and title.
-    let (cells, network, links, outer, title) = if a.layers {
+    let (cells, network, links, outer, title, hosts) = if a.layers {
         let l = orthomesh::reservoir::extrude(&h, &g)?;
         eprintln!(
             "2.5D: {} polyhedra over {} layers ({} top faces split where the horizon warps)",
@@ -525,12 +526,21 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             l.split_faces
         );
         let title = format!("{} (2.5D)", a.grid.display());
+        let hosts: Vec<[usize; 3]> = l
+            .origin
+            .iter()
+            .map(|&(c, k)| {
+                let [i, j, _] = h.host[c as usize];
+                [i, j, k]
+            })
+            .collect();
         (
             l.cells(&h),
             l.network(&h),
             l.well_links(&h),
             l.outer_cells(&h),
             title,
+            hosts,
         )
     } else {
         let title = format!("{}, layer {}", a.grid.display(), a.layer);
@@ -540,17 +550,19 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             h.well_links(),
             h.outer_cells(),
             title,
+            h.host.clone(),
         )
     };
-    let unit = grid_unit(&a)?;
-    let deck = a.simulator.text(
-        &title,
-        &network,
-        &links,
-        unit,
-        || Some(outer),
-        a.deck.as_deref(),
-    )?;
+    let input = || {
+        Ok(FromInput {
+            length: grid_unit(&a)?,
+            schedule: a.deck.as_deref(),
+            rock: Some(deck::grid_rock(&a, &g, &hosts)?),
+        })
+    };
+    let deck = a
+        .simulator
+        .text(&title, &network, &links, || Some(outer), input)?;
     let mut texts = vec![(a.out.output.clone(), deck.vtu(cells))];
     if let Some(p) = a.tough.clone() {
         texts.push((p, io::tough::to_string(&network)?));

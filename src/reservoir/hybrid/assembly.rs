@@ -232,6 +232,74 @@ impl Assembly {
     }
 }
 
+/// Per cell, the grid cell whose rock it takes: its own for reservoir
+/// cells; for transition and well cells, the cavity column of the layer
+/// that holds its site (the nearest one where rounding leaves it outside
+/// all, found by a scan). Columns are looked up in buckets about the size
+/// of the largest column.
+fn hosts(layer: &Layer, cavity: &[bool], a: &Assembly) -> Vec<[usize; 3]> {
+    let (k, nx, ny) = (layer.k, layer.nx, layer.ny);
+    let cols: Vec<(usize, usize, [[f64; 2]; 4])> = (0..ny)
+        .flat_map(|j| (0..nx).map(move |i| (i, j)))
+        .filter(|&(i, j)| cavity[layer.col(i, j)])
+        .map(|(i, j)| (i, j, layer.quad_points(i, j)))
+        .collect();
+    let boxes: Vec<[f64; 4]> = cols
+        .iter()
+        .map(|(_, _, q)| {
+            let xs = q.map(|p| p[0]);
+            let ys = q.map(|p| p[1]);
+            let (min, max) = (
+                |v: [f64; 4]| v.iter().copied().fold(f64::INFINITY, f64::min),
+                |v: [f64; 4]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            );
+            [min(xs), min(ys), max(xs), max(ys)]
+        })
+        .collect();
+    // Buckets of a side about the largest column's, each listing the
+    // columns whose box meets it.
+    let side = boxes
+        .iter()
+        .map(|b| (b[2] - b[0]).max(b[3] - b[1]))
+        .fold(0.0f64, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let origin = boxes
+        .iter()
+        .fold([f64::INFINITY; 2], |o, b| [o[0].min(b[0]), o[1].min(b[1])]);
+    let bucket = |x: f64, o: f64| ((x - o) / side).floor().clamp(0.0, 1e9) as u64;
+    let mut buckets: FastMap<[u64; 2], Vec<usize>> = FastMap::default();
+    for (c, b) in boxes.iter().enumerate() {
+        for bx in bucket(b[0], origin[0])..=bucket(b[2], origin[0]) {
+            for by in bucket(b[1], origin[1])..=bucket(b[3], origin[1]) {
+                buckets.entry([bx, by]).or_default().push(c);
+            }
+        }
+    }
+    let host = |x: [f64; 2]| -> [usize; 3] {
+        let near = buckets.get(&[bucket(x[0], origin[0]), bucket(x[1], origin[1])]);
+        let mut best = (f64::INFINITY, 0);
+        for &c in near.into_iter().flatten() {
+            let d = distance_to_polygon(x, &cols[c].2);
+            if d < best.0 {
+                best = (d, c);
+            }
+        }
+        if best.0 > 0.0 {
+            for (c, col) in cols.iter().enumerate() {
+                let d = distance_to_polygon(x, &col.2);
+                if d < best.0 {
+                    best = (d, c);
+                }
+            }
+        }
+        let (i, j, _) = cols[best.1];
+        [i, j, k]
+    };
+    (0..a.mesh.cells.len())
+        .map(|c| a.ijk[c].unwrap_or_else(|| host(a.mesh.sites[c])))
+        .collect()
+}
+
 /// The hybrid mesh from its parts, with its report.
 pub(super) fn assemble(
     layer: &Layer,
@@ -256,6 +324,7 @@ pub(super) fn assemble(
     let (lo, hi) = crate::geom::bbox(&a.mesh.points);
     a.mesh.size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
     let boundary = a.boundary(layer, placed, &t, opts.sectors);
+    let host = hosts(layer, cavity, &a);
     let Assembly {
         mut mesh,
         region,
@@ -325,6 +394,7 @@ pub(super) fn assemble(
         constraints: t.cx,
         thickness,
         depth,
+        host,
         wells,
         report,
     })

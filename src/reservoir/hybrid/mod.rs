@@ -126,6 +126,9 @@ pub struct Hybrid {
     pub thickness: Vec<f64>,
     /// Per cell, its mid-depth.
     pub depth: Vec<f64>,
+    /// Per cell, the grid cell (i, j, k; 0-based) whose rock it takes: its
+    /// own for reservoir cells, the one holding its site for the others.
+    pub host: Vec<[usize; 3]>,
     /// The radial mesh of each well.
     pub wells: Vec<WellMesh>,
     /// What the build did.
