@@ -30,7 +30,7 @@ fn array(s: &mut String, keyword: &str, values: impl Iterator<Item = f64>) {
     s.push_str("/\n\n");
 }
 
-/// The deck's text of a network with uniform rock
+/// The deck's text of a network with its rock
 /// (`reservoir::deck::prepare`), its notes and each element's deck cell
 /// (0-based). Err on choices out of range and on what Flow could not run.
 pub fn write(
