@@ -197,6 +197,25 @@ fn record(ts: &Tokens, mut k: usize, keyword: &Tok) -> Result<(Record, usize)> {
     }
 }
 
+/// Reads the records of a keyword that takes a list, up to the empty
+/// record that ends it, handing each to `f` as it is read; returns the
+/// index after the end.
+fn each_record(
+    ts: &Tokens,
+    mut k: usize,
+    keyword: &Tok,
+    mut f: impl FnMut(Record) -> Result<()>,
+) -> Result<usize> {
+    loop {
+        let (rec, next) = record(ts, k, keyword)?;
+        k = next;
+        if rec.is_empty() {
+            return Ok(k);
+        }
+        f(rec)?;
+    }
+}
+
 fn number<T: std::str::FromStr>(ts: &Tokens, t: &Option<Tok>, at: &Tok, what: &str) -> Result<T> {
     let t = t
         .as_ref()
@@ -360,12 +379,7 @@ pub fn read_grid(path: &Path) -> Result<CornerPointGrid> {
             }
             "FAULTS" => {
                 let dd = need("FAULTS")?;
-                loop {
-                    let (rec, next) = record(&ts, k, &kw)?;
-                    k = next;
-                    if rec.is_empty() {
-                        break;
-                    }
+                k = each_record(&ts, k, &kw, |rec| {
                     let (name, face) = fault_face(&ts, &kw, &rec, dd)?;
                     match faults.iter_mut().find(|f| f.name == name) {
                         Some(f) => f.faces.push(face),
@@ -374,7 +388,8 @@ pub fn read_grid(path: &Path) -> Result<CornerPointGrid> {
                             faces: vec![face],
                         }),
                     }
-                }
+                    Ok(())
+                })?;
             }
             _ => k = skip(&ts, k, &kw)?,
         }
@@ -426,73 +441,71 @@ pub fn read_wells(path: &Path) -> Result<(Vec<Well>, Vec<String>)> {
             continue; // data of a keyword this reader does not know
         }
         match kw.text.as_str() {
-            "WELSPECS" | "COMPDAT" => loop {
-                let (rec, next) = record(&ts, k, &kw)?;
-                k = next;
-                if rec.is_empty() {
-                    break;
-                }
-                let name = text(&rec, 0).ok_or_else(|| {
-                    ts.error(&kw, format!("{} record without a well name", kw.text))
-                })?;
-                let (ci, cj) = if kw.text == "WELSPECS" {
-                    (2, 3)
-                } else {
-                    (1, 2)
-                };
-                let one_based = |n: usize, what: &str| -> Result<Option<usize>> {
-                    match rec.get(n).cloned().flatten() {
-                        None => Ok(None),
-                        Some(t) => {
-                            let v: usize = number(&ts, &Some(t.clone()), &kw, what)?;
-                            if v == 0 {
-                                return Err(ts.error(
-                                    &t,
-                                    format!("{} '{name}': {what} is 1-based, found 0", kw.text),
-                                ));
+            "WELSPECS" | "COMPDAT" => {
+                k = each_record(&ts, k, &kw, |rec| {
+                    let name = text(&rec, 0).ok_or_else(|| {
+                        ts.error(&kw, format!("{} record without a well name", kw.text))
+                    })?;
+                    let (ci, cj) = if kw.text == "WELSPECS" {
+                        (2, 3)
+                    } else {
+                        (1, 2)
+                    };
+                    let one_based = |n: usize, what: &str| -> Result<Option<usize>> {
+                        match rec.get(n).cloned().flatten() {
+                            None => Ok(None),
+                            Some(t) => {
+                                let v: usize = number(&ts, &Some(t.clone()), &kw, what)?;
+                                if v == 0 {
+                                    return Err(ts.error(
+                                        &t,
+                                        format!("{} '{name}': {what} is 1-based, found 0", kw.text),
+                                    ));
+                                }
+                                Ok(Some(v - 1))
                             }
-                            Ok(Some(v - 1))
+                        }
+                    };
+                    let (i, j) = (one_based(ci, "I")?, one_based(cj, "J")?);
+                    let at = wells.iter().position(|w| w.name == name);
+                    let w = match at {
+                        Some(at) => &mut wells[at],
+                        None => {
+                            let (Some(i), Some(j)) = (i, j) else {
+                                return Err(ts.error(
+                                    &kw,
+                                    format!("{} '{name}': no I, J for a new well", kw.text),
+                                ));
+                            };
+                            wells.push(Well {
+                                name: name.clone(),
+                                i,
+                                j,
+                                k: None,
+                                radius: None,
+                            });
+                            wells.last_mut().expect("just pushed")
+                        }
+                    };
+                    if kw.text == "WELSPECS" {
+                        if let (Some(i), Some(j)) = (i, j) {
+                            (w.i, w.j) = (i, j);
+                        }
+                    } else {
+                        if let (Some(k1), Some(k2)) = (one_based(3, "K1")?, one_based(4, "K2")?) {
+                            let [a, b] = w.k.unwrap_or([k1.min(k2), k1.max(k2)]);
+                            w.k = Some([a.min(k1.min(k2)), b.max(k1.max(k2))]);
+                        }
+                        if let Some(t) = rec.get(8).cloned().flatten() {
+                            let dia: f64 = number(&ts, &Some(t), &kw, "COMPDAT diameter")?;
+                            if dia > 0.0 && dia.is_finite() {
+                                w.radius = Some(dia / 2.0);
+                            }
                         }
                     }
-                };
-                let (i, j) = (one_based(ci, "I")?, one_based(cj, "J")?);
-                let at = wells.iter().position(|w| w.name == name);
-                let w = match at {
-                    Some(at) => &mut wells[at],
-                    None => {
-                        let (Some(i), Some(j)) = (i, j) else {
-                            return Err(ts.error(
-                                &kw,
-                                format!("{} '{name}': no I, J for a new well", kw.text),
-                            ));
-                        };
-                        wells.push(Well {
-                            name: name.clone(),
-                            i,
-                            j,
-                            k: None,
-                            radius: None,
-                        });
-                        wells.last_mut().expect("just pushed")
-                    }
-                };
-                if kw.text == "WELSPECS" {
-                    if let (Some(i), Some(j)) = (i, j) {
-                        (w.i, w.j) = (i, j);
-                    }
-                } else {
-                    if let (Some(k1), Some(k2)) = (one_based(3, "K1")?, one_based(4, "K2")?) {
-                        let [a, b] = w.k.unwrap_or([k1.min(k2), k1.max(k2)]);
-                        w.k = Some([a.min(k1.min(k2)), b.max(k1.max(k2))]);
-                    }
-                    if let Some(t) = rec.get(8).cloned().flatten() {
-                        let dia: f64 = number(&ts, &Some(t), &kw, "COMPDAT diameter")?;
-                        if dia > 0.0 && dia.is_finite() {
-                            w.radius = Some(dia / 2.0);
-                        }
-                    }
-                }
-            },
+                    Ok(())
+                })?;
+            }
             _ => k = skip(&ts, k, &kw)?,
         }
     }
@@ -592,69 +605,67 @@ pub fn read_schedule(path: &Path, names: &[String]) -> Result<(Vec<Period>, Vec<
             continue;
         }
         match kw.text.as_str() {
-            "WCONPROD" | "WCONINJE" => loop {
-                let (rec, next) = record(&ts, k, &kw)?;
-                k = next;
-                if rec.is_empty() {
-                    break;
-                }
-                let pattern = word(&rec, 0, "");
-                let control = if kw.text == "WCONPROD" {
-                    let bhp = value(&rec, 8)?.map_or(1.01325, |p| p * press);
-                    let mode = word(&rec, 2, "");
-                    let item = ["ORAT", "WRAT", "GRAT", "LRAT", "RESV"]
+            "WCONPROD" | "WCONINJE" => {
+                k = each_record(&ts, k, &kw, |rec| {
+                    let pattern = word(&rec, 0, "");
+                    let control = if kw.text == "WCONPROD" {
+                        let bhp = value(&rec, 8)?.map_or(1.01325, |p| p * press);
+                        let mode = word(&rec, 2, "");
+                        let item = ["ORAT", "WRAT", "GRAT", "LRAT", "RESV"]
+                            .iter()
+                            .position(|m| *m == mode);
+                        match (word(&rec, 1, "OPEN").as_str(), item) {
+                            ("SHUT" | "STOP", _) => Control::Shut,
+                            (_, Some(2)) | (_, None) => {
+                                notes.push(format!(
+                                    "{pattern}: {mode} control written as BHP {bhp:.4} bar"
+                                ));
+                                Control::ProduceAtBhp(bhp)
+                            }
+                            (_, Some(i)) => Control::Produce {
+                                rate: value(&rec, 3 + i)?.unwrap_or(0.0) * rate,
+                                min_bhp: bhp,
+                            },
+                        }
+                    } else {
+                        let max_bhp = value(&rec, 6)?.map_or(1000.0, |p| p * press);
+                        let kind = word(&rec, 1, "WATER");
+                        if kind != "WATER" {
+                            notes.push(format!("{pattern}: injects water, not {kind}"));
+                        }
+                        match (
+                            word(&rec, 2, "OPEN").as_str(),
+                            word(&rec, 3, "RATE").as_str(),
+                        ) {
+                            ("SHUT" | "STOP", _) => Control::Shut,
+                            (_, "RATE") => Control::Inject {
+                                rate: value(&rec, 4)?.unwrap_or(0.0) * rate,
+                                max_bhp,
+                            },
+                            (_, mode) => {
+                                notes.push(format!("{pattern}: {mode} control written as a rate of 1e5 sm3/day up to {max_bhp:.4} bar"));
+                                Control::Inject { rate: 1e5, max_bhp }
+                            }
+                        }
+                    };
+                    let matched: Vec<&String> = names
                         .iter()
-                        .position(|m| *m == mode);
-                    match (word(&rec, 1, "OPEN").as_str(), item) {
-                        ("SHUT" | "STOP", _) => Control::Shut,
-                        (_, Some(2)) | (_, None) => {
-                            notes.push(format!(
-                                "{pattern}: {mode} control written as BHP {bhp:.4} bar"
-                            ));
-                            Control::ProduceAtBhp(bhp)
-                        }
-                        (_, Some(i)) => Control::Produce {
-                            rate: value(&rec, 3 + i)?.unwrap_or(0.0) * rate,
-                            min_bhp: bhp,
-                        },
+                        .filter(|n| match pattern.strip_suffix('*') {
+                            Some(prefix) => n.starts_with(prefix),
+                            None => **n == pattern,
+                        })
+                        .collect();
+                    if matched.is_empty() {
+                        notes.push(format!(
+                            "{} '{pattern}' matches no well of the mesh",
+                            kw.text
+                        ));
                     }
-                } else {
-                    let max_bhp = value(&rec, 6)?.map_or(1000.0, |p| p * press);
-                    let kind = word(&rec, 1, "WATER");
-                    if kind != "WATER" {
-                        notes.push(format!("{pattern}: injects water, not {kind}"));
-                    }
-                    match (
-                        word(&rec, 2, "OPEN").as_str(),
-                        word(&rec, 3, "RATE").as_str(),
-                    ) {
-                        ("SHUT" | "STOP", _) => Control::Shut,
-                        (_, "RATE") => Control::Inject {
-                            rate: value(&rec, 4)?.unwrap_or(0.0) * rate,
-                            max_bhp,
-                        },
-                        (_, mode) => {
-                            notes.push(format!("{pattern}: {mode} control written as a rate of 1e5 sm3/day up to {max_bhp:.4} bar"));
-                            Control::Inject { rate: 1e5, max_bhp }
-                        }
-                    }
-                };
-                let matched: Vec<&String> = names
-                    .iter()
-                    .filter(|n| match pattern.strip_suffix('*') {
-                        Some(prefix) => n.starts_with(prefix),
-                        None => **n == pattern,
-                    })
-                    .collect();
-                if matched.is_empty() {
-                    notes.push(format!(
-                        "{} '{pattern}' matches no well of the mesh",
-                        kw.text
-                    ));
-                }
-                pending.retain(|(n, _): &(String, Control)| !matched.contains(&n));
-                pending.extend(matched.into_iter().map(|n| (n.clone(), control)));
-            },
+                    pending.retain(|(n, _): &(String, Control)| !matched.contains(&n));
+                    pending.extend(matched.into_iter().map(|n| (n.clone(), control)));
+                    Ok(())
+                })?;
+            }
             "TSTEP" => {
                 let (rec, next) = record(&ts, k, &kw)?;
                 k = next;
