@@ -4,7 +4,7 @@
 //! (measured: a random order ran 2.7x slower in Flow than a local one).
 
 use crate::error::{Error, Result};
-use crate::mesh::{Element, Mesh, Network};
+use crate::mesh::Network;
 
 /// A deck cell.
 #[derive(Debug, Clone, PartialEq)]
@@ -295,27 +295,6 @@ pub fn deck(
     (deck, position)
 }
 
-/// The network of a plane mesh of one thickness at one mid-depth: as
-/// `Hybrid::network`, for `conform`'s meshes.
-pub fn plane_network(mesh: &Mesh, thickness: f64, depth: f64) -> Network {
-    let node = |c: usize| [mesh.sites[c][0], mesh.sites[c][1], -depth];
-    Network {
-        elements: (0..mesh.cells.len())
-            .map(|c| Element {
-                volume: mesh.area(&mesh.cells[c]) * thickness,
-                node: node(c),
-            })
-            .collect(),
-        connections: crate::reservoir::flow::connections(mesh)
-            .into_iter()
-            .map(|c| {
-                let [a, b] = c.cells.map(|x| x as usize);
-                crate::mesh::Connection::lateral([a, b], node(a), node(b), c.d, c.area * thickness)
-            })
-            .collect(),
-    }
-}
-
 /// A network and its wells with lengths in units of f metres, in metres.
 pub fn in_metres(network: &Network, wells: &[WellLinks], f: f64) -> (Network, Vec<WellLinks>) {
     let mut n = network.clone();
@@ -418,6 +397,23 @@ fn apply_schedule(deck: &mut Deck, periods: &[Period], notes: &mut Vec<String>) 
     ));
 }
 
+impl DeckChoices {
+    /// Err naming a choice out of range: permeability, porosity, rate or
+    /// days.
+    pub fn check(&self) -> Result<()> {
+        let within = |v: Option<f64>, what: &str, max: f64| match v {
+            Some(x) if !(x > 0.0 && x <= max) => Err(Error::Usage(format!(
+                "{what} {x} is out of range (0, {max}]"
+            ))),
+            _ => Ok(()),
+        };
+        within(self.perm, "--perm", 1e9)?;
+        within(self.poro, "--poro", 1.0)?;
+        within(self.rate, "--rate", 1e12)?;
+        within(self.days, "--days", 1e6)
+    }
+}
+
 /// How much an aquifer cell's pore volume grows: enough that a well's
 /// production for the deck's ten days moves its pressure by far less than
 /// a bar.
@@ -491,15 +487,7 @@ pub fn prepare(
     wells: &[WellLinks],
     choices: &DeckChoices,
 ) -> Result<(Deck, Vec<String>, Vec<usize>)> {
-    let positive = |v: Option<f64>, what: &str, max: f64| match v {
-        Some(x) if !(x > 0.0 && x <= max) => Err(Error::Usage(format!(
-            "{what} {x} is out of range (0, {max}]"
-        ))),
-        _ => Ok(()),
-    };
-    positive(choices.perm, "--perm", 1e9)?;
-    positive(choices.poro, "--poro", 1.0)?;
-    positive(choices.rate, "--rate", 1e12)?;
+    choices.check()?;
     let (rock, mut notes) = rock_of(network.elements.len(), choices)?;
     let mut settings = DeckSettings::default();
     notes.push(format!(

@@ -3,7 +3,7 @@
 //! radial solution around a well (docs/method.md section 6).
 
 use crate::error::{Error, Result};
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, Network};
 use serde::Serialize;
 
 /// A connection between two cells across a face: its length (area per unit
@@ -56,6 +56,32 @@ pub fn connections(mesh: &Mesh) -> Vec<Connection> {
             }
         })
         .collect()
+}
+
+/// The two-point flux network of a plane mesh whose cells have thickness
+/// and mid-depth: an element per cell at its site and mid-depth (z up),
+/// volume = area x thickness; a connection per interior face with each
+/// site's distance to the face, the face's area (length x the two cells'
+/// mean thickness) and the gravity cosine from the depths.
+pub fn network(mesh: &Mesh, thickness: &[f64], depth: &[f64]) -> Network {
+    use crate::mesh::{Connection as Link, Element};
+    let node = |c: usize| [mesh.sites[c][0], mesh.sites[c][1], -depth[c]];
+    Network {
+        elements: (0..mesh.cells.len())
+            .map(|c| Element {
+                volume: mesh.area(&mesh.cells[c]) * thickness[c],
+                node: node(c),
+            })
+            .collect(),
+        connections: connections(mesh)
+            .into_iter()
+            .map(|c| {
+                let [a, b] = c.cells.map(|x| x as usize);
+                let area = c.area * (thickness[a] + thickness[b]) / 2.0;
+                Link::lateral([a, b], node(a), node(b), c.d, area)
+            })
+            .collect(),
+    }
 }
 
 /// Cell edges without a twin: the boundary.

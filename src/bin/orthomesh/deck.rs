@@ -34,48 +34,62 @@ pub(crate) struct DeckArgs {
 }
 
 impl DeckArgs {
-    /// The deck's file and text for a network and its wells, with what it
-    /// assumed said on standard error.
+    /// Whether a deck is asked for.
+    pub(crate) fn wanted(&self) -> bool {
+        self.eclipse.is_some()
+    }
+
+    /// Checks the deck's options before any meshing: those that need
+    /// --eclipse, --aquifer (for `hybrid` only), and their ranges.
+    pub(crate) fn check(&self, hybrid: bool) -> Result<()> {
+        let given = [self.perm, self.poro, self.rate, self.days];
+        if !self.wanted() && (given.iter().any(Option::is_some) || self.aquifer) {
+            return Err(Error::Usage(
+                "--perm, --poro, --rate, --days and --aquifer are for --eclipse".into(),
+            ));
+        }
+        if self.aquifer && !hybrid {
+            return Err(Error::Usage("--aquifer is for `hybrid`".into()));
+        }
+        self.choices().check()
+    }
+
+    /// The user's choices, before what the input gives.
+    fn choices(&self) -> DeckChoices {
+        DeckChoices {
+            perm: self.perm,
+            poro: self.poro,
+            rate: self.rate,
+            days: self.days,
+            ..Default::default()
+        }
+    }
+
+    /// The deck's file and text for a network and its wells (when a deck
+    /// is asked for), with what it assumed said on standard error.
+    /// `outer`: the cells an open boundary holds (`--aquifer`).
     pub(crate) fn text<'a>(
         &self,
         title: &str,
         network: &Network,
         wells: &[WellLinks],
-        outer: impl FnOnce() -> Option<Vec<usize>>,
+        outer: impl FnOnce() -> Vec<usize>,
         input: impl FnOnce() -> Result<FromInput<'a>>,
     ) -> Result<DeckOut> {
         let Some(path) = &self.eclipse else {
-            let given = [self.perm, self.poro, self.rate, self.days];
-            if given.iter().any(Option::is_some) || self.aquifer {
-                return Err(Error::Usage(
-                    "--perm, --poro, --rate, --days and --aquifer are for --eclipse".into(),
-                ));
-            }
             return Ok(DeckOut::default());
         };
-        if self.days.is_some_and(|d| !(d > 0.0 && d <= 1e6)) {
-            return Err(Error::Usage("--days must be in (0, 1e6]".into()));
-        }
         let input = input()?;
         let names: Vec<String> = wells.iter().map(|w| w.name.clone()).collect();
-        let schedule = input
-            .schedule
-            .map(|p| io::eclipse::read_schedule(p, &names))
-            .transpose()?;
-        let aquifer = match (self.aquifer, outer()) {
-            (false, _) => vec![],
-            (true, Some(cells)) => cells,
-            (true, None) => return Err(Error::Usage("--aquifer is for `hybrid`".into())),
-        };
         let choices = DeckChoices {
             length: input.length,
             rock: input.rock,
-            aquifer,
-            perm: self.perm,
-            poro: self.poro,
-            rate: self.rate,
-            schedule,
-            days: self.days,
+            aquifer: if self.aquifer { outer() } else { vec![] },
+            schedule: input
+                .schedule
+                .map(|p| io::eclipse::read_schedule(p, &names))
+                .transpose()?,
+            ..self.choices()
         };
         let (text, notes, position) = orthomesh::io::deck::write(title, network, wells, &choices)?;
         for n in notes {
@@ -85,6 +99,18 @@ impl DeckArgs {
         Ok(DeckOut {
             files: vec![(path.clone(), text)],
             cells: Some(CellArray::int("deck_cell", 1, cells)),
+        })
+    }
+
+    /// The deck of a `conform` mesh (no wells, nothing from the input),
+    /// its network built only when a deck is asked for.
+    pub(crate) fn plain(&self, input: &Path, network: impl FnOnce() -> Network) -> Result<DeckOut> {
+        if !self.wanted() {
+            return Ok(DeckOut::default());
+        }
+        let title = input.display().to_string();
+        self.text(&title, &network(), &[], Vec::new, || {
+            Ok(FromInput::default())
         })
     }
 }
@@ -132,11 +158,8 @@ impl DeckOut {
 }
 
 /// The grid's length unit: its GRIDUNIT, else the unit system of the
-/// grid or of the deck of wells (None when --eclipse is not asked for).
+/// grid or of the deck of wells (for the deck).
 pub(crate) fn grid_unit(a: &crate::HybridArgs) -> Result<Option<(f64, String)>> {
-    if a.simulator.eclipse.is_none() {
-        return Ok(None);
-    }
     for p in std::iter::once(&a.grid).chain(&a.deck) {
         if let Some((f, name)) = io::eclipse::length_unit(p)? {
             return Ok(Some((f, format!("{name} in {}", p.display()))));

@@ -300,6 +300,12 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
             "--whole-polygons, --split-facets and --clip-hull are for 3D inputs".into(),
         ));
     }
+    a.deck.check(false)?;
+    if !(a.thickness > 0.0 && a.thickness.is_finite() && a.depth.is_finite()) {
+        return Err(Error::Usage(
+            "--thickness must be positive and --depth finite".into(),
+        ));
+    }
     let watched = cx.segments.len() >= MANY_SEGMENTS && std::io::stderr().is_terminal();
     let opts = Options {
         allow_sites_outside: a.allow_sites_outside,
@@ -316,19 +322,10 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
     } else {
         out.report.timing.clone()
     };
-    if !(a.thickness > 0.0 && a.thickness.is_finite() && a.depth.is_finite()) {
-        return Err(Error::Usage(
-            "--thickness must be positive and --depth finite".into(),
-        ));
-    }
-    let network = orthomesh::reservoir::deck::plane_network(&out.mesh, a.thickness, a.depth);
-    let deck = a.deck.text(
-        &a.input.display().to_string(),
-        &network,
-        &[],
-        || None,
-        || Ok(FromInput::default()),
-    )?;
+    let deck = a.deck.plain(&a.input, || {
+        let n = out.mesh.cells.len();
+        orthomesh::reservoir::flow::network(&out.mesh, &vec![a.thickness; n], &vec![a.depth; n])
+    })?;
     let o = &a.out;
     write_all(
         &out,
@@ -357,6 +354,7 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
             "--svg and --split-segments are for 2D inputs (--split-facets in 3D)".into(),
         ));
     }
+    a.deck.check(false)?;
     let opts = Options {
         allow_sites_outside: a.allow_sites_outside,
         whole_polygons: a.whole_polygons,
@@ -372,13 +370,7 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
     if a.out.reproducible {
         out.report.timing = None;
     }
-    let deck = a.deck.text(
-        &a.input.display().to_string(),
-        &out.mesh.network(),
-        &[],
-        || None,
-        || Ok(FromInput::default()),
-    )?;
+    let deck = a.deck.plain(&a.input, || out.mesh.network())?;
     let o = &a.out;
     write_all3(
         &out,
@@ -398,6 +390,7 @@ fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         return Err(Error::Usage("--3d takes exactly one --well".into()));
     };
     let w = well3_spec(spec)?;
+    a.simulator.check(true)?;
     let opts = Hybrid3Options {
         rings: a.rings,
         sectors: a.sectors,
@@ -410,23 +403,29 @@ fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     if a.out.reproducible {
         h.report.transition.timing = None;
     }
-    let network = h.mesh.network();
-    let links = [WellLinks {
-        name: w.name.clone(),
-        radius: w.radius,
-        links: h.wellbore.clone(),
-    }];
-    let title = format!("{} (3D)", a.grid.display());
-    let outer = || Some(h.outer_cells(&g));
-    let deck = a.simulator.text(&title, &network, &links, outer, || {
-        Ok(FromInput {
-            length: grid_unit(&a)?,
-            ..Default::default()
-        })
-    })?;
+    // The network only where a file needs it.
+    let network = (a.tough.is_some() || a.simulator.wanted()).then(|| h.mesh.network());
+    let deck = match &network {
+        Some(network) if a.simulator.wanted() => {
+            let links = [WellLinks {
+                name: w.name.clone(),
+                radius: w.radius,
+                links: h.wellbore.clone(),
+            }];
+            let title = format!("{} (3D)", a.grid.display());
+            let outer = || h.outer_cells(&g);
+            a.simulator.text(&title, network, &links, outer, || {
+                Ok(FromInput {
+                    length: grid_unit(&a)?,
+                    ..Default::default()
+                })
+            })?
+        }
+        _ => DeckOut::default(),
+    };
     let mut texts = vec![(a.out.output.clone(), deck.vtu(h.cells()))];
-    if let Some(p) = a.tough.clone() {
-        texts.push((p, io::tough::to_string(&network)?));
+    if let (Some(p), Some(network)) = (a.tough.clone(), &network) {
+        texts.push((p, io::tough::to_string(network)?));
     }
     texts.extend(deck.files);
     if let Some(p) = &a.out.report {
@@ -494,6 +493,7 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     if a.layer == 0 {
         return Err(Error::Usage("--layer is 1-based".into()));
     }
+    a.simulator.check(true)?;
     let watched = list.len() >= MANY_WELLS && std::io::stderr().is_terminal();
     let opts = HybridOptions {
         layer: a.layer - 1,
@@ -515,9 +515,7 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     if a.out.reproducible {
         h.report.transition.timing = None;
     }
-    // The mesh as written (2D, or its layers in 2.5D), its network, wells,
-    // outer cells and title.
-    let (cells, network, links, outer, title, hosts) = if a.layers {
+    let layered = if a.layers {
         let l = orthomesh::reservoir::extrude(&h, &g)?;
         eprintln!(
             "2.5D: {} polyhedra over {} layers ({} top faces split where the horizon warps)",
@@ -525,47 +523,61 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             g.nz,
             l.split_faces
         );
-        let title = format!("{} (2.5D)", a.grid.display());
-        let hosts: Vec<[usize; 3]> = l
-            .origin
-            .iter()
-            .map(|&(c, k)| {
-                let [i, j, _] = h.host[c as usize];
-                [i, j, k]
-            })
-            .collect();
-        (
-            l.cells(&h),
-            l.network(&h),
-            l.well_links(&h),
-            l.outer_cells(&h),
-            title,
-            hosts,
-        )
+        Some(l)
     } else {
-        let title = format!("{}, layer {}", a.grid.display(), a.layer);
-        (
-            h.cells(),
-            h.network(),
-            h.well_links(),
-            h.outer_cells(),
-            title,
-            h.host.clone(),
-        )
+        None
     };
-    let input = || {
-        Ok(FromInput {
-            length: grid_unit(&a)?,
-            schedule: a.deck.as_deref(),
-            rock: Some(deck::grid_rock(&a, &g, &hosts)?),
-        })
+    let cells = match &layered {
+        Some(l) => l.cells(&h),
+        None => h.cells(),
     };
-    let deck = a
-        .simulator
-        .text(&title, &network, &links, || Some(outer), input)?;
+    // The network only where a file needs it.
+    let network = (a.tough.is_some() || a.simulator.wanted()).then(|| match &layered {
+        Some(l) => l.network(&h),
+        None => h.network(),
+    });
+    let deck = match &network {
+        Some(network) if a.simulator.wanted() => {
+            // Wells, host grid cells and title of the 2D mesh or its layers.
+            let (links, hosts, title) = match &layered {
+                Some(l) => {
+                    let hosts: Vec<[usize; 3]> = l
+                        .origin
+                        .iter()
+                        .map(|&(c, k)| {
+                            let [i, j, _] = h.host[c as usize];
+                            [i, j, k]
+                        })
+                        .collect();
+                    (
+                        l.well_links(&h),
+                        hosts,
+                        format!("{} (2.5D)", a.grid.display()),
+                    )
+                }
+                None => {
+                    let title = format!("{}, layer {}", a.grid.display(), a.layer);
+                    (h.well_links(), h.host.clone(), title)
+                }
+            };
+            let outer = || match &layered {
+                Some(l) => l.outer_cells(&h),
+                None => h.outer_cells(),
+            };
+            let input = || {
+                Ok(FromInput {
+                    length: grid_unit(&a)?,
+                    schedule: a.deck.as_deref(),
+                    rock: Some(deck::grid_rock(&a, &g, &hosts)?),
+                })
+            };
+            a.simulator.text(&title, network, &links, outer, input)?
+        }
+        _ => DeckOut::default(),
+    };
     let mut texts = vec![(a.out.output.clone(), deck.vtu(cells))];
-    if let Some(p) = a.tough.clone() {
-        texts.push((p, io::tough::to_string(&network)?));
+    if let (Some(p), Some(network)) = (a.tough.clone(), &network) {
+        texts.push((p, io::tough::to_string(network)?));
     }
     texts.extend(deck.files);
     if let Some(p) = a.out.svg {

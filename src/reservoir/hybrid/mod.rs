@@ -20,7 +20,7 @@ use crate::backend::Backend;
 use crate::complex::Complex;
 use crate::conform::{Report, D2};
 use crate::error::{Error, Result};
-use crate::mesh::{CellArray, CellMesh, Connection, Element, Mesh, Network};
+use crate::mesh::{CellArray, CellMesh, Mesh, Network};
 use crate::reservoir::CornerPointGrid;
 use map::MapView;
 use serde::Serialize;
@@ -196,31 +196,10 @@ impl Hybrid {
         cells
     }
 
-    /// The two-point flux network: an element per cell at its site and
-    /// mid-depth (z up), volume = area x thickness; a connection per
-    /// interior face with each site's distance to the face, the face's area
-    /// (length x mean thickness) and the gravity cosine from the depths.
+    /// The two-point flux network (`reservoir::flow::network`), each cell
+    /// with its thickness and mid-depth.
     pub fn network(&self) -> Network {
-        let m = &self.mesh;
-        let node = |c: usize| [m.sites[c][0], m.sites[c][1], -self.depth[c]];
-        let elements: Vec<Element> = (0..m.cells.len())
-            .map(|c| Element {
-                volume: m.area(&m.cells[c]) * self.thickness[c],
-                node: node(c),
-            })
-            .collect();
-        let connections = crate::reservoir::flow::connections(m)
-            .into_iter()
-            .map(|c| {
-                let [a, b] = c.cells.map(|x| x as usize);
-                let area = c.area * (self.thickness[a] + self.thickness[b]) / 2.0;
-                Connection::lateral([a, b], node(a), node(b), c.d, area)
-            })
-            .collect::<Vec<_>>();
-        Network {
-            elements,
-            connections,
-        }
+        crate::reservoir::flow::network(&self.mesh, &self.thickness, &self.depth)
     }
 
     /// Polygons with cell data site, weight, region (0 reservoir, 1
