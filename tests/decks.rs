@@ -383,8 +383,14 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
         &p("SPE9.DATA"),
         "--rate",
         "50",
+        "--tough",
+        &p("hybrid-spe9.tough"),
     ]);
     assert_eq!(code, Some(0), "{err}");
+    // The VTU maps its cells onto both simulators' (readers.py checks
+    // the names against toughio's reading of the MESH).
+    let vtu = std::fs::read_to_string(dir.join("hybrid-spe9.vtu")).unwrap();
+    assert!(vtu.contains("Name=\"deck_cell\"") && vtu.contains("Name=\"tough_element\""));
     assert!(
         err.contains("feet (FIELD) in") && err.contains("50 sm3/day"),
         "{err}"

@@ -196,7 +196,12 @@ def check_tough(path):
     m = toughio.read_input(str(path))
     assert len(m["elements"]) == cells, f"{path}: toughio reads {len(m['elements'])} elements"
     assert len(m["connections"]) == d.grid.num_connections, f"{path}: toughio and PyTOUGH disagree on connections"
-    return cells, d.grid.num_connections
+    # Written by the same command, the .vtu names each cell's element.
+    data = meshio.read(vtu).cell_data.get("tough_element")
+    if data is not None:
+        names = ["".join(map(chr, row)) for row in np.concatenate(data)]
+        assert names == list(m["elements"]), f"{path}: the .vtu's tough_element is not the MESH's order"
+    return cells, d.grid.num_connections, data is not None
 
 def validity(grid):
     """vtkCellValidator's state per cell."""
@@ -216,8 +221,9 @@ def vtk_cells(path):
 
 def main(folder):
     for f in sorted(pathlib.Path(folder).rglob("*.tough")):
-        cells, conns = check_tough(f)
-        print(f"PyTOUGH and toughio agree: {f.name}: {cells} elements, {conns} connections")
+        cells, conns, named = check_tough(f)
+        mapped = ", the .vtu's tough_element names them in order" if named else ""
+        print(f"PyTOUGH and toughio agree: {f.name}: {cells} elements, {conns} connections{mapped}")
     for f in sorted(pathlib.Path(folder).rglob("*.corners.json")):
         cells, worst = check_grid(f)
         print(f"resdata agrees: {f.name}: {cells} cells, corners within {worst:.2e}")

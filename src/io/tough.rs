@@ -4,7 +4,7 @@
 //! differ in a power diagram), the interface area and the gravity cosine.
 
 use crate::error::{Error, Result};
-use crate::mesh::Network;
+use crate::mesh::{CellArray, Network};
 use std::fmt::Write;
 
 /// Element names: three characters (a letter, then letters or digits) and
@@ -24,6 +24,17 @@ pub fn name(n: usize) -> Result<String> {
         digits[head % 36] as char,
     ];
     Ok(format!("{}{}{}{tail:02}", c[0], c[1], c[2]))
+}
+
+/// The cell array `tough_element` of `n` elements: each element's name as
+/// five ASCII codes, so that every VTU reader (meshio and toughio among
+/// them, which refuse string arrays) maps TOUGH's results onto the mesh.
+pub fn names_array(n: usize) -> Result<CellArray> {
+    let mut codes = Vec::with_capacity(5 * n);
+    for i in 0..n {
+        codes.extend(name(i)?.bytes().map(i64::from));
+    }
+    Ok(CellArray::int("tough_element", 5, codes))
 }
 
 /// A real in ten columns, as many digits as fit (Fortran E10.4 or better).
@@ -99,6 +110,16 @@ mod tests {
         assert_eq!(name(129599).unwrap(), "AZZ99");
         assert_eq!(name(129600).unwrap(), "B0000");
         assert!(name(26 * 36 * 36 * 100).is_err());
+    }
+
+    #[test]
+    fn the_names_array_spells_each_name() {
+        let a = names_array(124).unwrap();
+        let crate::mesh::Values::Int(v) = &a.values else {
+            panic!("integer codes")
+        };
+        let last: String = v[5 * 123..].iter().map(|&c| c as u8 as char).collect();
+        assert_eq!((a.components, last.as_str()), (Some(5), "A0123"));
     }
 
     #[test]

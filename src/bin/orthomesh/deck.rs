@@ -98,20 +98,18 @@ impl DeckArgs {
         let cells = position.iter().map(|&i| i as i64 + 1).collect();
         Ok(DeckOut {
             files: vec![(path.clone(), text)],
-            cells: Some(CellArray::int("deck_cell", 1, cells)),
+            arrays: vec![CellArray::int("deck_cell", 1, cells)],
         })
     }
 
     /// The deck of a `conform` mesh (no wells, nothing from the input),
-    /// its network built only when a deck is asked for.
-    pub(crate) fn plain(&self, input: &Path, network: impl FnOnce() -> Network) -> Result<DeckOut> {
-        if !self.wanted() {
+    /// when a deck is asked for (and so the network built).
+    pub(crate) fn plain(&self, input: &Path, network: Option<&Network>) -> Result<DeckOut> {
+        let Some(network) = network.filter(|_| self.wanted()) else {
             return Ok(DeckOut::default());
-        }
+        };
         let title = input.display().to_string();
-        self.text(&title, &network(), &[], Vec::new, || {
-            Ok(FromInput::default())
-        })
+        self.text(&title, network, &[], Vec::new, || Ok(FromInput::default()))
     }
 }
 
@@ -142,17 +140,29 @@ pub(crate) fn grid_rock(
     Ok((rock, notes))
 }
 
-/// A deck's file, and its cell of each mesh cell (1-based) for the VTU.
+/// The simulators' files (deck, TOUGH MESH), and the cell arrays that map
+/// the mesh's cells onto theirs for the VTU: `deck_cell` (1-based) and
+/// `tough_element` (the element's five-character name as ASCII codes).
 #[derive(Default)]
 pub(crate) struct DeckOut {
     pub(crate) files: Vec<(PathBuf, String)>,
-    pub(crate) cells: Option<CellArray>,
+    pub(crate) arrays: Vec<CellArray>,
 }
 
 impl DeckOut {
-    /// The VTU text of a mesh, with the deck's cells when there is a deck.
+    /// Adds a TOUGH MESH file of the network, and its element names.
+    pub(crate) fn tough(mut self, path: Option<&Path>, network: Option<&Network>) -> Result<Self> {
+        if let (Some(path), Some(network)) = (path, network) {
+            self.files
+                .push((path.to_path_buf(), io::tough::to_string(network)?));
+            self.arrays.push(io::tough::names_array(network.elements.len())?);
+        }
+        Ok(self)
+    }
+
+    /// The VTU text of a mesh, with the simulators' cell arrays.
     pub(crate) fn vtu(&self, mut mesh: CellMesh) -> String {
-        mesh.data.extend(self.cells.clone());
+        mesh.data.extend(self.arrays.iter().cloned());
         io::vtu::to_string(&mesh)
     }
 }

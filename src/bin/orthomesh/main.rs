@@ -322,10 +322,11 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
     } else {
         out.report.timing.clone()
     };
-    let deck = a.deck.plain(&a.input, || {
+    let network = a.deck.wanted().then(|| {
         let n = out.mesh.cells.len();
         orthomesh::reservoir::flow::network(&out.mesh, &vec![a.thickness; n], &vec![a.depth; n])
-    })?;
+    });
+    let deck = a.deck.plain(&a.input, network.as_ref())?;
     let o = &a.out;
     write_all(
         &out,
@@ -370,17 +371,13 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
     if a.out.reproducible {
         out.report.timing = None;
     }
-    let deck = a.deck.plain(&a.input, || out.mesh.network())?;
+    let network = (a.tough.is_some() || a.deck.wanted()).then(|| out.mesh.network());
+    let deck = a
+        .deck
+        .plain(&a.input, network.as_ref())?
+        .tough(a.tough.as_deref(), network.as_ref())?;
     let o = &a.out;
-    write_all3(
-        &out,
-        cx,
-        &a.input,
-        &o.output,
-        a.tough.as_deref(),
-        o.report.as_deref(),
-        deck,
-    )
+    write_all3(&out, cx, &a.input, &o.output, o.report.as_deref(), deck)
 }
 
 /// `hybrid --3d`: one well through a Cartesian block.
@@ -423,10 +420,8 @@ fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         }
         _ => DeckOut::default(),
     };
+    let deck = deck.tough(a.tough.as_deref(), network.as_ref())?;
     let mut texts = vec![(a.out.output.clone(), deck.vtu(h.cells()))];
-    if let (Some(p), Some(network)) = (a.tough.clone(), &network) {
-        texts.push((p, io::tough::to_string(network)?));
-    }
     texts.extend(deck.files);
     if let Some(p) = &a.out.report {
         texts.push((p.clone(), report_text(&h.report, &a.grid)?));
@@ -575,10 +570,8 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         }
         _ => DeckOut::default(),
     };
+    let deck = deck.tough(a.tough.as_deref(), network.as_ref())?;
     let mut texts = vec![(a.out.output.clone(), deck.vtu(cells))];
-    if let (Some(p), Some(network)) = (a.tough.clone(), &network) {
-        texts.push((p, io::tough::to_string(network)?));
-    }
     texts.extend(deck.files);
     if let Some(p) = a.out.svg {
         let inside = vec![true; h.mesh.cells.len()];
@@ -639,23 +632,20 @@ fn demo(backend: &dyn Backend, a: DemoArgs) -> Result<()> {
     let (deck, _, position) =
         orthomesh::io::deck::write("orthomesh demo", &network, &h.well_links(), &choices)?;
     let cells = position.iter().map(|&i| i as i64 + 1).collect();
-    let deck_cells = DeckOut {
-        files: vec![],
-        cells: Some(CellArray::int("deck_cell", 1, cells)),
-    };
-    let texts = [
-        (out_dir.join("demo.vtu"), deck_cells.vtu(h.cells())),
+    let sim = DeckOut {
+        files: vec![(out_dir.join("demo.DATA"), deck)],
+        arrays: vec![CellArray::int("deck_cell", 1, cells)],
+    }
+    .tough(Some(&out_dir.join("demo.mesh")), Some(&network))?;
+    let mut texts = vec![
+        (out_dir.join("demo.vtu"), sim.vtu(h.cells())),
         (
             out_dir.join("demo.svg"),
             io::svg::to_string(&h.mesh, &inside, &h.constraints),
         ),
         (out_dir.join("demo.json"), report + "\n"),
-        (
-            out_dir.join("demo.mesh"),
-            io::tough::to_string(&h.network())?,
-        ),
-        (out_dir.join("demo.DATA"), deck),
     ];
+    texts.extend(sim.files);
     write_texts(&texts, || {
         summarise("built-in grid (15 x 15 cells, a fault)", &h);
     })
@@ -761,15 +751,11 @@ fn write_all3(
     cx: &Complex3,
     input: &Path,
     vtu: &Path,
-    tough: Option<&Path>,
     report: Option<&Path>,
     deck: DeckOut,
 ) -> Result<()> {
     let mut texts = vec![(vtu.to_path_buf(), deck.vtu(out.mesh.cells()))];
     texts.extend(deck.files);
-    if let Some(p) = tough {
-        texts.push((p.to_path_buf(), io::tough::to_string(&out.mesh.network())?));
-    }
     if let Some(p) = report {
         texts.push((p.to_path_buf(), report_text(&out.report, input)?));
     }
