@@ -8,7 +8,8 @@ a JSON sidecar), checked with what reservoir engineers run:
 - Thiem's cases: the pressure drop between the well (its bottom-hole
   pressure, plus the hydrostatic head to each cell's depth) and the cells
   at r = L/4 is within 0.5% of Thiem's, printed;
-- SPE9's top layer: every one of its 26 wells produces.
+- SPE9's top layer: every one of its 26 wells produces, each at its
+  scheduled rate or limit, and the open boundary holds the input's EQUIL.
 
 Usage: python3 tests/decks.py DIR   (scripts/test.sh runs it)
 """
@@ -87,6 +88,23 @@ def scheduled(deck, controls, summary, flow):
               f"{at_limit} at their bottom-hole pressure limit")
 
 
+def equilibrium(deck, e, summary):
+    """Open-boundary cells hold the input's EQUIL: its pressure at the datum
+    plus the head of water (PVTW: 4.5e-5 / bar, reference at the datum)."""
+    worst = 0.0
+    for cell, depth in e["cells"]:
+        p, z, n = e["pressure"], e["datum"], 1000
+        dz = (depth - z) / n
+        for _ in range(n):
+            x = 4.5e-5 * (p - e["pressure"])
+            p += 1000.0 * (1 + x + x * x / 2) * 9.80665e-5 * dz
+        got = summary.numpy_vector(f"BPR:{cell}")[-1]
+        worst = max(worst, abs(got - p))
+    print(f"{os.path.basename(deck)}: the open boundary holds the input's EQUIL "
+          f"({e['pressure']:.3f} bar at {e['datum']:.2f} m) to {worst:.4f} bar in {len(e['cells'])} cells")
+    assert worst < 0.05, f"{deck}: boundary cells {worst} bar from the EQUIL's hydrostatic pressure"
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -113,6 +131,8 @@ def main():
             dry = [w for w in names if flow[w] <= 0.0]
             assert not dry, f"{deck}: wells without production: {dry}"
             scheduled(deck, side.get("scheduled", {}), summary, flow)
+        if "equil" in side:
+            equilibrium(deck, side["equil"], summary)
 
 
 if __name__ == "__main__":

@@ -97,6 +97,7 @@ impl Thiem {
                 min_bhp: 1.0,
             },
             pressure: P0,
+            datum: None,
             steps: vec![2.0; 10],
             fluid: Fluid::default(),
         };
@@ -299,7 +300,7 @@ fn demo_and_spe9_decks() {
     // open boundary.
     let names: Vec<String> = h.wells.iter().map(|w| w.name.clone()).collect();
     let (periods, said) =
-        orthomesh::io::eclipse::read_schedule(&data.join("SPE9_CP.DATA"), &names).unwrap();
+        orthomesh::io::schedule::read_schedule(&data.join("SPE9_CP.DATA"), &names).unwrap();
     assert_eq!(periods.len(), 3);
     assert_eq!(periods[0].controls.len(), 26);
     // Its rock: the deck's PORO on every cell's host (PERM is in an
@@ -316,15 +317,34 @@ fn demo_and_spe9_decks() {
         aquifer: h.outer_cells(),
         schedule: Some((periods, said)),
         days: Some(310.0),
+        equil: orthomesh::io::schedule::read_equil(&data.join("SPE9_CP.DATA")).unwrap(),
         ..Default::default()
     };
-    let (text, notes, _) =
-        orthomesh::io::deck::write("SPE9 top layer", &net, &h.well_links(), &choices).unwrap();
+    let (d, notes, position) =
+        orthomesh::reservoir::deck::prepare("SPE9 top layer", &net, &h.well_links(), &choices)
+            .unwrap();
+    let text = orthomesh::io::deck::to_string(&d).unwrap();
+    // Watched cells of the open boundary keep the initial state: their
+    // 1-based deck cell and depth, for decks.py.
+    let outer: Vec<usize> = choices.aquifer.iter().map(|&e| position[e]).collect();
+    let initial: Vec<(usize, f64)> = d
+        .watch
+        .iter()
+        .filter(|c| outer.contains(c))
+        .map(|&c| (c + 1, d.cells[c].depth))
+        .collect();
+    assert!(!initial.is_empty());
     assert!(notes.iter().any(|n| n.contains("feet")), "{notes:?}");
     assert!(
         notes
             .iter()
             .any(|n| n.contains("schedule: 2 periods, 310 days")),
+        "{notes:?}"
+    );
+    // Its initial state: 3600 psia at 9035 ft.
+    assert!(text.contains("EQUIL\n 2753.868 248.2112"), "{text}");
+    assert!(
+        notes.iter().any(|n| n.contains("EQUIL of") && n.contains("9035 3600 (ft, psia)")),
         "{notes:?}"
     );
     orthomesh::io::write_atomic(&dir.join("spe9-top.DATA"), text.as_bytes()).unwrap();
@@ -342,7 +362,8 @@ fn demo_and_spe9_decks() {
     }
     let sidecar = json!({
         "nnc": net.connections.len(), "cells": net.elements.len(), "wells": 26, "days": 310.0,
-        "scheduled": scheduled
+        "scheduled": scheduled,
+        "equil": { "datum": d.datum, "pressure": d.pressure, "cells": initial }
     });
     orthomesh::io::write_atomic(&dir.join("spe9-top.json"), sidecar.to_string().as_bytes())
         .unwrap();

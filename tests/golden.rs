@@ -466,7 +466,10 @@ fn outputs_keep_their_hashes() {
         _ => false,
     };
     // (else every case would pin the error "backend not built")
-    assert!(built, "backend {backend} is not in this build (--features?)");
+    assert!(
+        built,
+        "backend {backend} is not in this build (--features?)"
+    );
     let cases = all_cases();
     // two workers: each run is a separate process
     let next = std::sync::atomic::AtomicUsize::new(0);

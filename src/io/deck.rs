@@ -234,11 +234,13 @@ fn props(s: &mut String, deck: &Deck) {
     match &deck.pressures {
         Some(p) => array(s, "PRESSURE", p.iter().copied()),
         None => {
-            let datum = deck
-                .cells
-                .iter()
-                .map(|c| c.depth)
-                .fold(f64::INFINITY, f64::min);
+            let shallowest = || {
+                deck.cells
+                    .iter()
+                    .map(|c| c.depth)
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let datum = deck.datum.unwrap_or_else(shallowest);
             let _ = writeln!(s, "EQUIL\n {} {} /\n", num(datum), num(deck.pressure));
         }
     }
@@ -399,6 +401,7 @@ mod tests {
             watch: vec![0],
             fluid: Fluid::default(),
             pressure: 200.0,
+            datum: None,
             pressures: None,
             steps: vec![1.0; 3],
             later: vec![],

@@ -7,22 +7,21 @@
 //! simulator computes geometry in). MAPAXES is read and kept, not applied.
 
 use crate::error::{Error, Result};
-use crate::reservoir::deck::{Control, Period};
 use crate::reservoir::{CornerPointGrid, Fault, FaultFace};
 use std::path::{Path, PathBuf};
 
 /// A token with where it came from.
 #[derive(Debug, Clone)]
-struct Tok {
-    text: String,
-    quoted: bool,
+pub(super) struct Tok {
+    pub(super) text: String,
+    pub(super) quoted: bool,
     file: usize,
     line: usize,
 }
 
 /// The tokens of a file and of the files it includes, in order.
-struct Tokens {
-    toks: Vec<Tok>,
+pub(super) struct Tokens {
+    pub(super) toks: Vec<Tok>,
     files: Vec<PathBuf>,
     /// Include files that are missing (only allowed when reading wells).
     missing: Vec<String>,
@@ -79,7 +78,7 @@ fn lex(text: &str, file: usize, out: &mut Vec<Tok>) {
 impl Tokens {
     /// Reads a file, following INCLUDE records (paths relative to the
     /// including file). Missing includes are errors unless `lenient`.
-    fn read(path: &Path, lenient: bool) -> Result<Tokens> {
+    pub(super) fn read(path: &Path, lenient: bool) -> Result<Tokens> {
         let mut t = Tokens {
             toks: vec![],
             files: vec![],
@@ -131,13 +130,13 @@ impl Tokens {
         Ok(())
     }
 
-    fn error(&self, at: &Tok, message: String) -> Error {
+    pub(super) fn error(&self, at: &Tok, message: String) -> Error {
         parse_err(&self.files[at.file], at.line, message)
     }
 }
 
 /// Whether a token looks like a keyword (starts a new record list).
-fn is_keyword(t: &Tok) -> bool {
+pub(super) fn is_keyword(t: &Tok) -> bool {
     !t.quoted
         && t.text.len() <= 8
         && t.text
@@ -150,7 +149,7 @@ fn is_keyword(t: &Tok) -> bool {
 }
 
 /// One record's items after repeat expansion; None is a defaulted item.
-type Record = Vec<Option<Tok>>;
+pub(super) type Record = Vec<Option<Tok>>;
 
 /// Values one record may expand to (ZCORN of 4 million cells): a repeat
 /// count beyond it is an error, not an allocation of many gigabytes.
@@ -158,7 +157,7 @@ const MAX_RECORD: usize = 1 << 25;
 
 /// Reads one record starting at `k`: items up to `/`. Returns the items and
 /// the index after the `/`.
-fn record(ts: &Tokens, mut k: usize, keyword: &Tok) -> Result<(Record, usize)> {
+pub(super) fn record(ts: &Tokens, mut k: usize, keyword: &Tok) -> Result<(Record, usize)> {
     let mut items = vec![];
     loop {
         let Some(t) = ts.toks.get(k) else {
@@ -200,7 +199,7 @@ fn record(ts: &Tokens, mut k: usize, keyword: &Tok) -> Result<(Record, usize)> {
 /// Reads the records of a keyword that takes a list, up to the empty
 /// record that ends it, handing each to `f` as it is read; returns the
 /// index after the end.
-fn each_record(
+pub(super) fn each_record(
     ts: &Tokens,
     mut k: usize,
     keyword: &Tok,
@@ -216,7 +215,12 @@ fn each_record(
     }
 }
 
-fn number<T: std::str::FromStr>(ts: &Tokens, t: &Option<Tok>, at: &Tok, what: &str) -> Result<T> {
+pub(super) fn number<T: std::str::FromStr>(
+    ts: &Tokens,
+    t: &Option<Tok>,
+    at: &Tok,
+    what: &str,
+) -> Result<T> {
     let t = t
         .as_ref()
         .ok_or_else(|| ts.error(at, format!("{what} may not be defaulted")))?;
@@ -562,131 +566,6 @@ pub fn length_unit(path: &Path) -> Result<Option<(f64, String)>> {
     Ok(system)
 }
 
-/// Standard barrels per cubic metre, and bar per psi (FIELD to METRIC).
-const STB: f64 = 0.158_987_294_928;
-const PSI: f64 = 0.068_947_572_931_783_1;
-
-/// A deck's schedule as single-phase water controls in METRIC units: its
-/// periods, each the controls that change (WCONPROD, WCONINJE; names with a
-/// trailing '*' match every well of `names` they start) and then its report
-/// steps (TSTEP). Every translation is said in the notes. Reading stops at
-/// DATES (said).
-pub fn read_schedule(path: &Path, names: &[String]) -> Result<(Vec<Period>, Vec<String>)> {
-    let (rate, press) = match length_unit(path)? {
-        Some((0.3048, _)) => (STB, PSI),
-        Some((0.01, _)) => {
-            return Err(Error::Usage(format!(
-                "{}: LAB units in a schedule are not read",
-                path.display()
-            )))
-        }
-        _ => (1.0, 1.0),
-    };
-    let ts = Tokens::read(path, true)?;
-    let mut notes: Vec<String> = vec![];
-    let (mut periods, mut pending) = (vec![], vec![]);
-    let mut k = 0;
-    let value = |r: &Record, n: usize| -> Result<Option<f64>> {
-        match r.get(n).cloned().flatten() {
-            None => Ok(None),
-            Some(t) => number(&ts, &Some(t.clone()), &t, "a number").map(Some),
-        }
-    };
-    let word = |r: &Record, n: usize, default: &str| {
-        r.get(n)
-            .cloned()
-            .flatten()
-            .map_or(default.to_string(), |t| t.text.to_uppercase())
-    };
-    while k < ts.toks.len() {
-        let kw = ts.toks[k].clone();
-        k += 1;
-        if !is_keyword(&kw) {
-            continue;
-        }
-        match kw.text.as_str() {
-            "WCONPROD" | "WCONINJE" => {
-                k = each_record(&ts, k, &kw, |rec| {
-                    let pattern = word(&rec, 0, "");
-                    let control = if kw.text == "WCONPROD" {
-                        let bhp = value(&rec, 8)?.map_or(1.01325, |p| p * press);
-                        let mode = word(&rec, 2, "");
-                        let item = ["ORAT", "WRAT", "GRAT", "LRAT", "RESV"]
-                            .iter()
-                            .position(|m| *m == mode);
-                        match (word(&rec, 1, "OPEN").as_str(), item) {
-                            ("SHUT" | "STOP", _) => Control::Shut,
-                            (_, Some(2)) | (_, None) => {
-                                notes.push(format!(
-                                    "{pattern}: {mode} control written as BHP {bhp:.4} bar"
-                                ));
-                                Control::ProduceAtBhp(bhp)
-                            }
-                            (_, Some(i)) => Control::Produce {
-                                rate: value(&rec, 3 + i)?.unwrap_or(0.0) * rate,
-                                min_bhp: bhp,
-                            },
-                        }
-                    } else {
-                        let max_bhp = value(&rec, 6)?.map_or(1000.0, |p| p * press);
-                        let kind = word(&rec, 1, "WATER");
-                        if kind != "WATER" {
-                            notes.push(format!("{pattern}: injects water, not {kind}"));
-                        }
-                        match (
-                            word(&rec, 2, "OPEN").as_str(),
-                            word(&rec, 3, "RATE").as_str(),
-                        ) {
-                            ("SHUT" | "STOP", _) => Control::Shut,
-                            (_, "RATE") => Control::Inject {
-                                rate: value(&rec, 4)?.unwrap_or(0.0) * rate,
-                                max_bhp,
-                            },
-                            (_, mode) => {
-                                notes.push(format!("{pattern}: {mode} control written as a rate of 1e5 sm3/day up to {max_bhp:.4} bar"));
-                                Control::Inject { rate: 1e5, max_bhp }
-                            }
-                        }
-                    };
-                    let matched: Vec<&String> = names
-                        .iter()
-                        .filter(|n| match pattern.strip_suffix('*') {
-                            Some(prefix) => n.starts_with(prefix),
-                            None => **n == pattern,
-                        })
-                        .collect();
-                    if matched.is_empty() {
-                        notes.push(format!(
-                            "{} '{pattern}' matches no well of the mesh",
-                            kw.text
-                        ));
-                    }
-                    pending.retain(|(n, _): &(String, Control)| !matched.contains(&n));
-                    pending.extend(matched.into_iter().map(|n| (n.clone(), control)));
-                    Ok(())
-                })?;
-            }
-            "TSTEP" => {
-                let (rec, next) = record(&ts, k, &kw)?;
-                k = next;
-                let steps = (0..rec.len())
-                    .map(|n| value(&rec, n).map(|v| v.unwrap_or(0.0)))
-                    .collect::<Result<Vec<f64>>>()?;
-                periods.push(Period {
-                    controls: std::mem::take(&mut pending),
-                    steps,
-                });
-            }
-            "DATES" => {
-                notes.push("the schedule is read up to its first DATES".into());
-                break;
-            }
-            _ => {}
-        }
-    }
-    Ok((periods, notes))
-}
-
 /// Rock arrays of a grid or deck, per grid cell (i + nx (j + ny k)).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Properties {
@@ -818,37 +697,8 @@ ACTNUM 1 /
     }
 
     #[test]
-    fn schedules_become_water_controls_in_metric_units() {
-        let p = write(
-            "SCHED.DATA",
-            "FIELD\nSCHEDULE\nWCONPROD\n 'P*' 'OPEN' 'ORAT' 1500 4* 1000 /\n 'X' 'SHUT' 'ORAT' 1 /\n/\n\
-             WCONINJE\n 'I' 'WATER' 'OPEN' 'RATE' 5000 1* 4000 /\n/\nTSTEP\n 2*10 /\n\
-             WCONPROD\n 'P1' 'OPEN' 'BHP' 5* 500 /\n/\nTSTEP\n 5 /\nDATES\n 1 'JAN' 2030 /\n/\nTSTEP\n 7 /\n",
-        );
-        let names: Vec<String> = ["P1", "P2", "I"].iter().map(|s| s.to_string()).collect();
-        let (periods, notes) = read_schedule(&p, &names).unwrap();
-        assert_eq!(periods.len(), 2);
-        assert_eq!(periods[0].steps, vec![10.0, 10.0]);
-        let produce = Control::Produce {
-            rate: 1500.0 * STB,
-            min_bhp: 1000.0 * PSI,
-        };
-        assert_eq!(periods[0].controls[0], ("P1".to_string(), produce));
-        assert_eq!(periods[0].controls[1], ("P2".to_string(), produce));
-        let inject = Control::Inject {
-            rate: 5000.0 * STB,
-            max_bhp: 4000.0 * PSI,
-        };
-        assert_eq!(periods[0].controls[2], ("I".to_string(), inject));
-        assert_eq!(
-            periods[1].controls,
-            vec![("P1".to_string(), Control::ProduceAtBhp(500.0 * PSI))]
-        );
-        assert!(
-            notes.iter().any(|n| n.contains("'X' matches no well")),
-            "{notes:?}"
-        );
-        assert!(notes.iter().any(|n| n.contains("DATES")), "{notes:?}");
+    fn length_units_from_gridunit_or_the_unit_system() {
+        let p = write("FIELD.DATA", "FIELD\n");
         assert_eq!(length_unit(&p).unwrap().map(|u| u.0), Some(0.3048));
         let g = write("UNIT.grdecl", "GRIDUNIT\n 'METRES' /\n");
         assert_eq!(length_unit(&g).unwrap().map(|u| u.0), Some(1.0));

@@ -4,6 +4,7 @@ pub mod deck;
 pub mod eclipse;
 pub mod edg;
 pub mod poly;
+pub mod schedule;
 pub mod svg;
 pub mod tetgen;
 pub mod tough;

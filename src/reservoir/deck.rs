@@ -125,9 +125,11 @@ pub struct Deck {
     pub watch: Vec<usize>,
     /// Water and rock.
     pub fluid: Fluid,
-    /// Initial pressure (bar) at the shallowest node's depth, in
-    /// hydrostatic equilibrium (EQUIL).
+    /// Initial pressure (bar) at the datum, in hydrostatic equilibrium
+    /// (EQUIL).
     pub pressure: f64,
+    /// The datum's depth (m); None: the shallowest node's.
+    pub datum: Option<f64>,
     /// Instead, every cell's initial pressure (bar; PRESSURE).
     pub pressures: Option<Vec<f64>>,
     /// Report steps (days) under the wells' first controls.
@@ -177,8 +179,10 @@ pub struct WellLinks {
 pub struct DeckSettings {
     /// The control of every well.
     pub control: Control,
-    /// Initial pressure (bar) at the shallowest node.
+    /// Initial pressure (bar) at the datum.
     pub pressure: f64,
+    /// The datum's depth (m); None: the shallowest node's.
+    pub datum: Option<f64>,
     /// Report steps (days).
     pub steps: Vec<f64>,
     /// Water and rock compressibility.
@@ -190,6 +194,7 @@ impl Default for DeckSettings {
         DeckSettings {
             control: Control::ProduceAtBhp(190.0),
             pressure: 200.0,
+            datum: None,
             steps: vec![1.0; 10],
             fluid: Fluid::default(),
         }
@@ -288,6 +293,7 @@ pub fn deck(
         watch: vec![],
         fluid: settings.fluid,
         pressure: settings.pressure,
+        datum: settings.datum,
         pressures: None,
         steps: settings.steps.clone(),
         later: vec![],
@@ -332,11 +338,14 @@ pub struct DeckChoices {
     /// Elements held at their initial pressure (an open boundary, as an
     /// aquifer around the field); empty: a closed boundary.
     pub aquifer: Vec<usize>,
-    /// The input deck's schedule (`io::eclipse::read_schedule`) and what
+    /// The input deck's schedule (`io::schedule::read_schedule`) and what
     /// its reading said; `rate` replaces it.
     pub schedule: Option<(Vec<Period>, Vec<String>)>,
     /// Run only this many days.
     pub days: Option<f64>,
+    /// The input's initial state (`io::schedule::read_equil`): datum depth
+    /// (m), pressure there (bar), and the input's words for them.
+    pub equil: Option<(f64, f64, String)>,
     /// Rock per element from the input (`io::deck::rock_from`) and what it
     /// assumed; `perm` and `poro` replace its values where given.
     pub rock: Option<(Rock, Vec<String>)>,
@@ -490,9 +499,23 @@ pub fn prepare(
     choices.check()?;
     let (rock, mut notes) = rock_of(network.elements.len(), choices)?;
     let mut settings = DeckSettings::default();
+    match &choices.equil {
+        Some((datum, p, said)) => {
+            (settings.datum, settings.pressure) = (Some(*datum), *p);
+            settings.fluid.pressure = *p;
+            settings.control = Control::ProduceAtBhp(p - 10.0);
+            notes.push(format!(
+                "initial pressure {p:.4} bar at {datum:.4} m deep, from the input's {said}"
+            ));
+        }
+        None => notes.push(format!(
+            "initial pressure {} bar at the shallowest node (default, the input has no EQUIL)",
+            settings.pressure
+        )),
+    }
     notes.push(format!(
-        "initial pressure {} bar at the shallowest node; water of viscosity {} cP",
-        settings.pressure, settings.fluid.viscosity,
+        "water of viscosity {} cP",
+        settings.fluid.viscosity
     ));
     if let Some(q) = choices.rate {
         settings.control = Control::Produce {
@@ -530,7 +553,8 @@ pub fn prepare(
             format!("{n} wells, each producing {q} sm3/day of water (--rate), down to 1 bar")
         }
         (n, _) => format!(
-            "{n} wells, each producing water at a bottom-hole pressure of 190 bar (default: 10 bar below the initial pressure; --rate sets a rate)"
+            "{n} wells, each producing water at a bottom-hole pressure of {:.4} bar (default: 10 bar below the initial pressure; --rate sets a rate)",
+            settings.pressure - 10.0
         ),
     });
     let (network, wells) = match &choices.length {

@@ -86,9 +86,13 @@ impl DeckArgs {
             rock: input.rock,
             aquifer: if self.aquifer { outer() } else { vec![] },
             schedule: input
-                .schedule
-                .map(|p| io::eclipse::read_schedule(p, &names))
+                .deck
+                .map(|p| io::schedule::read_schedule(p, &names))
                 .transpose()?,
+            equil: match input.deck {
+                Some(p) => io::schedule::read_equil(p)?,
+                None => None,
+            },
             ..self.choices()
         };
         let (text, notes, position) = orthomesh::io::deck::write(title, network, wells, &choices)?;
@@ -113,12 +117,12 @@ impl DeckArgs {
     }
 }
 
-/// What the input gives a deck: its length unit, its schedule (a deck's
-/// path), its rock per mesh cell.
+/// What the input gives a deck: its length unit, its deck (whose schedule
+/// and EQUIL are read), its rock per mesh cell.
 #[derive(Default)]
 pub(crate) struct FromInput<'a> {
     pub(crate) length: Option<(f64, String)>,
-    pub(crate) schedule: Option<&'a Path>,
+    pub(crate) deck: Option<&'a Path>,
     pub(crate) rock: Option<(Rock, Vec<String>)>,
 }
 
@@ -155,7 +159,8 @@ impl DeckOut {
         if let (Some(path), Some(network)) = (path, network) {
             self.files
                 .push((path.to_path_buf(), io::tough::to_string(network)?));
-            self.arrays.push(io::tough::names_array(network.elements.len())?);
+            self.arrays
+                .push(io::tough::names_array(network.elements.len())?);
         }
         Ok(self)
     }

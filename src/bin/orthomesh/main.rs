@@ -562,7 +562,7 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             let input = || {
                 Ok(FromInput {
                     length: grid_unit(&a)?,
-                    schedule: a.deck.as_deref(),
+                    deck: a.deck.as_deref(),
                     rock: Some(deck::grid_rock(&a, &g, &hosts)?),
                 })
             };
