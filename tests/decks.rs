@@ -344,7 +344,9 @@ fn demo_and_spe9_decks() {
     // Its initial state: 3600 psia at 9035 ft.
     assert!(text.contains("EQUIL\n 2753.868 248.2112"), "{text}");
     assert!(
-        notes.iter().any(|n| n.contains("EQUIL of") && n.contains("9035 3600 (ft, psia)")),
+        notes
+            .iter()
+            .any(|n| n.contains("EQUIL of") && n.contains("9035 3600 (ft, psia)")),
         "{notes:?}"
     );
     orthomesh::io::write_atomic(&dir.join("spe9-top.DATA"), text.as_bytes()).unwrap();
@@ -426,6 +428,32 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
         "{err}"
     );
     assert!(deck.contains("WCONPROD"));
+
+    // The 3D hybrid takes its grid's rock: a porosity per layer.
+    let block = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden/block7x7x2.grdecl");
+    let text = std::fs::read_to_string(block).unwrap() + "PORO\n 49*0.1 49*0.3 /\n";
+    std::fs::write(dir.join("layered.grdecl"), text).unwrap();
+    let (code, err) = run(&[
+        "hybrid",
+        "--3d",
+        "--grid",
+        &p("layered.grdecl"),
+        "--well",
+        "W:4:4:0.1:0:30",
+        "-o",
+        &p("hybrid3-layered.vtu"),
+        "--eclipse",
+        &p("LAYERED.DATA"),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("PORO from the input"), "{err}");
+    let deck = std::fs::read_to_string(dir.join("LAYERED.DATA")).unwrap();
+    let poro = deck.split("PORO\n").nth(1).unwrap().split('/').next().unwrap();
+    let values: Vec<f64> = poro.split_whitespace().map(|v| v.parse().unwrap()).collect();
+    let n = |f: f64| values.iter().filter(|&&v| v == f).count();
+    // half the cells each side of the layers' boundary, well and
+    // transition cells included
+    assert!(n(0.1) == n(0.3) && n(0.1) + n(0.3) == values.len(), "{poro}");
 
     let poly = root.join("pslg/double_hex2.poly").display().to_string();
     let (code, err) = run(&[

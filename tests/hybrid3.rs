@@ -65,6 +65,7 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
             let m = &h.mesh;
             let first_well = r.cells[0] + r.cells[1];
             let layer = |c: usize| (c - first_well) / (opts.rings * opts.sectors);
+            let ring = |c: usize| (c - first_well) % (opts.rings * opts.sectors) / opts.sectors;
             for l in m.links.iter().filter(|l| m.link_defect(l) > 1e-6) {
                 let regions = l.cells.map(|c| h.region[c]);
                 assert!(regions.contains(&Region::Transition), "{regions:?}");
@@ -78,6 +79,19 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
             assert_eq!(r.transition.input.clip_facets.len(), 2);
             assert_eq!(r.cells[0], 7 * 7 * 3 - 9 * 3);
             assert_eq!(r.cells[2], 3 * opts.rings * opts.sectors);
+            // Each cell takes the rock of its own grid cell, or of the
+            // cavity's cell that holds its site: a vertical well's inner
+            // ring that of the well's column in its layer (the outer rings
+            // reach into the next columns).
+            for (c, host) in h.host.iter().enumerate() {
+                match h.ijk[c] {
+                    Some(ijk) => assert_eq!(*host, ijk),
+                    None => assert!(host[0].abs_diff(3) <= 1 && host[1].abs_diff(3) <= 1),
+                }
+                if h.region[c] == Region::Well && dip == 0.0 && ring(c) == 0 {
+                    assert_eq!(*host, [3, 3, layer(c)], "cell {c}");
+                }
+            }
             // the block less the wellbore (a prism on the sectors' polygon)
             let m = opts.sectors as f64;
             let bore = m / 2.0 * 0.1f64.powi(2) * (std::f64::consts::TAU / m).sin() * 12.0

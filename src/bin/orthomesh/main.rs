@@ -414,6 +414,7 @@ fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             a.simulator.text(&title, network, &links, outer, || {
                 Ok(FromInput {
                     length: grid_unit(&a)?,
+                    rock: Some(deck::grid_rock(&a, &g, &h.host)?),
                     ..Default::default()
                 })
             })?

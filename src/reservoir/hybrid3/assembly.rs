@@ -344,13 +344,42 @@ pub(super) fn assemble(
         connections: out.links.len(),
         non_orthogonal,
     };
+    let host = hosts(w, &ijk, &out.sites);
     Hybrid3 {
         mesh: out,
         region,
         ijk,
+        host,
         wellbore,
         report,
     }
+}
+
+/// Per cell, the grid cell whose rock it takes: a reservoir cell its own;
+/// a transition or well cell the cavity's cell that holds its site (the
+/// nearest cavity cell for a site outside its cell).
+fn hosts(w: &Radial, ijk: &[Option<[usize; 3]>], sites: &[[f64; 3]]) -> Vec<[usize; 3]> {
+    // the slab of `v` (nodes increasing) that holds x, clamped to lo..=hi
+    let slab = |v: &[f64], x: f64, lo: usize, hi: usize| {
+        v[1..v.len() - 1]
+            .partition_point(|&node| node <= x)
+            .clamp(lo, hi)
+    };
+    let nz = w.zs.len() - 1;
+    // zs decrease downwards: slabs of the depths -zs
+    let depths: Vec<f64> = w.zs.iter().map(|z| -z).collect();
+    ijk.iter()
+        .zip(sites)
+        .map(|(c, p)| {
+            c.unwrap_or_else(|| {
+                [
+                    slab(&w.xs, p[0], w.i0 - 1, w.i0 + 1),
+                    slab(&w.ys, p[1], w.j0 - 1, w.j0 + 1),
+                    slab(&depths, -p[2], 0, nz - 1),
+                ]
+            })
+        })
+        .collect()
 }
 
 /// The innermost ring's cells and the geometric part of their connection

@@ -97,6 +97,9 @@ pub struct Hybrid3 {
     pub region: Vec<Region>,
     /// Per cell, its grid cell (reservoir cells).
     pub ijk: Vec<Option<[usize; 3]>>,
+    /// Per cell, the grid cell whose rock it takes: its own, or for
+    /// transition and well cells the cavity's cell that holds the site.
+    pub host: Vec<[usize; 3]>,
     /// The cells facing the wellbore, each with the geometric part of its
     /// connection factor (m; `reservoir::deck`).
     pub wellbore: Vec<(usize, f64)>,
