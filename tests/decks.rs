@@ -448,12 +448,24 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
     assert_eq!(code, Some(0), "{err}");
     assert!(err.contains("PORO from the input"), "{err}");
     let deck = std::fs::read_to_string(dir.join("LAYERED.DATA")).unwrap();
-    let poro = deck.split("PORO\n").nth(1).unwrap().split('/').next().unwrap();
-    let values: Vec<f64> = poro.split_whitespace().map(|v| v.parse().unwrap()).collect();
+    let poro = deck
+        .split("PORO\n")
+        .nth(1)
+        .unwrap()
+        .split('/')
+        .next()
+        .unwrap();
+    let values: Vec<f64> = poro
+        .split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect();
     let n = |f: f64| values.iter().filter(|&&v| v == f).count();
     // half the cells each side of the layers' boundary, well and
     // transition cells included
-    assert!(n(0.1) == n(0.3) && n(0.1) + n(0.3) == values.len(), "{poro}");
+    assert!(
+        n(0.1) == n(0.3) && n(0.1) + n(0.3) == values.len(),
+        "{poro}"
+    );
 
     let poly = root.join("pslg/double_hex2.poly").display().to_string();
     let (code, err) = run(&[

@@ -88,6 +88,23 @@ fn spe9_top_layer_with_all_26_wells() {
         .iter()
         .zip(&h.ijk)
         .all(|(r, c)| (*r == Region::Reservoir) == c.is_some()));
+    // On the dipping layer, transition and well cells take the depth of
+    // the column that holds their site: across their connections depth
+    // steps no more than between diagonal reservoir columns (it was 599 ft
+    // with the layer's mean depth).
+    let net = h.network();
+    let step = |of_reservoir: bool| {
+        net.connections
+            .iter()
+            .filter(|c| c.elements.iter().all(|&e| h.ijk[e].is_some()) == of_reservoir)
+            .map(|c| {
+                (net.elements[c.elements[0]].node[2] - net.elements[c.elements[1]].node[2]).abs()
+            })
+            .fold(0.0, f64::max)
+    };
+    let (others, reservoir) = (step(false), step(true));
+    println!("SPE9 top layer: depth steps across connections: {others:.2} ft with transition or well cells, {reservoir:.2} ft between columns");
+    assert!(others <= 2.0 * reservoir, "{others} > 2 x {reservoir}");
     write("spe9", &h);
 }
 

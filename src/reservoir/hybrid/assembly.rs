@@ -44,11 +44,7 @@ impl Assembly {
         let (grid, k, view, nx, ny) = (layer.grid, layer.k, &layer.view, layer.nx, layer.ny);
         let col = |i: usize, j: usize| layer.col(i, j);
         let quad_points = |i: usize, j: usize| layer.quad_points(i, j);
-        let column = |i: usize, j: usize| {
-            let z: Vec<f64> = (0..8).map(|c| grid.corner(i, j, k, c)[2]).collect();
-            let h = (4..8).map(|c| z[c] - z[c - 4]).sum::<f64>() / 4.0;
-            (h, z.iter().sum::<f64>() / 8.0)
-        };
+        let column = |i: usize, j: usize| column(layer, i, j);
         let (mut h_sum, mut d_sum, mut n_active) = (0.0, 0.0, 0usize);
         for j in 0..ny {
             for i in 0..nx {
@@ -300,6 +296,15 @@ fn hosts(layer: &Layer, cavity: &[bool], a: &Assembly) -> Vec<[usize; 3]> {
         .collect()
 }
 
+/// A column's cell in the layer: its mean thickness and its mid-depth.
+fn column(layer: &Layer, i: usize, j: usize) -> (f64, f64) {
+    let z: Vec<f64> = (0..8)
+        .map(|c| layer.grid.corner(i, j, layer.k, c)[2])
+        .collect();
+    let h = (4..8).map(|c| z[c] - z[c - 4]).sum::<f64>() / 4.0;
+    (h, z.iter().sum::<f64>() / 8.0)
+}
+
 /// The hybrid mesh from its parts, with its report.
 pub(super) fn assemble(
     layer: &Layer,
@@ -325,6 +330,15 @@ pub(super) fn assemble(
     a.mesh.size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
     let boundary = a.boundary(layer, placed, &t, opts.sectors);
     let host = hosts(layer, cavity, &a);
+    // Transition and well cells take their host column's thickness and
+    // depth (on a dipping layer, those of the reservoir around them); the
+    // layer's means where the host has no thickness.
+    for (c, &[i, j, _]) in host.iter().enumerate() {
+        let (h, d) = column(layer, i, j);
+        if a.ijk[c].is_none() && layer.grid.active(i, j, k) && h > 0.0 {
+            (a.thickness[c], a.depth[c]) = (h, d);
+        }
+    }
     let Assembly {
         mut mesh,
         region,
