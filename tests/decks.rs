@@ -204,6 +204,68 @@ fn thiem_decks_in_2d_and_25d() {
     }
 }
 
+/// A well in an ordinary cell: a `conform` mesh of 31 x 31 squares of 10 m
+/// given as segments (each square cut into four cells), the well at the
+/// site of a cell beside the centre, connected by Peaceman's factor from
+/// that cell's own connections (`reservoir::deck::peaceman`).
+#[test]
+fn thiem_deck_with_peacemans_factor_in_a_conform_mesh() {
+    let (n, dx, thickness) = (31usize, 10.0, 10.0);
+    let idx = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    let points = (0..=n)
+        .flat_map(|j| (0..=n).map(move |i| [i as f64 * dx, j as f64 * dx]))
+        .collect();
+    let mut segments = vec![];
+    for a in 0..=n {
+        for b in 0..n {
+            segments.push([idx(b, a), idx(b + 1, a)]);
+            segments.push([idx(a, b), idx(a, b + 1)]);
+        }
+    }
+    let cx = orthomesh::Complex {
+        points,
+        segments,
+        ..Default::default()
+    };
+    let out = orthomesh::Mesher::new(&default_backend())
+        .conform(&cx)
+        .unwrap();
+    let mesh = &out.mesh;
+    let side = n as f64 * dx;
+    let [cell] = mesh.locate([side / 2.0, side / 2.0 - 2.0])[..] else {
+        panic!("the point is inside one cell")
+    };
+    let c = mesh.sites[cell];
+    let cells = mesh.cells.len();
+    let net =
+        orthomesh::reservoir::flow::network(mesh, &vec![thickness; cells], &vec![1000.0; cells]);
+    let (factor, r_o) = orthomesh::reservoir::deck::peaceman(&net, cell, thickness, RW).unwrap();
+    println!("Peaceman: cell {cell} of {cells}, equivalent radius {r_o:.3} m");
+    let wells = [WellLinks {
+        name: "W".into(),
+        radius: RW,
+        links: vec![(cell, factor)],
+    }];
+    let r = |x: [f64; 2]| (x[0] - c[0]).hypot(x[1] - c[1]);
+    let mut edge = vec![false; cells];
+    for f in orthomesh::reservoir::flow::boundary_faces(mesh) {
+        edge[f.cell as usize] = true;
+    }
+    let t = Thiem {
+        // (the well's own cell starts from the wellbore's pressure)
+        radius: mesh.sites.iter().map(|&s| r(s).max(RW)).collect(),
+        boundary: edge,
+        band: mesh
+            .sites
+            .iter()
+            .map(|&s| (r(s) - side / 4.0).abs() <= dx / 2.0)
+            .collect(),
+        thickness,
+        side,
+    };
+    t.deck("thiem-peaceman", &net, &wells);
+}
+
 /// The 3D case: a vertical well through 15 x 15 x 2 blocks of 10 x 10 x 5 m,
 /// its sectors turned by 30 degrees as in the crate's own 3D flow check
 /// (tests/hybrid3.rs): with sector corners on the grid's axes (azimuth 0)
@@ -485,6 +547,50 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
     );
     let deck = std::fs::read_to_string(dir.join("HEX.DATA")).unwrap();
     assert!(!deck.contains("WELSPECS") && deck.contains("TSTEP"));
+
+    // A well in an ordinary cell of a conform mesh: 3 x 3 squares of 10 m.
+    let mut text = String::from("16 2 0 0\n");
+    for k in 0..16 {
+        text += &format!("{} {} {}\n", k + 1, (k % 4) * 10, (k / 4) * 10);
+    }
+    text += "24 0\n";
+    for a in 0..4 {
+        for b in 0..3 {
+            let n = 2 * (3 * a + b);
+            text += &format!("{} {} {}\n", n + 1, 4 * a + b + 1, 4 * a + b + 2);
+            text += &format!("{} {} {}\n", n + 2, 4 * b + a + 1, 4 * b + a + 5);
+        }
+    }
+    std::fs::write(dir.join("squares.poly"), text + "0\n").unwrap();
+    let squares = p("squares.poly");
+    let conform = |well: &str, deck: bool| {
+        let (vtu, data) = (p("squares.vtu"), p("SQUARES.DATA"));
+        let mut args = vec!["conform", &squares, "-o", &vtu, "--well-xy", well];
+        if deck {
+            args.extend(["--eclipse", &data]);
+        }
+        run(&args)
+    };
+    let (code, err) = conform("W:15:12:0.1", true);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        err.contains("well W in cell") && err.contains("Peaceman"),
+        "{err}"
+    );
+    let deck = std::fs::read_to_string(dir.join("SQUARES.DATA")).unwrap();
+    assert!(deck.contains("COMPDAT\n 'W' "), "{deck}");
+    std::fs::remove_file(dir.join("SQUARES.DATA")).unwrap();
+    for (well, deck, says) in [
+        ("W:15:15", true, "on the boundary of cells"),
+        ("W:99:5", true, "outside the mesh"),
+        ("W:15:12:9", true, "not below the equivalent radius"),
+        ("W:15:12", false, "is for --eclipse"),
+    ] {
+        let (code, err) = conform(well, deck);
+        assert_eq!(code, Some(1), "{well}: {err}");
+        assert!(err.contains(says), "{well}: {err}");
+        assert!(!dir.join("SQUARES.DATA").exists());
+    }
 
     for bad in [
         vec!["--eclipse", "BAD.DATA", "--perm=-3"],

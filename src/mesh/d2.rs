@@ -212,6 +212,23 @@ impl Mesh {
         Ok(m)
     }
 
+    /// The cells whose closed polygon holds p, decided exactly (cells
+    /// are convex and counter-clockwise): one inside a cell, two or more on
+    /// a face or vertex, none outside the mesh.
+    pub fn locate(&self, p: [f64; 2]) -> Vec<usize> {
+        use std::cmp::Ordering::Less;
+        (0..self.cells.len())
+            .filter(|&c| {
+                let cell = &self.cells[c];
+                (0..cell.len()).all(|k| {
+                    let a = self.points[cell[k] as usize];
+                    let b = self.points[cell[(k + 1) % cell.len()] as usize];
+                    crate::geom::orient(a, b, p) != Less
+                })
+            })
+            .collect()
+    }
+
     /// Signed area of a cell.
     pub fn area(&self, cell: &[u32]) -> f64 {
         shoelace(cell.len(), |k| self.points[cell[k] as usize])

@@ -173,6 +173,38 @@ pub struct WellLinks {
     pub links: Vec<(usize, f64)>,
 }
 
+/// The geometric part of the connection factor of a well of radius `rw`
+/// at the node of element `e` of height `h` (m), in an ordinary cell:
+/// Peaceman's equivalent radius from the cell's own lateral connections
+/// (Palagi and Aziz's form for PEBI cells), ln r_o = (sum t ln d - 2 pi h)
+/// / sum t with t = A / d per connection, then 2 pi h / ln(r_o / rw).
+/// On a square cell of side D, r_o = 0.208 D (Peaceman's measured value:
+/// 0.198 D). Returns the factor and r_o. Err when the cell has no lateral
+/// connection or r_o <= rw.
+pub fn peaceman(network: &Network, e: usize, h: f64, rw: f64) -> Result<(f64, f64)> {
+    let (mut t_sum, mut t_log) = (0.0, 0.0);
+    for c in &network.connections {
+        if !c.elements.contains(&e) || c.cos_gravity != 0.0 || c.area <= 0.0 {
+            continue;
+        }
+        let d = c.d[0] + c.d[1];
+        t_sum += c.area / d;
+        t_log += c.area / d * d.ln();
+    }
+    if t_sum <= 0.0 {
+        return Err(Error::Usage(format!(
+            "cell {e} has no lateral connection for Peaceman's well factor"
+        )));
+    }
+    let r_o = ((t_log - std::f64::consts::TAU * h) / t_sum).exp();
+    if r_o.is_nan() || r_o <= rw {
+        return Err(Error::Usage(format!(
+            "the well's radius {rw} is not below the equivalent radius {r_o:.4} of cell {e} (Peaceman): its cell is too small for it"
+        )));
+    }
+    Ok((std::f64::consts::TAU * h / (r_o / rw).ln(), r_o))
+}
+
 /// What the deck runs: well control, initial pressure, report steps,
 /// fluid.
 #[derive(Debug, Clone, PartialEq)]
@@ -672,6 +704,41 @@ mod tests {
         assert_eq!(deck.cells[0].pore_volume, 2.5);
         assert_eq!(deck.nnc[0].cells, [1, 0]);
         assert_eq!(deck.wells[0].connections, vec![(1, DARCY * 100.0 * 2.0)]);
+    }
+
+    #[test]
+    fn peaceman_on_a_square_cell_is_0_208_of_its_side() {
+        // The centre of 3 x 3 cells of side 10 and height 2.
+        let at = |i: usize| [(i % 3) as f64 * 10.0, (i / 3) as f64 * 10.0, -1000.0];
+        let mut net = row(9);
+        net.elements = (0..9)
+            .map(|i| Element {
+                volume: 200.0,
+                node: at(i),
+            })
+            .collect();
+        net.connections = [1, 3, 5, 7]
+            .iter()
+            .map(|&n| Connection {
+                elements: [4, n],
+                isot: 1,
+                d: [5.0, 5.0],
+                area: 20.0,
+                cos_gravity: 0.0,
+            })
+            .collect();
+        let (g, r) = peaceman(&net, 4, 2.0, 0.1).unwrap();
+        let r_o = 10.0 * (-std::f64::consts::FRAC_PI_2).exp();
+        assert!((g - std::f64::consts::TAU * 2.0 / (r_o / 0.1).ln()).abs() < 1e-12);
+        assert!((r - r_o).abs() < 1e-12 && (r_o / 10.0 - 0.2079).abs() < 1e-4);
+        assert!(peaceman(&net, 4, 2.0, 3.0)
+            .unwrap_err()
+            .to_string()
+            .contains("equivalent radius"));
+        assert!(peaceman(&net, 0, 2.0, 0.1)
+            .unwrap_err()
+            .to_string()
+            .contains("no lateral"));
     }
 
     #[test]

@@ -106,14 +106,26 @@ impl DeckArgs {
         })
     }
 
-    /// The deck of a `conform` mesh (no wells, nothing from the input),
+    /// The deck of a `conform` mesh (its wells by Peaceman's factor,
+    /// nothing from the input),
     /// when a deck is asked for (and so the network built).
-    pub(crate) fn plain(&self, input: &Path, network: Option<&Network>) -> Result<DeckOut> {
+    pub(crate) fn plain(
+        &self,
+        input: &Path,
+        network: Option<&Network>,
+        wells: &[WellLinks],
+    ) -> Result<DeckOut> {
         let Some(network) = network.filter(|_| self.wanted()) else {
             return Ok(DeckOut::default());
         };
         let title = input.display().to_string();
-        self.text(&title, network, &[], Vec::new, || Ok(FromInput::default()))
+        self.text(
+            &title,
+            network,
+            wells,
+            Vec::new,
+            || Ok(FromInput::default()),
+        )
     }
 }
 
@@ -181,4 +193,52 @@ pub(crate) fn grid_unit(a: &crate::HybridArgs) -> Result<Option<(f64, String)>> 
         }
     }
     Ok(None)
+}
+
+/// The wells of a 2D `conform` deck (`--well-xy NAME:X:Y[:RADIUS]`): each
+/// connected to the one cell that holds its point by Peaceman's factor,
+/// what it assumed said on standard error.
+pub(crate) fn point_wells(
+    specs: &[String],
+    mesh: &orthomesh::Mesh,
+    network: &Network,
+    thickness: f64,
+) -> Result<Vec<WellLinks>> {
+    let mut wells: Vec<WellLinks> = vec![];
+    for spec in specs {
+        let (name, x, y, radius) = crate::well_spec(spec)?;
+        if wells.iter().any(|w| w.name == name) {
+            return Err(Error::Usage(format!("well {name} is given twice")));
+        }
+        if radius <= 0.0 {
+            return Err(Error::Usage(format!(
+                "well {name}: radius {radius} is not positive"
+            )));
+        }
+        let cell = match mesh.locate([x, y])[..] {
+            [c] => c,
+            [] => {
+                return Err(Error::Usage(format!(
+                    "well {name}: ({x}, {y}) is outside the mesh"
+                )))
+            }
+            ref cells => return Err(Error::Usage(format!(
+                "well {name}: ({x}, {y}) is on the boundary of cells {cells:?}: move it into one"
+            ))),
+        };
+        let (factor, r_o) = orthomesh::reservoir::deck::peaceman(network, cell, thickness, radius)
+            .map_err(|e| Error::Usage(format!("well {name}: {e}")))?;
+        let s = mesh.sites[cell];
+        eprintln!(
+            "deck: well {name} in cell {cell} by Peaceman's factor (equivalent radius {r_o:.4}); \
+             the factor takes the well at the site, {:.4} from ({x}, {y})",
+            (s[0] - x).hypot(s[1] - y)
+        );
+        wells.push(WellLinks {
+            name,
+            radius,
+            links: vec![(cell, factor)],
+        });
+    }
+    Ok(wells)
 }

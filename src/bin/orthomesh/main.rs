@@ -125,6 +125,10 @@ struct ConformArgs {
     clip_hull: bool,
     #[command(flatten)]
     deck: DeckArgs,
+    /// Deck, 2D: a vertical well at X, Y, connected to the cell there by
+    /// Peaceman's factor (radius default 0.1).
+    #[arg(long = "well-xy", value_name = "NAME:X:Y[:RADIUS]")]
+    wells_xy: Vec<String>,
     /// Deck, 2D: the cells' thickness (m).
     #[arg(long, default_value_t = 1.0)]
     thickness: f64,
@@ -301,6 +305,11 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
         ));
     }
     a.deck.check(false)?;
+    if !a.wells_xy.is_empty() && !a.deck.wanted() {
+        return Err(Error::Usage(
+            "--well-xy on `conform` is for --eclipse".into(),
+        ));
+    }
     if !(a.thickness > 0.0 && a.thickness.is_finite() && a.depth.is_finite()) {
         return Err(Error::Usage(
             "--thickness must be positive and --depth finite".into(),
@@ -326,7 +335,11 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
         let n = out.mesh.cells.len();
         orthomesh::reservoir::flow::network(&out.mesh, &vec![a.thickness; n], &vec![a.depth; n])
     });
-    let deck = a.deck.plain(&a.input, network.as_ref())?;
+    let wells = match &network {
+        Some(net) => deck::point_wells(&a.wells_xy, &out.mesh, net, a.thickness)?,
+        None => vec![],
+    };
+    let deck = a.deck.plain(&a.input, network.as_ref(), &wells)?;
     let o = &a.out;
     write_all(
         &out,
@@ -350,9 +363,9 @@ fn conform2(backend: &dyn Backend, cx: &Complex, a: ConformArgs) -> Result<()> {
 
 /// `conform` on a 3D complex.
 fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> {
-    if a.out.svg.is_some() || a.split_segments {
+    if a.out.svg.is_some() || a.split_segments || !a.wells_xy.is_empty() {
         return Err(Error::Usage(
-            "--svg and --split-segments are for 2D inputs (--split-facets in 3D)".into(),
+            "--svg, --split-segments and --well-xy are for 2D inputs (--split-facets in 3D)".into(),
         ));
     }
     a.deck.check(false)?;
@@ -374,7 +387,7 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
     let network = (a.tough.is_some() || a.deck.wanted()).then(|| out.mesh.network());
     let deck = a
         .deck
-        .plain(&a.input, network.as_ref())?
+        .plain(&a.input, network.as_ref(), &[])?
         .tough(a.tough.as_deref(), network.as_ref())?;
     let o = &a.out;
     write_all3(&out, cx, &a.input, &o.output, o.report.as_deref(), deck)
@@ -833,7 +846,7 @@ fn finish_bar() {
 const DEFAULT_WELL_RADIUS: f64 = 0.1;
 
 /// NAME:A:B[:RADIUS]
-fn well_spec(spec: &str) -> Result<(String, f64, f64, f64)> {
+pub(crate) fn well_spec(spec: &str) -> Result<(String, f64, f64, f64)> {
     let parts: Vec<&str> = spec.split(':').collect();
     let bad = || Error::Usage(format!("well '{spec}': expected NAME:A:B[:RADIUS]"));
     if !(3..=4).contains(&parts.len()) || parts[0].is_empty() {
