@@ -8,8 +8,9 @@ a JSON sidecar), checked with what reservoir engineers run:
 - Thiem's cases: the pressure drop between the well (its bottom-hole
   pressure, plus the hydrostatic head to each cell's depth) and the cells
   at r = L/4 is within 0.5% of Thiem's, printed;
-- SPE9's top layer: every one of its 26 wells produces, each at its
-  scheduled rate or limit, and the open boundary holds the input's EQUIL.
+- SPE9's top layer: each of its 26 wells at its scheduled rate or limit, or
+  an injector whose limit is below the initial pressure at its depth (in
+  water only), and the open boundary holds the input's EQUIL.
 
 Usage: python3 tests/decks.py DIR   (scripts/test.sh runs it)
 """
@@ -72,10 +73,37 @@ def thiem(deck, side, summary):
     assert err < float(os.environ.get("THIEM_TOL", "0.005")), f"{name}: {100 * err:.3f}% off Thiem"
 
 
+def hydrostatic(e, depth):
+    """The initial pressure at a depth under the EQUIL e, as Flow computes it
+    for our water (PVTW: 4.5e-5 / bar, reference at the datum)."""
+    p, n = e["pressure"], 1000
+    dz = (depth - e["datum"]) / n
+    for _ in range(n):
+        x = 4.5e-5 * (p - e["pressure"])
+        p += 1000.0 * (1 + x + x * x / 2) * 9.80665e-5 * dz
+    return p
+
+
+def stopped(side, flow):
+    """Wells Flow cannot run under their limits: injectors whose BHP limit is
+    below the initial pressure at their depth (SPE9's, in water only)."""
+    out = {}
+    for w, f in flow.items():
+        if f > 0.0 or w not in side.get("scheduled", {}) or "equil" not in side:
+            continue
+        kind, _, limit = side["scheduled"][w]
+        initial = hydrostatic(side["equil"], side["well_depth"][w])
+        if kind == "inject" and limit < initial:
+            out[w] = (limit, initial)
+    return out
+
+
 def scheduled(deck, controls, summary, flow):
     """Each well at its scheduled rate, or at its bottom-hole pressure limit."""
     at_rate = at_limit = 0
     for w, (kind, rate, limit) in controls.items():
+        if flow[w] <= 0.0:
+            continue
         bhp = summary.numpy_vector(f"WBHP:{w}")[-1]
         if abs(flow[w] - rate) <= 1e-4 * rate:
             at_rate += 1
@@ -93,11 +121,7 @@ def equilibrium(deck, e, summary):
     plus the head of water (PVTW: 4.5e-5 / bar, reference at the datum)."""
     worst = 0.0
     for cell, depth in e["cells"]:
-        p, z, n = e["pressure"], e["datum"], 1000
-        dz = (depth - z) / n
-        for _ in range(n):
-            x = 4.5e-5 * (p - e["pressure"])
-            p += 1000.0 * (1 + x + x * x / 2) * 9.80665e-5 * dz
+        p = hydrostatic(e, depth)
         got = summary.numpy_vector(f"BPR:{cell}")[-1]
         worst = max(worst, abs(got - p))
     print(f"{os.path.basename(deck)}: the open boundary holds the input's EQUIL "
@@ -128,7 +152,11 @@ def main():
             assert len(names) == side["wells"], names
             flow = {w: summary.numpy_vector(f"WWPR:{w}")[-1] + summary.numpy_vector(f"WWIR:{w}")[-1]
                     for w in names}
-            dry = [w for w in names if flow[w] <= 0.0]
+            cannot = stopped(side, flow)
+            for w, (limit, initial) in cannot.items():
+                print(f"{os.path.basename(deck)}: {w} cannot inject: its limit {limit:.2f} bar is below "
+                      f"the initial {initial:.2f} bar at its depth (water only), and Flow stops it")
+            dry = [w for w in names if flow[w] <= 0.0 and w not in cannot]
             assert not dry, f"{deck}: wells without production: {dry}"
             scheduled(deck, side.get("scheduled", {}), summary, flow)
         if "equil" in side:

@@ -427,7 +427,8 @@ fn demo_and_spe9_decks() {
     let sidecar = json!({
         "nnc": net.connections.len(), "cells": net.elements.len(), "wells": 26, "days": 310.0,
         "scheduled": scheduled,
-        "equil": { "datum": d.datum, "pressure": d.pressure, "cells": initial }
+        "equil": { "datum": d.datum, "pressure": d.pressure, "cells": initial },
+        "well_depth": d.wells.iter().map(|w| (w.name.clone(), json!(d.cells[w.connections[0].0].depth))).collect::<serde_json::Map<_, _>>()
     });
     orthomesh::io::write_atomic(&dir.join("spe9-top.json"), sidecar.to_string().as_bytes())
         .unwrap();
