@@ -222,9 +222,11 @@ pub(crate) fn point_wells(
                     "well {name}: ({x}, {y}) is outside the mesh"
                 )))
             }
-            ref cells => return Err(Error::Usage(format!(
+            ref cells => {
+                return Err(Error::Usage(format!(
                 "well {name}: ({x}, {y}) is on the boundary of cells {cells:?}: move it into one"
-            ))),
+            )))
+            }
         };
         let (factor, r_o) = orthomesh::reservoir::deck::peaceman(network, cell, thickness, radius)
             .map_err(|e| Error::Usage(format!("well {name}: {e}")))?;
