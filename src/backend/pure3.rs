@@ -9,8 +9,8 @@ use super::points::{sign_q, F64Points3};
 use super::{Tetrahedralisation, NONE};
 use crate::error::{Error, Result};
 use crate::geom::{det3, det3_q, det4, det4_q, dot, norm2, q, sub, Iv, Q};
+use crate::FastMap;
 use std::cmp::Ordering;
-use std::collections::HashMap;
 
 /// The infinite vertex.
 const INF: u32 = u32::MAX - 1;
@@ -221,6 +221,15 @@ struct Builder<'a, P: Predicates3 + ?Sized> {
     tets: Vec<[u32; 4]>,
     adj: Vec<[u32; 4]>,
     alive: Vec<bool>,
+    /// Dead tetrahedra's slots, for the next stars.
+    free: Vec<u32>,
+    /// Per tetrahedron, 2 r when insertion r found it in conflict, 2 r + 1
+    /// when it found it not (r counts insertions from 1).
+    stamp: Vec<u32>,
+    round: u32,
+    /// The star's faces through the new point still waiting for their
+    /// twin, by their other two vertices.
+    open: FastMap<[u32; 2], (u32, usize)>,
     /// A live tetrahedron to start walks from.
     last: u32,
     seed: u64,
@@ -289,6 +298,25 @@ impl<P: Predicates3 + ?Sized> Builder<'_, P> {
         }
     }
 
+    /// A new live tetrahedron, in a dead one's slot where there is one.
+    fn slot(&mut self, tet: [u32; 4], adj: [u32; 4]) -> u32 {
+        match self.free.pop() {
+            Some(n) => {
+                self.tets[n as usize] = tet;
+                self.adj[n as usize] = adj;
+                self.alive[n as usize] = true;
+                n
+            }
+            None => {
+                self.tets.push(tet);
+                self.adj.push(adj);
+                self.alive.push(true);
+                self.stamp.push(0);
+                self.tets.len() as u32 - 1
+            }
+        }
+    }
+
     fn scan(&self, p: u32) -> u32 {
         (0..self.tets.len() as u32)
             .filter(|&t| self.alive[t as usize])
@@ -326,34 +354,37 @@ impl<P: Predicates3 + ?Sized> Builder<'_, P> {
                 None => return false,
             }
         }
+        self.round += 1;
+        let (yes, no) = (2 * self.round, 2 * self.round + 1);
+        self.stamp[start as usize] = yes;
         let mut region = vec![start];
-        let mut inside: HashMap<u32, ()> = HashMap::from([(start, ())]);
         let mut i = 0;
         while i < region.len() {
             let t = region[i];
             i += 1;
             for k in 0..4 {
                 let u = self.adj[t as usize][k];
-                if !inside.contains_key(&u) && self.in_conflict(u, p) {
-                    inside.insert(u, ());
-                    region.push(u);
+                let seen = self.stamp[u as usize];
+                if seen != yes && seen != no {
+                    let hit = self.in_conflict(u, p);
+                    self.stamp[u as usize] = if hit { yes } else { no };
+                    if hit {
+                        region.push(u);
+                    }
                 }
             }
         }
-        // Star the region's boundary from p.
-        let mut new_faces: HashMap<[u32; 3], (u32, usize)> = HashMap::new();
+        // Star the region's boundary from p, in the slots of earlier stars'
+        // dead tetrahedra first.
         let mut created = vec![];
         for &t in &region {
             for k in 0..4 {
                 let u = self.adj[t as usize][k];
-                if inside.contains_key(&u) {
+                if self.stamp[u as usize] == yes {
                     continue;
                 }
                 let f = self.face(t, k);
-                let n = self.tets.len() as u32;
-                self.tets.push([f[0], f[1], f[2], p]);
-                self.adj.push([NONE, NONE, NONE, u]);
-                self.alive.push(true);
+                let n = self.slot([f[0], f[1], f[2], p], [NONE, NONE, NONE, u]);
                 // u's face towards t now faces n
                 let back = (0..4)
                     .find(|&l| self.adj[u as usize][l] == t)
@@ -361,24 +392,26 @@ impl<P: Predicates3 + ?Sized> Builder<'_, P> {
                 self.adj[u as usize][back] = n;
                 created.push(n);
                 for l in 0..3 {
-                    let mut key = self.face(n, l);
-                    key.sort_unstable();
-                    match new_faces.remove(&key) {
+                    // the face opposite f[l]: p and the other two
+                    let (a, b) = (f[(l + 1) % 3], f[(l + 2) % 3]);
+                    let key = [a.min(b), a.max(b)];
+                    match self.open.remove(&key) {
                         Some((m, ml)) => {
                             self.adj[n as usize][l] = m;
                             self.adj[m as usize][ml] = n;
                         }
                         None => {
-                            new_faces.insert(key, (n, l));
+                            self.open.insert(key, (n, l));
                         }
                     }
                 }
             }
         }
-        debug_assert!(new_faces.is_empty(), "the star closes up");
+        debug_assert!(self.open.is_empty(), "the star closes up");
         for &t in &region {
             self.alive[t as usize] = false;
         }
+        self.free.extend_from_slice(&region);
         self.last = created
             .iter()
             .copied()
@@ -421,6 +454,10 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
         tets: vec![first],
         adj: vec![[1, 2, 3, 4]],
         alive: vec![true; 5],
+        free: vec![],
+        stamp: vec![0; 5],
+        round: 0,
+        open: FastMap::default(),
         last: 0,
         seed: 0x9e37_79b9_7f4a_7c15,
     };
@@ -431,7 +468,7 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
         bld.adj.push([NONE, NONE, NONE, 0]);
     }
     // the infinite tetrahedra meet across faces through INF
-    let mut faces: HashMap<[u32; 3], (u32, usize)> = HashMap::new();
+    let mut faces: FastMap<[u32; 3], (u32, usize)> = FastMap::default();
     for t in 1..5u32 {
         for l in 0..3 {
             let mut key = bld.face(t, l);
@@ -444,22 +481,12 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
             }
         }
     }
-    // The rest, in a spatial order for short walks.
-    let mut rest: Vec<u32> = (0..n).filter(|x| !first.contains(x)).collect();
+    // The rest in BRIO order: shuffled, in rounds of doubling size, each
+    // along a Hilbert curve (short walks, and no bad order to fall into).
     let approx: Vec<[f64; 3]> = (0..n)
         .map(|v| pts.exact(v).0.map(|x| crate::geom::f(&x)))
         .collect();
-    let (lo, hi) = crate::geom::bbox(&approx);
-    rest.sort_by_cached_key(|&v| {
-        let p = approx[v as usize];
-        morton(std::array::from_fn(|k| {
-            if hi[k] > lo[k] {
-                (p[k] - lo[k]) / (hi[k] - lo[k])
-            } else {
-                0.0
-            }
-        }))
-    });
+    let rest = brio(&approx, &first);
     for p in rest {
         bld.insert(p);
     }
@@ -486,15 +513,27 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
     Ok(Tetrahedralisation::from_parts(&flat, &neighbours, hidden))
 }
 
-/// The Morton code of a point of the unit cube (21 bits per axis).
-fn morton(p: [f64; 3]) -> u64 {
-    let spread = |x: f64| {
-        let mut v = ((x.clamp(0.0, 1.0) * ((1u64 << 21) - 1) as f64) as u64) & 0x1f_ffff;
-        v = (v | v << 32) & 0x1f00000000ffff;
-        v = (v | v << 16) & 0x1f0000ff0000ff;
-        v = (v | v << 8) & 0x100f00f00f00f00f;
-        v = (v | v << 4) & 0x10c30c30c30c30c3;
-        (v | v << 2) & 0x1249249249249249
-    };
-    spread(p[0]) | spread(p[1]) << 1 | spread(p[2]) << 2
+/// Biased randomised insertion order of the points but `skip`: a
+/// shuffle, then rounds of doubling size from 64, each sorted along a 3D
+/// Hilbert curve.
+fn brio(points: &[[f64; 3]], skip: &[u32]) -> Vec<u32> {
+    let mut order: Vec<u32> = (0..points.len() as u32)
+        .filter(|v| !skip.contains(v))
+        .collect();
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    for i in (1..order.len()).rev() {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        order.swap(i, (seed % (i as u64 + 1)) as usize);
+    }
+    let key = crate::geom::hilbert_keys3(points);
+    let (mut start, mut size) = (0, 64);
+    while start < order.len() {
+        let end = (start + size).min(order.len());
+        order[start..end].sort_unstable_by_key(|&i| key[i as usize]);
+        start = end;
+        size *= 2;
+    }
+    order
 }

@@ -303,15 +303,12 @@ pub fn det3_q(r: [[&Q; 3]; 3]) -> Q {
         + r[0][2] * m(r[1][0], r[2][1], r[1][1], r[2][0])
 }
 
-/// 4x4 determinant of interval rows (expanded along the last column).
-pub fn det4(r: [[Iv; 4]; 4]) -> Iv {
-    let minor = |skip: usize| {
-        let m: Vec<[Iv; 3]> = (0..4)
-            .filter(|&i| i != skip)
-            .map(|i| [r[i][0], r[i][1], r[i][2]])
-            .collect();
-        det3([m[0], m[1], m[2]])
-    };
+/// The rows other than `skip` of a 4x4 matrix, in order.
+pub(crate) const OTHER_ROWS: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
+
+/// 4x4 determinant of filtered rows (expanded along the last column).
+pub fn det4<T: Filter>(r: [[T; 4]; 4]) -> T {
+    let minor = |skip: usize| det3(OTHER_ROWS[skip].map(|i| [r[i][0], r[i][1], r[i][2]]));
     r[1][3] * minor(1) - r[0][3] * minor(0) - r[2][3] * minor(2) + r[3][3] * minor(3)
 }
 
