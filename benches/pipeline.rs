@@ -165,7 +165,10 @@ fn engine_ratios_3d() {
     let (Some(cgal), Some(pure)) = (by("cgal"), by("pure")) else {
         return;
     };
-    eprintln!("\n{:<30} {:>10} {:>10} {:>8}", "regular triangulation 3D", "cgal ms", "pure ms", "ratio");
+    eprintln!(
+        "\n{:<30} {:>10} {:>10} {:>8}",
+        "regular triangulation 3D", "cgal ms", "pure ms", "ratio"
+    );
     for n in [100_000usize, 1_000_000] {
         let mut u = orthomesh::generate::uniform(13);
         let pts: Vec<[f64; 3]> = (0..n).map(|_| [u(), u(), u()]).collect();
@@ -180,7 +183,11 @@ fn engine_ratios_3d() {
             c = c.min(time(cgal.as_ref()));
             p = p.min(time(pure.as_ref()));
         }
-        eprintln!("{:<30} {c:>10.0} {p:>10.0} {:>8.2}", format!("{n} random weighted points"), p / c);
+        eprintln!(
+            "{:<30} {c:>10.0} {p:>10.0} {:>8.2}",
+            format!("{n} random weighted points"),
+            p / c
+        );
     }
 }
 

@@ -83,7 +83,8 @@ impl FlipTests for F64Points<'_> {
 /// A 4x4 determinant in doubles, expanded as `geom::det4`, and the same
 /// expansion of the magnitudes `m` with every sign + (its permanent).
 fn det4_f64(r: [[f64; 4]; 4], m: [[f64; 4]; 4]) -> (f64, f64) {
-    let three = |x: &[[f64; 4]; 4], skip: usize| OTHER_ROWS[skip].map(|i| [x[i][0], x[i][1], x[i][2]]);
+    let three =
+        |x: &[[f64; 4]; 4], skip: usize| OTHER_ROWS[skip].map(|i| [x[i][0], x[i][1], x[i][2]]);
     let det3 = |a: [[f64; 3]; 3]| {
         a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
             - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
@@ -94,9 +95,9 @@ fn det4_f64(r: [[f64; 4]; 4], m: [[f64; 4]; 4]) -> (f64, f64) {
             + a[0][1] * (a[1][0] * a[2][2] + a[1][2] * a[2][0])
             + a[0][2] * (a[1][0] * a[2][1] + a[1][1] * a[2][0])
     };
-    let det = r[1][3] * det3(three(&r, 1)) - r[0][3] * det3(three(&r, 0))
-        - r[2][3] * det3(three(&r, 2))
-        + r[3][3] * det3(three(&r, 3));
+    let det =
+        r[1][3] * det3(three(&r, 1)) - r[0][3] * det3(three(&r, 0)) - r[2][3] * det3(three(&r, 2))
+            + r[3][3] * det3(three(&r, 3));
     let perm = (0..4).map(|i| m[i][3] * per3(three(&m, i))).sum();
     (det, perm)
 }
@@ -132,7 +133,10 @@ impl F64Points3<'_> {
             let d = [0, 1, 2].map(|k| px[k] - pe[k]);
             let sq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             let wz = wx - we;
-            ([d[0], d[1], d[2], sq - wz], [d[0].abs(), d[1].abs(), d[2].abs(), sq + wz.abs()])
+            (
+                [d[0], d[1], d[2], sq - wz],
+                [d[0].abs(), d[1].abs(), d[2].abs(), sq + wz.abs()],
+            )
         });
         let (det, perm) = det4_f64(fast.map(|r| r.0), fast.map(|r| r.1));
         let bound = 128.0 * f64::EPSILON * perm;
