@@ -106,9 +106,9 @@ impl DeckArgs {
         })
     }
 
-    /// The deck of a `conform` mesh (its wells by Peaceman's factor,
-    /// nothing from the input),
-    /// when a deck is asked for (and so the network built).
+    /// The deck of a `conform` mesh when one is asked for (and so the
+    /// network built): its wells by Peaceman's factor, nothing from the
+    /// input.
     pub(crate) fn plain(
         &self,
         input: &Path,
