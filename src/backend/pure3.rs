@@ -486,7 +486,7 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
     let approx: Vec<[f64; 3]> = (0..n)
         .map(|v| pts.exact(v).0.map(|x| crate::geom::f(&x)))
         .collect();
-    let rest = brio(&approx, &first);
+    let rest = super::pure::brio_order(&crate::geom::hilbert_keys3(&approx), &first);
     for p in rest {
         bld.insert(p);
     }
@@ -511,29 +511,4 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
     }
     let hidden = (0..n).filter(|&v| !present[v as usize]).collect();
     Ok(Tetrahedralisation::from_parts(&flat, &neighbours, hidden))
-}
-
-/// Biased randomised insertion order of the points but `skip`: a
-/// shuffle, then rounds of doubling size from 64, each sorted along a 3D
-/// Hilbert curve.
-fn brio(points: &[[f64; 3]], skip: &[u32]) -> Vec<u32> {
-    let mut order: Vec<u32> = (0..points.len() as u32)
-        .filter(|v| !skip.contains(v))
-        .collect();
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    for i in (1..order.len()).rev() {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        order.swap(i, (seed % (i as u64 + 1)) as usize);
-    }
-    let key = crate::geom::hilbert_keys3(points);
-    let (mut start, mut size) = (0, 64);
-    while start < order.len() {
-        let end = (start + size).min(order.len());
-        order[start..end].sort_unstable_by_key(|&i| key[i as usize]);
-        start = end;
-        size *= 2;
-    }
-    order
 }

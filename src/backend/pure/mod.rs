@@ -136,18 +136,24 @@ impl Rng {
 /// Biased randomised insertion order: rounds of doubling size, each sorted
 /// along a Hilbert curve.
 fn brio<P: Weighted>(p: &P) -> Vec<u32> {
-    let n = p.len();
-    let mut order: Vec<u32> = (0..n as u32).collect();
+    let points: Vec<[f64; 2]> = (0..p.len() as u32).map(|i| p.approx(i)).collect();
+    brio_order(&hilbert_keys(&points), &[])
+}
+
+/// The points but `skip` in BRIO order by their curve keys: a shuffle,
+/// then rounds of doubling size from 64, each sorted by key (both
+/// dimensions' engines).
+pub(super) fn brio_order(key: &[u64], skip: &[u32]) -> Vec<u32> {
+    let mut order: Vec<u32> = (0..key.len() as u32)
+        .filter(|v| !skip.contains(v))
+        .collect();
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-    for i in (1..n).rev() {
+    for i in (1..order.len()).rev() {
         order.swap(i, (rng.next() % (i as u64 + 1)) as usize);
     }
-    let points: Vec<[f64; 2]> = (0..n as u32).map(|i| p.approx(i)).collect();
-    let key = hilbert_keys(&points);
-    let mut start = 0;
-    let mut size = 64.min(n);
-    while start < n {
-        let end = (start + size).min(n);
+    let (mut start, mut size) = (0, 64);
+    while start < order.len() {
+        let end = (start + size).min(order.len());
         order[start..end].sort_unstable_by_key(|&i| key[i as usize]);
         start = end;
         size *= 2;
