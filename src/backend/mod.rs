@@ -5,12 +5,15 @@
 mod cgal;
 #[cfg(feature = "pure-rust")]
 pub mod pure;
-#[cfg(feature = "pure-rust")]
+// (the 3D engine also triangulates exact sites for the site diagram)
+mod brio;
 mod pure3;
 #[cfg(feature = "cgal")]
 pub use cgal::Cgal;
+mod flips3;
 pub(crate) mod points;
 mod tetrahedra;
+pub(crate) use pure3::{regular3 as regular3_with, Predicates3};
 pub use tetrahedra::Tetrahedralisation;
 
 use crate::error::Result;

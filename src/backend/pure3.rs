@@ -43,6 +43,7 @@ impl Predicates3 for F64Points3<'_> {
 }
 
 /// The pure engine's 3D entry points (`Backend::regular3`, `regular3_exact`).
+#[cfg(feature = "pure-rust")]
 impl super::pure::Pure {
     pub(super) fn regular3_f64(
         &self,
@@ -76,12 +77,14 @@ impl super::pure::Pure {
 
 /// Rational weighted points, with interval enclosures that decide most
 /// predicates before any rational arithmetic.
+#[cfg_attr(not(feature = "pure-rust"), allow(dead_code))]
 pub(crate) struct QPoints3<'a> {
     p: &'a [[Q; 3]],
     w: &'a [Q],
     iv: Vec<([Iv; 3], Iv)>,
 }
 
+#[cfg_attr(not(feature = "pure-rust"), allow(dead_code))]
 impl<'a> QPoints3<'a> {
     pub fn new(p: &'a [[Q; 3]], w: &'a [Q]) -> Self {
         let iv = p
@@ -144,33 +147,33 @@ fn lifted_rows<P: Predicates3 + ?Sized>(pts: &P, t: [u32; 4], e: u32) -> [[Q; 4]
 }
 
 /// Whether e conflicts with the positive tetrahedron t, ties broken by
-/// the perturbation: with D the lifted determinant (conflict iff D < 0)
-/// and weights w_i + eps_i, D gains sum_i (eps_e - eps_i) C_i (C_i the
-/// cofactor of row i's lift), so the first point in index order with a
-/// non-zero coefficient (-C_i for a vertex, sum C_i for e) decides.
+/// the perturbation: with weights w_x + eps_x, the 5x5 determinant of the
+/// rows (p_x, |p_x|^2 - w_x, 1) (that of the power test, conflict iff
+/// D < 0) gains -eps_x C_x, C_x the cofactor of row x's lift. That
+/// cofactor is, up to the sign (-1)^(r + 3) of its place r, minus the
+/// orientation of the other four points; so the first point in index
+/// order whose coefficient (-1)^(r + 3) orient(others) is not zero
+/// decides, by orientations alone.
 fn conflict<P: Predicates3 + ?Sized>(pts: &P, t: [u32; 4], e: u32) -> bool {
     match pts.power(t, e) {
         Ordering::Greater => return true,
         Ordering::Less => return false,
         Ordering::Equal => {}
     }
-    let r = lifted_rows(pts, t, e);
-    let cof = |i: usize| {
-        let m: Vec<[&Q; 3]> = (0..4)
-            .filter(|&k| k != i)
-            .map(|k| [&r[k][0], &r[k][1], &r[k][2]])
-            .collect();
-        let d = det3_q([m[0], m[1], m[2]]);
-        if (i + 3) % 2 == 0 {
-            d
-        } else {
-            -d
-        }
-    };
-    let c: Vec<Q> = (0..4).map(cof).collect();
-    let mut order: Vec<(u32, Q)> = (0..4).map(|i| (t[i], -c[i].clone())).collect();
-    order.push((e, c.iter().sum()));
-    perturbed_sign(order) == Ordering::Less
+    let five = [t[0], t[1], t[2], t[3], e];
+    let mut order: Vec<(u32, Ordering)> = (0..5)
+        .map(|r| {
+            let o: Vec<u32> = (0..5).filter(|&i| i != r).map(|i| five[i]).collect();
+            let s = pts.orient(o[0], o[1], o[2], o[3]);
+            (five[r], if r % 2 == 0 { s.reverse() } else { s })
+        })
+        .collect();
+    order.sort_by_key(|x| x.0);
+    order
+        .into_iter()
+        .map(|(_, s)| s)
+        .find(|s| *s != Ordering::Equal)
+        == Some(Ordering::Less)
 }
 
 /// The sign of a perturbed quantity whose coefficients of eps_i are
@@ -486,7 +489,7 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
     let approx: Vec<[f64; 3]> = (0..n)
         .map(|v| pts.exact(v).0.map(|x| crate::geom::f(&x)))
         .collect();
-    let rest = super::pure::brio_order(&crate::geom::hilbert_keys3(&approx), &first);
+    let rest = super::brio::brio_order(&crate::geom::hilbert_keys3(&approx), &first);
     for p in rest {
         bld.insert(p);
     }
@@ -511,4 +514,65 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
     }
     let hidden = (0..n).filter(|&v| !present[v as usize]).collect();
     Ok(Tetrahedralisation::from_parts(&flat, &neighbours, hidden))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The rationals' cofactors, as the perturbation was first written.
+    fn conflict_q<P: Predicates3 + ?Sized>(pts: &P, t: [u32; 4], e: u32) -> bool {
+        match pts.power(t, e) {
+            Ordering::Greater => return true,
+            Ordering::Less => return false,
+            Ordering::Equal => {}
+        }
+        let r = lifted_rows(pts, t, e);
+        let cof = |i: usize| {
+            let m: Vec<[&Q; 3]> = (0..4)
+                .filter(|&k| k != i)
+                .map(|k| [&r[k][0], &r[k][1], &r[k][2]])
+                .collect();
+            let d = det3_q([m[0], m[1], m[2]]);
+            if (i + 3) % 2 == 0 {
+                d
+            } else {
+                -d
+            }
+        };
+        let c: Vec<Q> = (0..4).map(cof).collect();
+        let mut order: Vec<(u32, Q)> = (0..4).map(|i| (t[i], -c[i].clone())).collect();
+        order.push((e, c.iter().sum()));
+        perturbed_sign(order) == Ordering::Less
+    }
+
+    #[test]
+    fn ties_broken_by_orientations_as_by_cofactors() {
+        // a 3 x 3 x 3 grid: many cospherical fives; some weights tie too
+        let p: Vec<[f64; 3]> = (0..27)
+            .map(|i| [(i % 3) as f64, (i / 3 % 3) as f64, (i / 9) as f64])
+            .collect();
+        let w: Vec<f64> = (0..27)
+            .map(|i| if i % 5 == 0 { 0.5 } else { 0.0 })
+            .collect();
+        let x = F64Points3 { p: &p, w: &w };
+        let mut u = crate::generate::uniform(3);
+        let mut pick = || (u() * 27.0) as u32;
+        let mut ties = 0;
+        for _ in 0..20_000 {
+            let mut t = [pick(), pick(), pick(), pick()];
+            let e = pick();
+            match x.orient(t[0], t[1], t[2], t[3]) {
+                Ordering::Equal => continue,
+                Ordering::Less => t.swap(0, 1),
+                Ordering::Greater => {}
+            }
+            if t.contains(&e) || x.power(t, e) != Ordering::Equal {
+                continue;
+            }
+            ties += 1;
+            assert_eq!(conflict(&x, t, e), conflict_q(&x, t, e), "{t:?} {e}");
+        }
+        assert!(ties > 100, "{ties}");
+    }
 }

@@ -15,7 +15,7 @@ pub struct Tetrahedralisation {
     pub hidden: Vec<u32>,
     /// Per tetrahedron, the one across the face opposite vertex k, or NONE
     /// on the hull.
-    adj: Vec<[u32; 4]>,
+    pub(super) adj: Vec<[u32; 4]>,
 }
 
 impl Tetrahedralisation {

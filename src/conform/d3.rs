@@ -82,6 +82,7 @@ pub fn conform3<B: Backend + ?Sized>(
         s,
         d,
         rounds,
+        exact,
         ..
     } = best;
     let steiner = split.points[cx.points.len()..].to_vec();
@@ -126,6 +127,7 @@ pub fn conform3<B: Backend + ?Sized>(
             extra_sites: (0..s.p.len()).filter(|&x| !s.is_mirror(x)).count()
                 - 2 * s.of_face.iter().flatten().count(),
             relocation_rounds: rounds,
+            exact_triangulations: exact,
             sites_outside: outside,
         },
         cells: mesh.cells.len(),
@@ -153,6 +155,8 @@ struct Attempt {
     d: Diagram3,
     /// Relocation rounds, and the domain's sites left outside their cells.
     rounds: usize,
+    /// Site diagrams built from the exact sites (`Diagram3::rebuilt`).
+    exact: usize,
     outside: usize,
 }
 
@@ -205,6 +209,7 @@ impl Attempt {
         }
         lap("sites");
         let mut d = Diagram3::build(backend, &cx, &s)?;
+        let mut exact = d.rebuilt as usize;
         let mut rounds = 0;
         while rounds < RELOCATION_ROUNDS {
             // Sites of faces that cross their duals move halfway to the
@@ -222,6 +227,7 @@ impl Attempt {
             s.remirror();
             rounds += 1;
             d = Diagram3::build(backend, &cx, &s)?;
+            exact += d.rebuilt as usize;
         }
         let outside = (0..s.p.len())
             .filter(|&x| d.in_domain[x] && !d.site_inside[x])
@@ -234,6 +240,7 @@ impl Attempt {
             s,
             d,
             rounds,
+            exact,
             outside,
         })
     }

@@ -120,6 +120,10 @@ pub struct SitesReport3 {
     pub extra_sites: usize,
     /// Rounds of relocation.
     pub relocation_rounds: usize,
+    /// Site diagrams (one per round, and one before) whose triangulation
+    /// of the rounded sites failed its exact check even after flips, so
+    /// that the exact sites were triangulated.
+    pub exact_triangulations: usize,
     /// Domain sites outside their cells.
     pub sites_outside: usize,
 }

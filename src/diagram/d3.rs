@@ -1,15 +1,15 @@
 //! The power diagram of the 3D sites and its exact certificate (issue 6;
-//! docs/method.md section 7). The sites' regular triangulation is built from
-//! their exact rationals; every power vertex (the orthocentre of a site
-//! tetrahedron) is computed exactly, so that "this power vertex is input
-//! vertex p" and "this face has exactly these vertices" are decided
-//! without rounding. Positions are rounded only for output, and input
-//! vertices are written as the input's own doubles.
+//! docs/method.md section 7). The sites' regular triangulation is checked
+//! exactly (`regular3`), and "this power vertex is input vertex p" and
+//! "this face has exactly these vertices" are decided without rounding.
+//! Positions are rounded only for output, and input vertices are written
+//! as the input's own doubles.
 
+use super::regular3::{regular3, PowerVertices, Regular3};
 use crate::backend::{Backend, Tetrahedralisation};
 use crate::complex::Complex3;
 use crate::error::{Error, Result};
-use crate::geom::{det3_f, dot_f, f, is_pos, newell, norm2, q, sub, Q};
+use crate::geom::{det3_f, dot_f, f, newell, norm2, q, sub, Weighted3, Q};
 use crate::sites::Sites3;
 use crate::weights::Weights3;
 use serde::Serialize;
@@ -42,6 +42,9 @@ pub struct Diagram3 {
     pub site_inside: Vec<bool>,
     /// The sites and weights as doubles.
     pub approx: Vec<[f64; 4]>,
+    /// Whether the backend's triangulation of the rounded sites failed
+    /// its exact check, so that the exact sites were triangulated.
+    pub rebuilt: bool,
 }
 
 /// What the finished 3D mesh proves about itself.
@@ -83,27 +86,6 @@ impl Certificate3 {
             && (self.cells_volume - self.domain_volume).abs()
                 <= 1e-9 * self.domain_volume.abs().max(1e-300)
     }
-}
-
-/// The orthocentre of four weighted sites: 2 x.(p_b - p_a) = |p_b|^2 -
-/// w_b - |p_a|^2 + w_a for b, c, d, by Cramer's rule.
-fn orthocentre(s: &Sites3, t: [u32; 4]) -> [Q; 3] {
-    let [a, b, c, d] = t.map(|x| x as usize);
-    let lift = |x: usize| norm2(&s.p[x]) - &s.w[x];
-    let row = |x: usize| {
-        let e = sub(&s.p[x], &s.p[a]);
-        (e.map(|v| v * Q::from(2)), lift(x) - lift(a))
-    };
-    let (r0, r1, r2) = (row(b), row(c), row(d));
-    let m = [&r0.0, &r1.0, &r2.0];
-    let rhs = [&r0.1, &r1.1, &r2.1];
-    let det3 = |m: [[&Q; 3]; 3]| crate::geom::det3_q(m);
-    let cols = |k: usize| -> Q {
-        let pick = |r: usize, c: usize| if c == k { rhs[r] } else { &m[r][c] };
-        det3([0, 1, 2].map(|r| [0, 1, 2].map(|c| pick(r, c))))
-    };
-    let det = det3([0, 1, 2].map(|r| [0, 1, 2].map(|c| &m[r][c])));
-    [0, 1, 2].map(|k| cols(k) / &det)
 }
 
 /// Whether hidden site h is a tie: its lifted point (p, |p|^2 - w) lies
@@ -151,7 +133,12 @@ impl Diagram3 {
     /// Builds the site diagram and its domain (cells not separated by a
     /// face from an unbounded cell or a hole point).
     pub fn build<B: Backend + ?Sized>(backend: &B, cx: &Complex3, s: &Sites3) -> Result<Diagram3> {
-        let rt = backend.regular3_exact(&s.p, &s.w)?;
+        let k = Weighted3::new(&s.p, &s.w);
+        let Regular3 {
+            rt,
+            mut pv,
+            rebuilt,
+        } = regular3(backend, cx, s, &k)?;
         // (mirrors across two planes may hide each other beyond both: no
         // cell there is in the domain)
         let hidden = rt
@@ -176,32 +163,6 @@ impl Diagram3 {
                 "{hidden} sites are hidden in their own diagram"
             )));
         }
-        let exact_input: HashMap<[Q; 3], u32> = cx
-            .points
-            .iter()
-            .enumerate()
-            .map(|(i, p)| (p.map(q), i as u32))
-            .collect();
-        let mut ids: HashMap<[Q; 3], u32> = HashMap::new();
-        let mut points = vec![];
-        let mut input_vertex = vec![];
-        let vertex_of: Vec<u32> = rt
-            .tets
-            .iter()
-            .map(|&t| {
-                let c = orthocentre(s, t);
-                let next = ids.len() as u32;
-                *ids.entry(c.clone()).or_insert_with(|| {
-                    let input = exact_input.get(&c).copied();
-                    points.push(match input {
-                        Some(i) => cx.points[i as usize],
-                        None => c.clone().map(|x| f(&x)),
-                    });
-                    input_vertex.push(input);
-                    next
-                })
-            })
-            .collect();
         // Each edge's face: the power vertices of the tetrahedra around it,
         // repeats merged (None: unbounded).
         let mut faces: HashMap<[u32; 2], Option<Vec<u32>>> = HashMap::new();
@@ -212,7 +173,7 @@ impl Diagram3 {
                     faces.entry(e).or_insert_with(|| {
                         let ring = rt.ring(t as u32, e[0], e[1])?;
                         let mut face: Vec<u32> =
-                            ring.iter().map(|&t| vertex_of[t as usize]).collect();
+                            ring.iter().map(|&t| pv.vertex_of[t as usize]).collect();
                         face.dedup();
                         while face.len() > 1 && face.first() == face.last() {
                             face.pop();
@@ -222,9 +183,23 @@ impl Diagram3 {
                 }
             }
         }
-        let in_domain = domain(cx, s, &rt, &faces)?;
+        let in_domain = domain(cx, s, &k, &rt, &faces)?;
+        // the power vertices of the domain's cells well rounded
+        let mut used = vec![false; pv.points.len()];
+        for ([a, b], face) in &faces {
+            if in_domain[*a as usize] || in_domain[*b as usize] {
+                face.iter().flatten().for_each(|&v| used[v as usize] = true);
+            }
+        }
+        pv.refine(&k, &rt, |v| used[v as usize]);
+        let PowerVertices {
+            vertex_of,
+            points,
+            input_vertex,
+            ..
+        } = pv;
         let sp = s.approx();
-        let site_inside = sites_inside(s, faces.keys());
+        let site_inside = sites_inside(&k, s.p.len(), faces.keys());
         let mut cells: Vec<Option<Cell>> = vec![None; s.p.len()];
         // in key order: the same input gives the same cells' face order
         let mut keys: Vec<[u32; 2]> = faces.keys().copied().collect();
@@ -273,6 +248,7 @@ impl Diagram3 {
             faces,
             site_inside,
             approx: sp,
+            rebuilt,
         })
     }
 
@@ -367,16 +343,16 @@ impl Diagram3 {
 /// Per site, whether it lies strictly inside its own cell, exactly:
 /// |p_s - p_t|^2 - w_t + w_s > 0 for every neighbour t (`edges`: the
 /// edges of the sites' regular triangulation).
-fn sites_inside<'a>(s: &Sites3, edges: impl Iterator<Item = &'a [u32; 2]>) -> Vec<bool> {
-    let mut inside = vec![true; s.p.len()];
+fn sites_inside<'a>(
+    k: &Weighted3,
+    n: usize,
+    edges: impl Iterator<Item = &'a [u32; 2]>,
+) -> Vec<bool> {
+    let mut inside = vec![true; n];
     for &[a, b] in edges {
-        let d = norm2(&sub(&s.p[a as usize], &s.p[b as usize]));
-        if !is_pos(&(&d - &s.w[b as usize] + &s.w[a as usize])) {
-            inside[a as usize] = false;
-        }
-        if !is_pos(&(&d - &s.w[a as usize] + &s.w[b as usize])) {
-            inside[b as usize] = false;
-        }
+        let [in_a, in_b] = k.apart(a, b);
+        inside[a as usize] &= in_a;
+        inside[b as usize] &= in_b;
     }
     inside
 }
@@ -388,6 +364,7 @@ fn sites_inside<'a>(s: &Sites3, edges: impl Iterator<Item = &'a [u32; 2]>) -> Ve
 fn domain(
     cx: &Complex3,
     s: &Sites3,
+    k: &Weighted3,
     rt: &Tetrahedralisation,
     faces: &HashMap<[u32; 2], Option<Vec<u32>>>,
 ) -> Result<Vec<bool>> {
@@ -429,10 +406,17 @@ fn domain(
         }
     }
     for h in &cx.holes {
+        // the least power at h: intervals, then rationals among the sites
+        // whose interval may hold it
+        let iv: Vec<_> = (0..n as u32).map(|x| k.power_at(x, *h)).collect();
+        let least = iv.iter().fold(f64::INFINITY, |m, p| m.min(p.hi));
         let hq = h.map(q);
-        let power = |x: usize| norm2(&sub(&s.p[x], &hq)) - &s.w[x];
-        let best = (1..n).fold(0, |b, x| if power(x) < power(b) { x } else { b });
-        outside.insert(find(&mut parent, best as u32));
+        let best = (0..n as u32)
+            .filter(|&x| iv[x as usize].lo <= least)
+            .map(|x| (k.power_at_q(x, &hq), x))
+            .min_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)))
+            .map_or(0, |(_, x)| x);
+        outside.insert(find(&mut parent, best));
     }
     let inside: Vec<bool> = (0..n as u32)
         .map(|x| !outside.contains(&find(&mut parent, x)))

@@ -5,12 +5,14 @@
 mod dyadic;
 mod exact;
 mod measure;
+mod power3;
 mod running;
 mod simplices;
 
 pub use dyadic::*;
 pub use exact::*;
 pub use measure::*;
+pub use power3::Weighted3;
 pub use running::*;
 pub use simplices::*;
 

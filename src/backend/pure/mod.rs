@@ -8,6 +8,7 @@
 //! Constrained Delaunay triangulations insert each segment into the
 //! Delaunay triangulation by retriangulating the polygons beside it.
 
+use super::brio::{brio_order, Rng};
 use super::points::{power_q, sign_q, F64Points};
 use super::{Backend, FlipTests, Tetrahedralisation, Triangulation};
 use crate::error::{Error, Result};
@@ -121,44 +122,11 @@ const INF: u32 = u32::MAX - 1;
 /// No triangle.
 const NONE: u32 = u32::MAX;
 
-/// Deterministic xorshift: the same input gives the same triangulation.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-}
-
 /// Biased randomised insertion order: rounds of doubling size, each sorted
 /// along a Hilbert curve.
 fn brio<P: Weighted>(p: &P) -> Vec<u32> {
     let points: Vec<[f64; 2]> = (0..p.len() as u32).map(|i| p.approx(i)).collect();
     brio_order(&hilbert_keys(&points), &[])
-}
-
-/// The points but `skip` in BRIO order by their curve keys: a shuffle,
-/// then rounds of doubling size from 64, each sorted by key (both
-/// dimensions' engines).
-pub(super) fn brio_order(key: &[u64], skip: &[u32]) -> Vec<u32> {
-    let mut order: Vec<u32> = (0..key.len() as u32)
-        .filter(|v| !skip.contains(v))
-        .collect();
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-    for i in (1..order.len()).rev() {
-        order.swap(i, (rng.next() % (i as u64 + 1)) as usize);
-    }
-    let (mut start, mut size) = (0, 64);
-    while start < order.len() {
-        let end = (start + size).min(order.len());
-        order[start..end].sort_unstable_by_key(|&i| key[i as usize]);
-        start = end;
-        size *= 2;
-    }
-    order
 }
 
 struct Engine<'a, P: Weighted> {

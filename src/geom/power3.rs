@@ -1,0 +1,291 @@
+//! Exact predicates on weighted points in 3D given as rationals (the 3D
+//! sites), filtered: each is evaluated first in outward-rounded intervals
+//! around the rationals, and in rationals only where the interval holds 0.
+
+use super::{det3, det3_q, det4, f, norm2, sub, Iv, Q};
+use malachite_base::num::arithmetic::traits::{DivExact, Lcm, Sign};
+use malachite_nz::integer::Integer;
+use malachite_nz::natural::Natural;
+use std::cmp::Ordering;
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+use std::sync::OnceLock;
+
+/// Weighted points (p, w), exactly, with enclosures of (x, y, z, w).
+pub struct Weighted3<'a> {
+    p: &'a [[Q; 3]],
+    w: &'a [Q],
+    iv: Vec<[Iv; 4]>,
+    /// Per point, made when an exact test first needs it: (p, 1) and
+    /// (p, |p|^2 - w, 1), each scaled by a positive integer to integers
+    /// (a determinant's sign in integers needs no gcd).
+    rows: Vec<OnceLock<([Integer; 4], [Integer; 5])>>,
+    /// Predicates the intervals could not decide.
+    pub exact_evaluations: AtomicUsize,
+}
+
+/// The sign of a rational.
+fn sign(x: &Q) -> Ordering {
+    x.partial_cmp(&Q::from(0)).unwrap_or(Ordering::Equal)
+}
+
+impl<'a> Weighted3<'a> {
+    pub fn new(p: &'a [[Q; 3]], w: &'a [Q]) -> Self {
+        let iv = p
+            .iter()
+            .zip(w)
+            .map(|(p, w)| {
+                [
+                    Iv::of_q(&p[0]),
+                    Iv::of_q(&p[1]),
+                    Iv::of_q(&p[2]),
+                    Iv::of_q(w),
+                ]
+            })
+            .collect();
+        Weighted3 {
+            p,
+            w,
+            iv,
+            rows: (0..p.len()).map(|_| OnceLock::new()).collect(),
+            exact_evaluations: AtomicUsize::new(0),
+        }
+    }
+
+    fn exact(&self) {
+        self.exact_evaluations.fetch_add(1, Relaxed);
+    }
+
+    /// Point x's integer rows (see `rows`).
+    fn rows(&self, x: usize) -> &([Integer; 4], [Integer; 5]) {
+        self.rows[x].get_or_init(|| {
+            let p = &self.p[x];
+            let lift = norm2(p) - &self.w[x];
+            let scaled = |xs: &[&Q]| -> Vec<Integer> {
+                let m = xs
+                    .iter()
+                    .fold(Natural::from(1u32), |m, v| m.lcm(v.denominator_ref()));
+                let m = Q::from(m);
+                xs.iter()
+                    .map(|v| Integer::try_from(&(*v * &m)).expect("scaled to an integer"))
+                    .chain([Integer::try_from(&m).expect("an integer")])
+                    .collect()
+            };
+            let a = scaled(&[&p[0], &p[1], &p[2]]);
+            let b = scaled(&[&p[0], &p[1], &p[2], &lift]);
+            (
+                std::array::from_fn(|k| a[k].clone()),
+                std::array::from_fn(|k| b[k].clone()),
+            )
+        })
+    }
+
+    /// In intervals, when they decide it: Greater when d sees (a, b, c)
+    /// counter-clockwise, the sign of det[b - a; c - a; d - a] (as
+    /// `orient3` on doubles).
+    pub fn orient_iv(&self, t: [u32; 4]) -> Option<Ordering> {
+        let [a, b, c, d] = t.map(|x| x as usize);
+        let v = |x: usize| [0, 1, 2].map(|k| self.iv[x][k] - self.iv[a][k]);
+        det3([v(b), v(c), v(d)]).sign()
+    }
+
+    /// The same orientation in integers.
+    pub fn orient_exact(&self, t: [u32; 4]) -> Ordering {
+        let [a, b, c, d] = t.map(|x| x as usize);
+        self.exact();
+        // det[b - a; c - a; d - a] = -det[(p, 1) rows]
+        let m = [a, b, c, d].map(|x| self.rows(x).0.to_vec());
+        bareiss(m.to_vec()).reverse()
+    }
+
+    /// In intervals, when they decide it: Greater when e conflicts with
+    /// the positively oriented tetrahedron t, its lifted point strictly
+    /// below the hyperplane through theirs (as
+    /// `backend::points::F64Points3::power` on doubles); Equal when the
+    /// five lie on one orthosphere.
+    pub fn power_iv(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
+        let ie = self.iv[e as usize];
+        let rows = t.map(|x| {
+            let ix = self.iv[x as usize];
+            let d = [0, 1, 2].map(|k| ix[k] - ie[k]);
+            let z = d[0].sqr() + d[1].sqr() + d[2].sqr() - (ix[3] - ie[3]);
+            [d[0], d[1], d[2], z]
+        });
+        det4(rows).sign().map(Ordering::reverse)
+    }
+
+    /// The same power test in integers.
+    pub fn power_exact(&self, t: [u32; 4], e: u32) -> Ordering {
+        self.exact();
+        // the 4x4 determinant of differences is the 5x5 one of
+        // (p, |p|^2 - w, 1) rows
+        let m: Vec<Vec<Integer>> = [t[0], t[1], t[2], t[3], e]
+            .iter()
+            .map(|&x| self.rows(x as usize).1.to_vec())
+            .collect();
+        bareiss(m).reverse()
+    }
+
+    /// Whether p_a lies strictly on a's side of the bisector of a and b,
+    /// and p_b strictly on b's: pi(p_a; b) > pi(p_a; a) = -w_a, i.e.
+    /// |p_a - p_b|^2 - w_b + w_a > 0, and the same with a and b swapped.
+    pub fn apart(&self, a: u32, b: u32) -> [bool; 2] {
+        let (a, b) = (a as usize, b as usize);
+        let (ia, ib) = (self.iv[a], self.iv[b]);
+        let d = [0, 1, 2].map(|k| ia[k] - ib[k]);
+        let dd = d[0].sqr() + d[1].sqr() + d[2].sqr();
+        let dw = ia[3] - ib[3];
+        let fast = [(dd + dw).sign(), (dd - dw).sign()];
+        if fast.iter().all(Option::is_some) {
+            return fast.map(|s| s == Some(Ordering::Greater));
+        }
+        self.exact();
+        let dd = norm2(&sub(&self.p[a], &self.p[b]));
+        let dw = &self.w[a] - &self.w[b];
+        [sign(&(&dd + &dw)), sign(&(&dd - &dw))].map(|s| s == Ordering::Greater)
+    }
+
+    /// An enclosure of pi(x; a) = |x - p_a|^2 - w_a for an exact double x.
+    pub fn power_at(&self, a: u32, x: [f64; 3]) -> Iv {
+        let ia = self.iv[a as usize];
+        let d = [0, 1, 2].map(|k| Iv::of(x[k]) - ia[k]);
+        d[0].sqr() + d[1].sqr() + d[2].sqr() - ia[3]
+    }
+
+    /// The same power exactly, for a rational x.
+    pub fn power_at_q(&self, a: u32, x: &[Q; 3]) -> Q {
+        norm2(&sub(x, &self.p[a as usize])) - &self.w[a as usize]
+    }
+
+    /// An enclosure of the orthocentre of tetrahedron t (the point of equal
+    /// power to its four points); unbounded when t is nearly flat.
+    pub fn orthocentre_iv(&self, t: [u32; 4]) -> [Iv; 3] {
+        let [a, b, c, d] = t.map(|x| self.iv[x as usize]);
+        // 2 y.(p_x - p_a) = |p_x - p_a|^2 - w_x + w_a, y = x - p_a
+        let row = |x: [Iv; 4]| {
+            let e = [0, 1, 2].map(|k| x[k] - a[k]);
+            let r = e[0].sqr() + e[1].sqr() + e[2].sqr() - (x[3] - a[3]);
+            (e.map(|v| v + v), r)
+        };
+        let rows = [row(b), row(c), row(d)];
+        let m = rows.map(|r| r.0);
+        let det = det3(m);
+        std::array::from_fn(|k| {
+            let col = std::array::from_fn(|i| {
+                let mut r = m[i];
+                r[k] = rows[i].1;
+                r
+            });
+            a[k] + det3(col) / det
+        })
+    }
+
+    /// The orthocentre of tetrahedron t, exactly (None when it is flat).
+    pub fn orthocentre(&self, t: [u32; 4]) -> Option<[Q; 3]> {
+        let [a, b, c, d] = t.map(|x| x as usize);
+        let row = |x: usize| {
+            let e = sub(&self.p[x], &self.p[a]);
+            let r = norm2(&e) - &self.w[x] + &self.w[a];
+            (e.map(|v| v * Q::from(2)), r)
+        };
+        let rows = [row(b), row(c), row(d)];
+        let pick = |k: Option<usize>| {
+            let r = |i: usize| {
+                std::array::from_fn(|c| {
+                    if Some(c) == k {
+                        &rows[i].1
+                    } else {
+                        &rows[i].0[c]
+                    }
+                })
+            };
+            det3_q([r(0), r(1), r(2)])
+        };
+        let det = pick(None);
+        if det == 0 {
+            return None;
+        }
+        Some(std::array::from_fn(|k| {
+            &self.p[a][k] + pick(Some(k)) / &det
+        }))
+    }
+
+    /// A double near each coordinate of x (for output).
+    pub fn round(x: &[Q; 3]) -> [f64; 3] {
+        x.clone().map(|v| f(&v))
+    }
+}
+
+/// The sign of a square integer matrix's determinant (Bareiss'
+/// fraction-free elimination: every division is exact).
+fn bareiss(mut m: Vec<Vec<Integer>>) -> Ordering {
+    let n = m.len();
+    let mut flip = false;
+    let mut prev = Integer::from(1);
+    for k in 0..n - 1 {
+        if m[k][k] == 0 {
+            let Some(r) = (k + 1..n).find(|&r| m[r][k] != 0) else {
+                return Ordering::Equal;
+            };
+            m.swap(k, r);
+            flip = !flip;
+        }
+        for i in k + 1..n {
+            for j in k + 1..n {
+                let v = &m[i][j] * &m[k][k] - &m[i][k] * &m[k][j];
+                m[i][j] = v.div_exact(&prev);
+            }
+        }
+        prev = m[k][k].clone();
+    }
+    let s = m[n - 1][n - 1].sign();
+    if flip {
+        s.reverse()
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::q;
+
+    fn points(p: &[[f64; 4]]) -> (Vec<[Q; 3]>, Vec<Q>) {
+        (
+            p.iter().map(|x| [q(x[0]), q(x[1]), q(x[2])]).collect(),
+            p.iter().map(|x| q(x[3])).collect(),
+        )
+    }
+
+    #[test]
+    fn exact_on_cospherical_and_filtered_elsewhere() {
+        // the unit cube's corners: any five lie on one sphere
+        let (p, w) = points(&[
+            [0.0, 0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [1.0, 1.0, 1.0, 0.0],
+            [1.0, 1.0, 1.0, 0.5],
+            [0.2, 0.2, 0.2, 0.0],
+        ]);
+        let s = Weighted3::new(&p, &w);
+        let orient = |t: [u32; 4]| s.orient_iv(t).unwrap_or_else(|| s.orient_exact(t));
+        let power = |t: [u32; 4], e: u32| s.power_iv(t, e).unwrap_or_else(|| s.power_exact(t, e));
+        let t = [0, 1, 2, 3];
+        assert_eq!(orient(t), Ordering::Greater);
+        assert_eq!(orient([0, 2, 1, 3]), Ordering::Less);
+        assert_eq!(s.exact_evaluations.load(Relaxed), 0);
+        assert_eq!(power(t, 4), Ordering::Equal);
+        assert_eq!(s.exact_evaluations.load(Relaxed), 1);
+        // a heavier copy of the far corner conflicts; a point inside does
+        assert_eq!(power(t, 5), Ordering::Greater);
+        assert_eq!(power(t, 6), Ordering::Greater);
+        let c = s.orthocentre(t).unwrap();
+        assert_eq!(c, [q(0.5), q(0.5), q(0.5)]);
+        let iv = s.orthocentre_iv(t);
+        assert!((0..3).all(|k| iv[k].lo <= 0.5 && 0.5 <= iv[k].hi));
+        assert_eq!(s.apart(0, 1), [true, true]);
+        assert_eq!(s.apart(4, 5), [false, true]);
+    }
+}
