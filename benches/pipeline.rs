@@ -4,7 +4,8 @@
 //! for: pipeline / raw regular triangulation of the same vertices (zero
 //! weights: target <= 5), and the LP case's time at 10^3 and 10^4 segments
 //! (target: seconds); then the pure engine's 3D regular triangulation
-//! against CGAL's (target: at most 1.5x).
+//! against CGAL's (target: at most 1.5x); then the 3D pipeline against the
+//! raw 3D triangulation, with memory per triangle.
 
 use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
 use orthomesh::backend::{default_backend, Backend};
@@ -191,6 +192,82 @@ fn engine_ratios_3d() {
     }
 }
 
+/// The 3D pipeline against the raw regular triangulation of the same
+/// vertices (zero weights) in the same run, with the peak resident memory
+/// per facet triangle (issue 23's goals: within 50x raw on stacked boxes
+/// with at least 1,000 rectangles and on the 3D field, TetGen's example
+/// within 200x, at most 4 KB a triangle at 10^5). Best of interleaved
+/// runs; field sizes grow until one takes over 10 s (measured: 4 x 4 x 2
+/// takes 32 s, 8 x 8 x 4 fourteen minutes, the weights' global LP and 24
+/// relocation rounds).
+fn pipeline_ratios_3d() {
+    let b = default_backend();
+    eprintln!(
+        "\n{:<34} {:>9} {:>12} {:>10} {:>8} {:>9}",
+        "3D case", "triangles", "pipeline ms", "raw RT ms", "ratio", "KB/tri"
+    );
+    let row = |name: String, cx: &orthomesh::Complex3| {
+        let zero = vec![0.0; cx.points.len()];
+        let (mut ms, mut raw, mut spent) = (f64::INFINITY, f64::INFINITY, 0.0);
+        let mut out = None;
+        for k in 0.. {
+            let t = Instant::now();
+            let o = Mesher::new(&b).options(allow()).conform(cx);
+            let once = t.elapsed().as_secs_f64() * 1e3;
+            let t = Instant::now();
+            b.regular3(&cx.points, &zero).unwrap();
+            raw = raw.min(t.elapsed().as_secs_f64() * 1e3);
+            ms = ms.min(once);
+            spent += once;
+            out = Some(o);
+            if k >= 2 && spent > 1e3 || spent > 60e3 {
+                break;
+            }
+        }
+        match out.expect("ran once") {
+            Ok(o) => {
+                let r = &o.report;
+                let tris = r.input.triangles + 2 * r.input.whole_polygons;
+                let peak = r
+                    .timing
+                    .as_ref()
+                    .and_then(|t| t.peak_mib)
+                    .unwrap_or(f64::NAN);
+                eprintln!(
+                    "{name:<34} {tris:>9} {ms:>12.1} {raw:>10.3} {:>8.0} {:>9.1}  sites outside {}, weights {}",
+                    ms / raw,
+                    peak * 1024.0 / tris as f64,
+                    r.sites.sites_outside,
+                    r.weights.method
+                );
+            }
+            Err(e) => eprintln!("{name:<34} error: {e}"),
+        }
+        ms
+    };
+    let example =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/plc3d/example.poly");
+    row(
+        format!("{}/TetGen's example", b.name()),
+        &orthomesh::io::read_complex3(&example).unwrap(),
+    );
+    for k in [8, 200] {
+        row(
+            format!("{}/stacked boxes {k} ({} rects)", b.name(), 5 * k + 1),
+            &orthomesh::generate::stacked_boxes(k),
+        );
+    }
+    for (n, layers) in [(1, 1), (2, 2), (4, 2), (8, 4), (16, 4), (25, 5)] {
+        let ms = row(
+            format!("{}/field3 {n}x{n}x{layers}", b.name()),
+            &orthomesh::generate::field3(n, layers),
+        );
+        if ms > 10e3 {
+            break;
+        }
+    }
+}
+
 /// Every backend compiled in (build with `--features pure-rust` for the
 /// pure-Rust ids beside CGAL's).
 fn backends() -> Vec<Box<dyn Backend>> {
@@ -247,6 +324,7 @@ fn conform3_pipeline(c: &mut Criterion) {
             "tetgen-example",
             orthomesh::io::read_complex3(&example).unwrap(),
         ),
+        ("field3-1x1x1", orthomesh::generate::field3(1, 1)),
     ];
     let opts = Options {
         allow_sites_outside: true,
@@ -366,6 +444,7 @@ fn main() {
     if std::env::args().any(|a| a == "--bench") && !filtered {
         ratios();
         engine_ratios_3d();
+        pipeline_ratios_3d();
     }
     benches();
     Criterion::default().configure_from_args().final_summary();

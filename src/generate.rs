@@ -270,6 +270,64 @@ pub fn stacked_boxes(k: usize) -> crate::complex::Complex3 {
     }
 }
 
+/// A 3D field (issue 23): an `n` x `n` x `layers` block of unit columns,
+/// each with a vertical hexagonal prism well of radius 0.25 at its centre
+/// through every layer. Each level z = 0..=layers is one horizontal facet
+/// holding the block's rectangle and every well's hexagon; the block's
+/// sides and the wells' sides are vertical rectangles, one per layer. The
+/// wells' insides are meshed too (no holes).
+pub fn field3(n: usize, layers: usize) -> crate::complex::Complex3 {
+    use crate::complex::Facet;
+    let side = n as f64;
+    let corners = [(0.0, 0.0), (side, 0.0), (side, side), (0.0, side)];
+    let hexagon: Vec<(f64, f64)> = (0..6)
+        .map(|k| {
+            let a = std::f64::consts::FRAC_PI_3 * k as f64;
+            (0.25 * a.cos(), 0.25 * a.sin())
+        })
+        .collect();
+    // per level: 4 corners, then 6 vertices per well
+    let per_level = 4 + 6 * n * n;
+    let mut points = vec![];
+    for z in 0..=layers {
+        points.extend(corners.iter().map(|&(x, y)| [x, y, z as f64]));
+        for j in 0..n {
+            for i in 0..n {
+                let (cx, cy) = (i as f64 + 0.5, j as f64 + 0.5);
+                points.extend(hexagon.iter().map(|&(dx, dy)| [cx + dx, cy + dy, z as f64]));
+            }
+        }
+    }
+    let at = |z: usize, k: usize| (z * per_level + k) as u32;
+    let well = |w: usize, k: usize| 4 + 6 * w + k % 6;
+    let rectangle = |z: usize, a: usize, b: usize| Facet {
+        polygons: vec![vec![at(z, a), at(z, b), at(z + 1, b), at(z + 1, a)]],
+        ..Default::default()
+    };
+    let mut facets = vec![];
+    for z in 0..=layers {
+        let mut polygons = vec![(0..4).map(|k| at(z, k)).collect::<Vec<u32>>()];
+        polygons.extend((0..n * n).map(|w| (0..6).map(|k| at(z, well(w, k))).collect()));
+        facets.push(Facet {
+            polygons,
+            ..Default::default()
+        });
+    }
+    for z in 0..layers {
+        facets.extend((0..4).map(|k| rectangle(z, k, (k + 1) % 4)));
+        for w in 0..n * n {
+            facets.extend((0..6).map(|k| rectangle(z, well(w, k), well(w, k + 1))));
+        }
+    }
+    let count = points.len() as i64;
+    crate::complex::Complex3 {
+        points,
+        vertex_ids: (1..=count).collect(),
+        facets,
+        holes: vec![],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -288,5 +346,11 @@ mod tests {
         assert_eq!(m.holes.len(), 3);
         // 20 sides each; wells of 16 and faults of 3; chains of 6 + 1.
         assert_eq!(m.segments.len(), 6 * 20 + 3 * (16 + 3) + 3 * 7);
+        // 3 levels of 4 + 4 x 6 points; 3 horizontal facets, and per layer
+        // 4 block sides and 4 x 6 well sides
+        let f = field3(2, 2);
+        assert_eq!(f.points.len(), 3 * 28);
+        assert_eq!(f.facets.len(), 3 + 2 * (4 + 24));
+        assert_eq!(f.facets[0].polygons.len(), 5);
     }
 }

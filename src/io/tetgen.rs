@@ -18,6 +18,36 @@ pub enum Format {
     Smesh,
 }
 
+/// A complex as a TetGen `.poly` text (its own vertex ids; facet holes and
+/// volume holes kept; no markers).
+pub fn to_string(cx: &Complex3) -> String {
+    use std::fmt::Write;
+    let mut out = format!("{} 3 0 0\n", cx.points.len());
+    for (p, id) in cx.points.iter().zip(&cx.vertex_ids) {
+        let _ = writeln!(out, "{id} {:?} {:?} {:?}", p[0], p[1], p[2]);
+    }
+    let _ = writeln!(out, "{} 0", cx.facets.len());
+    for f in &cx.facets {
+        let _ = writeln!(out, "{} {}", f.polygons.len(), f.holes.len());
+        for poly in &f.polygons {
+            let ids: Vec<String> = poly
+                .iter()
+                .map(|&v| cx.vertex_ids[v as usize].to_string())
+                .collect();
+            let _ = writeln!(out, "{} {}", poly.len(), ids.join(" "));
+        }
+        for (k, h) in f.holes.iter().enumerate() {
+            let _ = writeln!(out, "{} {:?} {:?} {:?}", k + 1, h[0], h[1], h[2]);
+        }
+    }
+    let _ = writeln!(out, "{}", cx.holes.len());
+    for (k, h) in cx.holes.iter().enumerate() {
+        let _ = writeln!(out, "{} {:?} {:?} {:?}", k + 1, h[0], h[1], h[2]);
+    }
+    out.push_str("0\n");
+    out
+}
+
 /// Parses a TetGen `.poly` or `.smesh` text.
 pub fn parse(text: &str, path: &Path, format: Format) -> Result<Complex3> {
     let mut r = Records::new(text, path);

@@ -212,6 +212,9 @@ enum Kind {
     /// Separate cavities of 16 unit sides, each with a well off centre, a
     /// fault with two free ends and isolated points (zero weights).
     Field,
+    /// 3D: an N x N block of unit columns in `--layers` layers, each column
+    /// with a hexagonal prism well through it (a TetGen .poly).
+    Field3,
 }
 
 #[derive(Args)]
@@ -225,6 +228,9 @@ struct GenerateArgs {
     /// `field`: isolated points per cavity.
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u16).range(0..=100))]
     points: u16,
+    /// `field3`: layers.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    layers: u16,
     #[arg(short, long, value_name = "FILE.poly")]
     output: PathBuf,
 }
@@ -609,6 +615,17 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
 fn generate(a: GenerateArgs) -> Result<()> {
     let n = usize::from(a.n);
     let cx = match a.kind {
+        Kind::Field3 => {
+            let cx = orthomesh::generate::field3(n, usize::from(a.layers));
+            io::write_atomic(&a.output, io::tetgen::to_string(&cx).as_bytes())?;
+            let polygons: usize = cx.facets.iter().map(|f| f.polygons.len()).sum();
+            let (v, f) = (cx.points.len(), cx.facets.len());
+            eprintln!(
+                "wrote {}: {v} vertices, {f} facets, {polygons} polygons",
+                a.output.display()
+            );
+            return Ok(());
+        }
         Kind::Mixed => orthomesh::generate::mixed(n, n, 7),
         Kind::Cavities => orthomesh::generate::cavities(n, n, 14.0),
         Kind::Field => orthomesh::generate::field(n, n, usize::from(a.points), 7),
