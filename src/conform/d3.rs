@@ -212,13 +212,18 @@ impl Attempt {
         let mut exact = d.rebuilt as usize;
         let mut rounds = 0;
         while rounds < RELOCATION_ROUNDS {
-            // Sites of faces that cross their duals move halfway to the
-            // face: near it, a site's cell is its half of a region around
-            // the face.
+            // Sites of faces that cross their duals move towards the face,
+            // past the neighbours that beat them (`Sites3::jump`): near it,
+            // a site's cell is its half of a region around the face.
+            let mut neighbours = vec![vec![]; s.p.len()];
+            for [a, b] in d.faces.keys() {
+                neighbours[*a as usize].push(*b);
+                neighbours[*b as usize].push(*a);
+            }
             let mut moved = false;
-            for x in 0..s.p.len() {
+            for (x, around) in neighbours.iter().enumerate() {
                 if d.in_domain[x] && !d.site_inside[x] {
-                    moved |= s.halve(x, &cx, &wt.w);
+                    moved |= s.jump(x, &cx, &wt.w, around);
                 }
             }
             if !moved {

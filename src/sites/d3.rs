@@ -483,11 +483,79 @@ impl Sites3 {
     /// parameter when that stays strictly between); false when it has no
     /// line.
     pub fn halve(&mut self, x: usize, cx: &Complex3, w: &[Q]) -> bool {
+        let Some(line) = &self.line[x] else {
+            return false;
+        };
+        let half = f(&line.t) / 2.0;
+        self.move_to(x, cx, w, half)
+    }
+
+    /// Moves a site on a line towards its face, past the neighbours that
+    /// beat it: along the line c + t n its power difference with a
+    /// neighbour y, g(t) = |p(t) - p_y|^2 - w_y + w(t), is the quadratic
+    /// 2 |n|^2 t^2 + 2 n.(c - p_y) t + pi_y(c) + P (P the face centre's
+    /// power, n.(c - p_v) = 0), positive at t = 0 when pi_y(c) + P > 0: the
+    /// site goes to half the root nearest the face over the neighbours
+    /// negative at the present t (doubles; the diagram decides exactly), or
+    /// halfway when none has such a root. False, and the site stays, when it
+    /// has no line or a neighbour beats it even on the face.
+    pub fn jump(&mut self, x: usize, cx: &Complex3, w: &[Q], neighbours: &[u32]) -> bool {
+        let Some(line) = &self.line[x] else {
+            return false;
+        };
+        let (c, n, t) = (
+            line.c.clone().map(|v| f(&v)),
+            line.n.clone().map(|v| f(&v)),
+            f(&line.t),
+        );
+        let v0 = self.serves[x][0] as usize;
+        let power_c = (0..3)
+            .map(|k| (c[k] - cx.points[v0][k]).powi(2))
+            .sum::<f64>()
+            - f(&w[v0]);
+        let a = 2.0 * (0..3).map(|k| n[k] * n[k]).sum::<f64>();
+        let mut target = t / 2.0;
+        for &y in neighbours {
+            let py = self.p[y as usize].clone().map(|v| f(&v));
+            let wy = f(&self.w[y as usize]);
+            let d: [f64; 3] = std::array::from_fn(|k| c[k] - py[k]);
+            let b = 2.0 * (0..3).map(|k| n[k] * d[k]).sum::<f64>();
+            let k0 = (0..3).map(|k| d[k] * d[k]).sum::<f64>() - wy + power_c;
+            let g = |s: f64| a * s * s + b * s + k0;
+            let disc = b * b - 4.0 * a * k0;
+            if g(t) > 0.0 {
+                continue;
+            }
+            let size = (0..3).map(|k| d[k] * d[k]).sum::<f64>() + wy.abs() + power_c.abs();
+            if k0 < -1e-9 * size {
+                // g is convex and negative at 0 and t: no place on the
+                // line beats y (until y moves)
+                return false;
+            }
+            if disc < 0.0 {
+                continue;
+            }
+            // the root between 0 and t (g > 0 at 0, <= 0 at t)
+            let r = [
+                (-b - disc.sqrt()) / (2.0 * a),
+                (-b + disc.sqrt()) / (2.0 * a),
+            ]
+            .into_iter()
+            .filter(|r| r * t > 0.0 && r.abs() < t.abs() && r.abs() > 1e-9 * t.abs())
+            .fold(t, |m, r| if r.abs() < m.abs() { r } else { m });
+            if (r / 2.0).abs() < target.abs() {
+                target = r / 2.0;
+            }
+        }
+        self.move_to(x, cx, w, target)
+    }
+
+    /// Moves a site on a line to parameter `to` when that double lies
+    /// strictly between the face and the site, else exactly halfway.
+    fn move_to(&mut self, x: usize, cx: &Complex3, w: &[Q], to: f64) -> bool {
         let Some(line) = &mut self.line[x] else {
             return false;
         };
-        let half = &line.t / Q::from(2);
-        let d = q(f(&half));
         let zero = Q::from(0);
         let between = |v: &Q| {
             if line.t > zero {
@@ -496,7 +564,8 @@ impl Sites3 {
                 v < &zero && v > &line.t
             }
         };
-        line.t = if between(&d) { d } else { half };
+        let d = to.is_finite().then(|| q(to)).filter(|d| between(d));
+        line.t = d.unwrap_or_else(|| &line.t / Q::from(2));
         self.p[x] = along(&line.c, &line.t, &line.n);
         self.reweigh(x, cx, w);
         true
