@@ -4,9 +4,11 @@
 //! flipped 2-3 (when the two tetrahedra's union is convex across the face)
 //! or 3-2 (when an edge of the face has three tetrahedra around it); flat
 //! tetrahedra (four sites on one plane, which rounding lifted off it) are
-//! flipped away 3-2 around an edge, or dropped from the hull. Each flip is
-//! kept only when every new tetrahedron is exactly positive. Flips in 3D
-//! may get stuck; then the caller triangulates the exact points.
+//! flipped away 3-2 around an edge (2-3 flips around it first bring it
+//! down to three tetrahedra), or dropped from the hull. A flip is made only
+//! when its new tetrahedra all have one strict orientation, exactly: then
+//! they tile the region of the old ones. Flips in 3D may get stuck; then
+//! the caller triangulates the exact points.
 
 use super::pure3::Predicates3;
 use super::{Tetrahedralisation, NONE};
@@ -112,7 +114,7 @@ impl<T: Predicates3 + ?Sized> Flipper<'_, T> {
     }
 
     /// The 2-3 flip of t and the tetrahedron across its face opposite k,
-    /// when all three new tetrahedra are positive.
+    /// when the segment joining their apexes crosses the face's interior.
     fn flip23(&mut self, t: u32, k: usize) -> bool {
         let Some(u) = self.tri.across(t, k) else {
             return false;
@@ -133,7 +135,8 @@ impl<T: Predicates3 + ?Sized> Flipper<'_, T> {
     }
 
     /// The 3-2 flip around edge (a, b) of t, when three tetrahedra are
-    /// around it and both new tetrahedra are positive.
+    /// around it and the edge crosses the triangle of the other three
+    /// vertices.
     fn flip32(&mut self, t: u32, a: u32, b: u32) -> bool {
         let Some(ring) = self.tri.ring(t, a, b).filter(|r| r.len() == 3) else {
             return false;
@@ -277,14 +280,13 @@ impl Tetrahedralisation {
             }
         }
         let ok = f.todo.is_empty() && stuck.iter().all(|&t| !f.alive(t));
-        let free = std::mem::take(&mut f.free);
-        self.compact(&free);
+        self.compact();
         ok
     }
 
-    /// Removes dead slots, renumbering the rest.
-    fn compact(&mut self, dead: &[u32]) {
-        if dead.is_empty() {
+    /// Removes dead slots (`NONE` tetrahedra), renumbering the rest.
+    fn compact(&mut self) {
+        if self.tets.iter().all(|t| t[0] != NONE) {
             return;
         }
         let mut id = vec![NONE; self.tets.len()];
@@ -373,8 +375,7 @@ mod tests {
                     flipped += 1;
                 }
             }
-            let free = std::mem::take(&mut f.free);
-            t.compact(&free);
+            t.compact();
             assert!(flipped >= 10, "{flipped}");
             assert_ne!(sorted(&t), sorted(&regular));
             assert!(t.flip_to_regular3(&x, 10_000));

@@ -8,7 +8,7 @@
 use super::points::{sign_q, F64Points3};
 use super::{Tetrahedralisation, NONE};
 use crate::error::{Error, Result};
-use crate::geom::{det3, det3_q, det4, det4_q, dot, norm2, q, sub, Iv, Q};
+use crate::geom::{dot, norm2, q, sub, Weighted3, Q};
 use crate::FastMap;
 use std::cmp::Ordering;
 
@@ -71,79 +71,28 @@ impl super::pure::Pure {
         points: &[[Q; 3]],
         weights: &[Q],
     ) -> Result<Tetrahedralisation> {
-        regular3(&QPoints3::new(points, weights))
+        regular3(&Weighted3::new(points, weights))
     }
 }
 
-/// Rational weighted points, with interval enclosures that decide most
-/// predicates before any rational arithmetic.
-#[cfg_attr(not(feature = "pure-rust"), allow(dead_code))]
-pub(crate) struct QPoints3<'a> {
-    p: &'a [[Q; 3]],
-    w: &'a [Q],
-    iv: Vec<([Iv; 3], Iv)>,
-}
-
-#[cfg_attr(not(feature = "pure-rust"), allow(dead_code))]
-impl<'a> QPoints3<'a> {
-    pub fn new(p: &'a [[Q; 3]], w: &'a [Q]) -> Self {
-        let iv = p
-            .iter()
-            .zip(w)
-            .map(|(p, w)| (p.each_ref().map(Iv::of_q), Iv::of_q(w)))
-            .collect();
-        QPoints3 { p, w, iv }
-    }
-}
-
-impl Predicates3 for QPoints3<'_> {
+/// Rational weighted points (`geom::Weighted3`: intervals, then integer
+/// determinants), for the exact sites and `regular3_exact`.
+impl Predicates3 for Weighted3<'_> {
     fn len(&self) -> usize {
-        self.p.len()
+        self.count()
     }
     fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
-        let id = self.iv[d as usize].0;
-        let ri = [a, b, c].map(|x| {
-            let ix = self.iv[x as usize].0;
-            [0, 1, 2].map(|k| ix[k] - id[k])
-        });
-        if let Some(s) = det3(ri).sign() {
-            return s.reverse();
-        }
-        let pd = &self.p[d as usize];
-        let r = [a, b, c].map(|x| sub(&self.p[x as usize], pd));
-        sign_q(&det3_q([0, 1, 2].map(|i| [&r[i][0], &r[i][1], &r[i][2]]))).reverse()
+        let t = [a, b, c, d];
+        self.orient_iv(t).unwrap_or_else(|| self.orient_exact(t))
     }
     fn power(&self, t: [u32; 4], e: u32) -> Ordering {
-        let (pe, we) = self.iv[e as usize];
-        let rows = t.map(|x| {
-            let (px, wx) = self.iv[x as usize];
-            let d = [0, 1, 2].map(|k| px[k] - pe[k]);
-            [
-                d[0],
-                d[1],
-                d[2],
-                d[0].sqr() + d[1].sqr() + d[2].sqr() - (wx - we),
-            ]
-        });
-        if let Some(s) = det4(rows).sign() {
-            return s.reverse();
-        }
-        sign_q(&det4_q(&lifted_rows(self, t, e))).reverse()
+        self.power_iv(t, e)
+            .unwrap_or_else(|| self.power_exact(t, e))
     }
     fn exact(&self, v: u32) -> ([Q; 3], Q) {
-        (self.p[v as usize].clone(), self.w[v as usize].clone())
+        let (p, w) = self.point(v);
+        (p.clone(), w.clone())
     }
-}
-
-/// Rows (p_i - p_e, |p_i - p_e|^2 - w_i + w_e) of the power test.
-fn lifted_rows<P: Predicates3 + ?Sized>(pts: &P, t: [u32; 4], e: u32) -> [[Q; 4]; 4] {
-    let (pe, we) = pts.exact(e);
-    t.map(|x| {
-        let (px, wx) = pts.exact(x);
-        let d = sub(&px, &pe);
-        let z = norm2(&d) - wx + &we;
-        [d[0].clone(), d[1].clone(), d[2].clone(), z]
-    })
 }
 
 /// Whether e conflicts with the positive tetrahedron t, ties broken by
@@ -519,6 +468,18 @@ pub(crate) fn regular3<P: Predicates3 + ?Sized>(pts: &P) -> Result<Tetrahedralis
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::{det3_q, norm2, sub};
+
+    /// Rows (p_i - p_e, |p_i - p_e|^2 - w_i + w_e) of the power test.
+    fn lifted_rows<P: Predicates3 + ?Sized>(pts: &P, t: [u32; 4], e: u32) -> [[Q; 4]; 4] {
+        let (pe, we) = pts.exact(e);
+        t.map(|x| {
+            let (px, wx) = pts.exact(x);
+            let d = sub(&px, &pe);
+            let z = norm2(&d) - wx + &we;
+            [d[0].clone(), d[1].clone(), d[2].clone(), z]
+        })
+    }
 
     /// The rationals' cofactors, as the perturbation was first written.
     fn conflict_q<P: Predicates3 + ?Sized>(pts: &P, t: [u32; 4], e: u32) -> bool {

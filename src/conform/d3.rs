@@ -215,11 +215,7 @@ impl Attempt {
             // Sites of faces that cross their duals move towards the face,
             // past the neighbours that beat them (`Sites3::jump`): near it,
             // a site's cell is its half of a region around the face.
-            let mut neighbours = vec![vec![]; s.p.len()];
-            for [a, b] in d.faces.keys() {
-                neighbours[*a as usize].push(*b);
-                neighbours[*b as usize].push(*a);
-            }
+            let neighbours = d.rt.neighbours(s.p.len());
             let mut moved = false;
             for (x, around) in neighbours.iter().enumerate() {
                 if d.in_domain[x] && !d.site_inside[x] {

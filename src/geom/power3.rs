@@ -55,6 +55,16 @@ impl<'a> Weighted3<'a> {
         self.exact_evaluations.fetch_add(1, Relaxed);
     }
 
+    /// How many points.
+    pub fn count(&self) -> usize {
+        self.p.len()
+    }
+
+    /// Point x and its weight, exactly.
+    pub fn point(&self, x: u32) -> (&[Q; 3], &Q) {
+        (&self.p[x as usize], &self.w[x as usize])
+    }
+
     /// Point x's integer rows (see `rows`).
     fn rows(&self, x: usize) -> &([Integer; 4], [Integer; 5]) {
         self.rows[x].get_or_init(|| {
