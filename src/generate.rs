@@ -270,53 +270,93 @@ pub fn stacked_boxes(k: usize) -> crate::complex::Complex3 {
     }
 }
 
-/// A 3D field (issue 23): an `n` x `n` x `layers` block of unit columns,
-/// each with a vertical hexagonal prism well of radius 0.25 at its centre
-/// through every layer. Each level z = 0..=layers is one horizontal facet
-/// holding the block's rectangle and every well's hexagon; the block's
-/// sides and the wells' sides are vertical rectangles, one per layer. The
-/// wells' insides are meshed too (no holes).
+/// A 3D field (issue 23): an `n` x `n` grid of unit columns, each a stack
+/// of `layers` unit boxes (cells), with a vertical octagonal prism well of
+/// radius 13/64 at each column's centre through every layer.
+///
+/// Each cell's side is two half-width rectangles (a vertex at each grid
+/// edge's midpoint), shared with the neighbour; each well side is a
+/// rectangle per layer. At each level a cell's top is an octagon (the
+/// well's section) and the ring between it and the cell's square. The
+/// midpoints make the ring's 16 triangles acute (largest angle 78 degrees),
+/// so every face is Delaunay with its centre inside: zero weights serve.
 pub fn field3(n: usize, layers: usize) -> crate::complex::Complex3 {
     use crate::complex::Facet;
-    let side = n as f64;
-    let corners = [(0.0, 0.0), (side, 0.0), (side, side), (0.0, side)];
-    let hexagon: Vec<(f64, f64)> = (0..6)
-        .map(|k| {
-            let a = std::f64::consts::FRAC_PI_3 * k as f64;
-            (0.25 * a.cos(), 0.25 * a.sin())
-        })
-        .collect();
-    // per level: 4 corners, then 6 vertices per well
-    let per_level = 4 + 6 * n * n;
+    // (12, 5, 13) / 64: dyadic, so the eight corners are exactly on one
+    // circle (radius 0.203) and the octagon is kept whole; 22.6 degrees
+    // off the axes, nearly regular
+    let octagon: Vec<[f64; 2]> = [
+        [12, 5],
+        [5, 12],
+        [-5, 12],
+        [-12, 5],
+        [-12, -5],
+        [-5, -12],
+        [5, -12],
+        [12, -5],
+    ]
+    .iter()
+    .map(|&[a, b]| [f64::from(a) / 64.0, f64::from(b) / 64.0])
+    .collect();
+    // per level: corners, midpoints of x-edges, of y-edges, octagons
+    let (m, hx, hy) = (n + 1, n * (n + 1), n * (n + 1));
+    let per_level = m * m + hx + hy + 8 * n * n;
+    let corner = |i: usize, j: usize| i + m * j;
+    let xmid = |i: usize, j: usize| m * m + i + n * j;
+    let ymid = |i: usize, j: usize| m * m + hx + i + m * j;
+    let oct = |i: usize, j: usize, k: usize| m * m + hx + hy + 8 * (i + n * j) + k % 8;
     let mut points = vec![];
     for z in 0..=layers {
-        points.extend(corners.iter().map(|&(x, y)| [x, y, z as f64]));
-        for j in 0..n {
-            for i in 0..n {
-                let (cx, cy) = (i as f64 + 0.5, j as f64 + 0.5);
-                points.extend(hexagon.iter().map(|&(dx, dy)| [cx + dx, cy + dy, z as f64]));
-            }
+        let z = z as f64;
+        points.extend((0..m * m).map(|c| [(c % m) as f64, (c / m) as f64, z]));
+        points.extend((0..hx).map(|c| [(c % n) as f64 + 0.5, (c / n) as f64, z]));
+        points.extend((0..hy).map(|c| [(c % m) as f64, (c / m) as f64 + 0.5, z]));
+        for c in 0..n * n {
+            let (x, y) = ((c % n) as f64 + 0.5, (c / n) as f64 + 0.5);
+            points.extend(octagon.iter().map(|o| [x + o[0], y + o[1], z]));
         }
     }
     let at = |z: usize, k: usize| (z * per_level + k) as u32;
-    let well = |w: usize, k: usize| 4 + 6 * w + k % 6;
-    let rectangle = |z: usize, a: usize, b: usize| Facet {
+    let wall = |z: usize, a: usize, b: usize| Facet {
         polygons: vec![vec![at(z, a), at(z, b), at(z + 1, b), at(z + 1, a)]],
         ..Default::default()
     };
     let mut facets = vec![];
     for z in 0..=layers {
-        let mut polygons = vec![(0..4).map(|k| at(z, k)).collect::<Vec<u32>>()];
-        polygons.extend((0..n * n).map(|w| (0..6).map(|k| at(z, well(w, k))).collect()));
-        facets.push(Facet {
-            polygons,
-            ..Default::default()
-        });
+        for (i, j) in (0..n * n).map(|c| (c % n, c / n)) {
+            let square = [
+                corner(i, j),
+                xmid(i, j),
+                corner(i + 1, j),
+                ymid(i + 1, j),
+                corner(i + 1, j + 1),
+                xmid(i, j + 1),
+                corner(i, j + 1),
+                ymid(i, j),
+            ];
+            let well: Vec<u32> = (0..8).map(|k| at(z, oct(i, j, k))).collect();
+            facets.push(Facet {
+                polygons: vec![square.iter().map(|&v| at(z, v)).collect(), well.clone()],
+                holes: vec![[i as f64 + 0.5, j as f64 + 0.5, z as f64]],
+                ..Default::default()
+            });
+            facets.push(Facet {
+                polygons: vec![well],
+                ..Default::default()
+            });
+        }
     }
     for z in 0..layers {
-        facets.extend((0..4).map(|k| rectangle(z, k, (k + 1) % 4)));
-        for w in 0..n * n {
-            facets.extend((0..6).map(|k| rectangle(z, well(w, k), well(w, k + 1))));
+        for j in 0..m {
+            for i in 0..n {
+                facets.push(wall(z, corner(i, j), xmid(i, j)));
+                facets.push(wall(z, xmid(i, j), corner(i + 1, j)));
+                facets.push(wall(z, corner(j, i), ymid(j, i)));
+                facets.push(wall(z, ymid(j, i), corner(j, i + 1)));
+            }
+        }
+        for (i, j) in (0..n * n).map(|c| (c % n, c / n)) {
+            facets.extend((0..8).map(|k| wall(z, oct(i, j, k), oct(i, j, k + 1))));
         }
     }
     let count = points.len() as i64;
@@ -346,11 +386,13 @@ mod tests {
         assert_eq!(m.holes.len(), 3);
         // 20 sides each; wells of 16 and faults of 3; chains of 6 + 1.
         assert_eq!(m.segments.len(), 6 * 20 + 3 * (16 + 3) + 3 * 7);
-        // 3 levels of 4 + 4 x 6 points; 3 horizontal facets, and per layer
-        // 4 block sides and 4 x 6 well sides
+        // 3 levels of 9 corners, 12 midpoints and 4 x 8 octagon points;
+        // per level 4 rings and 4 octagons, per layer 2 x 12 half walls and
+        // 4 x 8 well sides
         let f = field3(2, 2);
-        assert_eq!(f.points.len(), 3 * 28);
-        assert_eq!(f.facets.len(), 3 + 2 * (4 + 24));
-        assert_eq!(f.facets[0].polygons.len(), 5);
+        f.validate().unwrap();
+        assert_eq!(f.points.len(), 3 * (9 + 12 + 32));
+        assert_eq!(f.facets.len(), 3 * 8 + 2 * (24 + 32));
+        assert_eq!(f.facets[0].polygons.len(), 2);
     }
 }

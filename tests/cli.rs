@@ -261,12 +261,12 @@ fn the_same_input_gives_byte_identical_mesh_and_report() {
     // a 3D box too: its cells' faces came in hash order
     let cube = dir.join("box.poly");
     std::fs::write(&cube, box_poly("", &[])).unwrap();
-    // and a generated 3D field (its site diagrams repaired by flips)
+    // and a generated 3D field
     let field3 = dir.join("field3.poly");
     let out = field3.to_str().unwrap();
     let (code, err) = orthomesh(&["generate", "field3", "1", "--layers", "1", "-o", out]);
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains("20 vertices, 12 facets, 14 polygons"), "{err}");
+    assert!(err.contains("32 vertices, 20 facets, 22 polygons"), "{err}");
     let inputs = [
         mixed.display().to_string(),
         data("la.poly"),

@@ -89,9 +89,16 @@ pub fn solve<B: Backend + ?Sized>(
     sc: &Simplices3,
     keep: Keep,
 ) -> Result<Weights3> {
+    let n = cx.points.len();
+    let dt = backend.regular3(&cx.points, &vec![0.0; n])?;
+    let all = kept_whole(cx);
+    // Zero weights are shared weights, and make every lift coplanar.
+    if let Some(w) = super::zero3::zero(cx, &faces(cx, sc, &all), &dt, keep.ways()[0]) {
+        return Ok(w);
+    }
     let mut out = Err(Error::Internal("the 3D weights made no attempt".into()));
     for &way in keep.ways() {
-        out = solve_kept(backend, cx, sc, way);
+        out = solve_kept(backend, cx, sc, &dt, way);
         if !no_solution(&out) {
             break;
         }
@@ -108,10 +115,11 @@ fn solve_kept<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex3,
     sc: &Simplices3,
+    dt: &Tetrahedralisation,
     way: Keep,
 ) -> Result<Weights3> {
     let all = kept_whole(cx);
-    let mut out = global(backend, cx, faces(cx, sc, &all), way);
+    let mut out = global(backend, cx, dt, faces(cx, sc, &all), way);
     let mut whole = all.clone();
     for retry in [untouched(cx, sc, &all), vec![false; all.len()]] {
         if !matches!(
@@ -122,7 +130,7 @@ fn solve_kept<B: Backend + ?Sized>(
         }
         if retry != whole {
             whole = retry;
-            out = global(backend, cx, faces(cx, sc, &whole), way);
+            out = global(backend, cx, dt, faces(cx, sc, &whole), way);
         }
     }
     out
@@ -340,22 +348,22 @@ fn centre_rows(p: &[[f64; 3]], f: u32, verts: &[u32], others: &[u32]) -> Vec<Row
 
 /// What the exact check of RT(w) finds wrong.
 #[derive(Default)]
-struct Misses {
+pub(super) struct Misses {
     /// Faces that are not faces of RT(w).
-    faces: Vec<u32>,
+    pub faces: Vec<u32>,
     /// Vertices RT(w) hides.
-    hidden: Vec<u32>,
+    pub hidden: Vec<u32>,
 }
 
 /// The lazy global form (see the module's doc).
 fn global<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex3,
+    dt: &Tetrahedralisation,
     faces: Vec<Face>,
     keep: Keep,
 ) -> Result<Weights3> {
     let n = cx.points.len();
-    let dt = backend.regular3(&cx.points, &vec![0.0; n])?;
     let dt_nb = dt.neighbours(n);
     let units = Units::new(&cx.points, dt.edge_links().into_keys().map(|[a, b]| (a, b)));
     let p = &units.points;
@@ -493,7 +501,7 @@ fn global<B: Backend + ?Sized>(
     ))
 }
 
-fn finish(
+pub(super) fn finish(
     w: Vec<Q>,
     rt: Tetrahedralisation,
     faces: Vec<Face>,
@@ -577,7 +585,7 @@ fn area2(cx: &Complex3, axis: usize, [a, b, c]: [u32; 3]) -> Q {
 /// Exactly: the faces RT(w) lacks and the vertices it hides. A polygon is
 /// there when RT's triangles among its vertices (all in its plane) have
 /// its area: they then tile it.
-fn check(cx: &Complex3, faces: &[Face], rt: &Tetrahedralisation) -> Misses {
+pub(super) fn check(cx: &Complex3, faces: &[Face], rt: &Tetrahedralisation) -> Misses {
     let tris = rt.triangle_apexes();
     let edges = rt.edge_links();
     let hidden: HashSet<u32> = rt.hidden.iter().copied().collect();
@@ -828,6 +836,17 @@ mod tests {
     }
 
     #[test]
+    fn a_bare_box_has_zero_weights() {
+        let cx = boxed(vec![]);
+        let out = run(&cx).unwrap();
+        assert_eq!(
+            (out.report.method.as_str(), out.whole_polygons),
+            ("zero", 6)
+        );
+        assert!(out.w.iter().all(|x| *x == 0));
+    }
+
+    #[test]
     fn a_point_inside_a_box_of_whole_rectangles() {
         // The faces' supporting hyperplanes tilt about their lifted
         // rectangles; the point's weight lowers it below them all.
@@ -862,6 +881,9 @@ mod tests {
         };
         assert_eq!(kept_whole(&cx), vec![true, true]);
         let out = run_kept(&cx, Keep::Shared).unwrap();
+        // Zero weights have both rectangles in the Delaunay triangulation
+        // and cross their duals; only the point on A's circle refuses them.
+        assert_eq!(out.report.method, "global");
         assert_eq!(out.whole_polygons, 0);
         assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
         // Coplanar lifts give B its own plane: both stay whole.

@@ -212,8 +212,8 @@ enum Kind {
     /// Separate cavities of 16 unit sides, each with a well off centre, a
     /// fault with two free ends and isolated points (zero weights).
     Field,
-    /// 3D: an N x N block of unit columns in `--layers` layers, each column
-    /// with a hexagonal prism well through it (a TetGen .poly).
+    /// 3D: an N x N grid of unit columns, each a stack of `--layers` boxes
+    /// with an octagonal prism well through it (a TetGen .poly; zero weights).
     Field3,
 }
 
