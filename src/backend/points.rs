@@ -2,7 +2,7 @@
 //! flips above the backends decide with, and the pure-Rust engine's input.
 
 use super::FlipTests;
-use crate::geom::{det3, det3_q, det4, det4_q, q, Iv, OTHER_ROWS, Q};
+use crate::geom::{det3, det3_q, det4, det4_f64, det4_q, q, Iv, Q};
 use std::cmp::Ordering;
 
 /// Double points and weights.
@@ -78,28 +78,6 @@ impl FlipTests for F64Points<'_> {
         let wt = [a, b, c, d].map(|x| q(self.w[x as usize]));
         power_q(pt.each_ref(), wt.each_ref())
     }
-}
-
-/// A 4x4 determinant in doubles, expanded as `geom::det4`, and the same
-/// expansion of the magnitudes `m` with every sign + (its permanent).
-fn det4_f64(r: [[f64; 4]; 4], m: [[f64; 4]; 4]) -> (f64, f64) {
-    let three =
-        |x: &[[f64; 4]; 4], skip: usize| OTHER_ROWS[skip].map(|i| [x[i][0], x[i][1], x[i][2]]);
-    let det3 = |a: [[f64; 3]; 3]| {
-        a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
-            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
-    };
-    let per3 = |a: [[f64; 3]; 3]| {
-        a[0][0] * (a[1][1] * a[2][2] + a[1][2] * a[2][1])
-            + a[0][1] * (a[1][0] * a[2][2] + a[1][2] * a[2][0])
-            + a[0][2] * (a[1][0] * a[2][1] + a[1][1] * a[2][0])
-    };
-    let det =
-        r[1][3] * det3(three(&r, 1)) - r[0][3] * det3(three(&r, 0)) - r[2][3] * det3(three(&r, 2))
-            + r[3][3] * det3(three(&r, 3));
-    let perm = (0..4).map(|i| m[i][3] * per3(three(&m, i))).sum();
-    (det, perm)
 }
 
 /// Double points in 3D and weights. (So far only the tests of the 3D

@@ -1,8 +1,10 @@
 //! Exact predicates on weighted points in 3D given as rationals (the 3D
-//! sites), filtered: each is evaluated first in outward-rounded intervals
-//! around the rationals, and in rationals only where the interval holds 0.
+//! sites), filtered: each is evaluated first in doubles against a bound
+//! that covers the points' rounding and the arithmetic (a semi-static
+//! filter), then in outward-rounded intervals around the rationals, and in
+//! integers only where the interval holds 0.
 
-use super::{det3, det3_q, det4, f, norm2, sub, Iv, Q};
+use super::{det3, det3_q, det4, det4_f64, f, norm2, per3_f64, per4_f64, sub, Iv, Q};
 use malachite_base::num::arithmetic::traits::{DivExact, Lcm, Sign};
 use malachite_nz::integer::Integer;
 use malachite_nz::natural::Natural;
@@ -15,12 +17,34 @@ pub struct Weighted3<'a> {
     p: &'a [[Q; 3]],
     w: &'a [Q],
     iv: Vec<[Iv; 4]>,
+    /// The nearest doubles to (x, y, z, w), and how far the exact values
+    /// may be from them (from the enclosures).
+    mid: Vec<[f64; 4]>,
+    rad: Vec<[f64; 4]>,
     /// Per point, made when an exact test first needs it: (p, 1) and
     /// (p, |p|^2 - w, 1), each scaled by a positive integer to integers
     /// (a determinant's sign in integers needs no gcd).
     rows: Vec<OnceLock<([Integer; 4], [Integer; 5])>>,
     /// Predicates the intervals could not decide.
     pub exact_evaluations: AtomicUsize,
+}
+
+/// The sign of a determinant in doubles when it is beyond what rounding
+/// the entries (permanents p0 of the magnitudes, p1 with the entries'
+/// bounds added) and the arithmetic (`k` eps of p1) can change; None near
+/// underflow, where rounding is not relative.
+fn decide(det: f64, p0: f64, p1: f64, k: f64) -> Option<Ordering> {
+    let bound = (p1 - p0) + k * f64::EPSILON * p1;
+    if !(bound.is_finite() && det.is_finite()) || p1 < 1e-200 {
+        return None;
+    }
+    if det > bound {
+        Some(Ordering::Greater)
+    } else if det < -bound {
+        Some(Ordering::Less)
+    } else {
+        None
+    }
 }
 
 /// The sign of a rational.
@@ -30,7 +54,7 @@ fn sign(x: &Q) -> Ordering {
 
 impl<'a> Weighted3<'a> {
     pub fn new(p: &'a [[Q; 3]], w: &'a [Q]) -> Self {
-        let iv = p
+        let iv: Vec<[Iv; 4]> = p
             .iter()
             .zip(w)
             .map(|(p, w)| {
@@ -42,10 +66,22 @@ impl<'a> Weighted3<'a> {
                 ]
             })
             .collect();
+        let mid: Vec<[f64; 4]> = p
+            .iter()
+            .zip(w)
+            .map(|(p, w)| [f(&p[0]), f(&p[1]), f(&p[2]), f(w)])
+            .collect();
+        let rad = iv
+            .iter()
+            .zip(&mid)
+            .map(|(i, m)| std::array::from_fn(|k| (i[k].hi - m[k]).max(m[k] - i[k].lo)))
+            .collect();
         Weighted3 {
             p,
             w,
             iv,
+            mid,
+            rad,
             rows: (0..p.len()).map(|_| OnceLock::new()).collect(),
             exact_evaluations: AtomicUsize::new(0),
         }
@@ -93,9 +129,66 @@ impl<'a> Weighted3<'a> {
     /// counter-clockwise, the sign of det[b - a; c - a; d - a] (as
     /// `orient3` on doubles).
     pub fn orient_iv(&self, t: [u32; 4]) -> Option<Ordering> {
+        if let Some(s) = self.orient_f64(t) {
+            return Some(s);
+        }
         let [a, b, c, d] = t.map(|x| x as usize);
         let v = |x: usize| [0, 1, 2].map(|k| self.iv[x][k] - self.iv[a][k]);
         det3([v(b), v(c), v(d)]).sign()
+    }
+
+    /// Differences p_x - p_o in doubles, each with a bound on how far the
+    /// exact difference may be: both points' rounding and the subtraction's.
+    fn diff(&self, x: u32, o: u32) -> ([f64; 3], [f64; 3]) {
+        let (mx, mo) = (self.mid[x as usize], self.mid[o as usize]);
+        let (rx, ro) = (self.rad[x as usize], self.rad[o as usize]);
+        let d: [f64; 3] = std::array::from_fn(|k| mx[k] - mo[k]);
+        let eta = std::array::from_fn(|k| rx[k] + ro[k] + f64::EPSILON * d[k].abs());
+        (d, eta)
+    }
+
+    /// The semi-static filter of `orient_iv`: a determinant's change when
+    /// its entries move by at most eta is at most perm(|a| + eta) -
+    /// perm(|a|) (expand both products); its rounding, 64 eps of the
+    /// permanent, is generous.
+    fn orient_f64(&self, t: [u32; 4]) -> Option<Ordering> {
+        let rows = [t[1], t[2], t[3]].map(|x| self.diff(x, t[0]));
+        let a = rows.map(|r| r.0);
+        let det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+        let p0 = per3_f64(rows.map(|r| r.0.map(f64::abs)));
+        let p1 = per3_f64(rows.map(|(d, e)| std::array::from_fn(|k| d[k].abs() + e[k])));
+        decide(det, p0, p1, 64.0)
+    }
+
+    /// The semi-static filter of `power_iv`, as `orient_f64`; the lifted
+    /// entry |d|^2 - (w_x - w_e) moves by at most sum (2 |d_k| + eta_k)
+    /// eta_k, the weights' rounding and its own (4 eps of its magnitude).
+    fn power_f64(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
+        let (we, re) = (self.mid[e as usize][3], self.rad[e as usize][3]);
+        let rows = t.map(|x| {
+            let (d, eta) = self.diff(x, e);
+            let (wx, rx) = (self.mid[x as usize][3], self.rad[x as usize][3]);
+            let sq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            let wz = wx - we;
+            let moved: f64 = (0..3).map(|k| (2.0 * d[k].abs() + eta[k]) * eta[k]).sum();
+            let mag = sq + wz.abs();
+            let eta_z = moved + rx + re + 4.0 * f64::EPSILON * (sq + wx.abs() + we.abs());
+            (
+                [d[0], d[1], d[2], sq - wz],
+                [d[0].abs(), d[1].abs(), d[2].abs(), mag],
+                [
+                    d[0].abs() + eta[0],
+                    d[1].abs() + eta[1],
+                    d[2].abs() + eta[2],
+                    mag + eta_z,
+                ],
+            )
+        });
+        let (det, p0) = det4_f64(rows.map(|r| r.0), rows.map(|r| r.1));
+        let p1 = per4_f64(rows.map(|r| r.2));
+        decide(det, p0, p1, 128.0).map(Ordering::reverse)
     }
 
     /// The same orientation in integers.
@@ -113,6 +206,9 @@ impl<'a> Weighted3<'a> {
     /// `backend::points::F64Points3::power` on doubles); Equal when the
     /// five lie on one orthosphere.
     pub fn power_iv(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
+        if let Some(s) = self.power_f64(t, e) {
+            return Some(s);
+        }
         let ie = self.iv[e as usize];
         let rows = t.map(|x| {
             let ix = self.iv[x as usize];
@@ -297,5 +393,50 @@ mod tests {
         assert!((0..3).all(|k| iv[k].lo <= 0.5 && 0.5 <= iv[k].hi));
         assert_eq!(s.apart(0, 1), [true, true]);
         assert_eq!(s.apart(4, 5), [false, true]);
+    }
+
+    #[test]
+    fn the_double_filter_agrees_with_integers_near_ties() {
+        // grid points (many ties) moved by rationals of 2^-40 to 2^-64,
+        // often below the doubles' resolution: the filter must allow for
+        // the rounding, and decide only what the integers confirm
+        let mut u = crate::geom::uniform(5);
+        let mut tiny = |k: i32| {
+            let m = (u() * 2000.0) as i64 - 1000;
+            Q::from(m) / Q::from(3) * q(2f64.powi(-k))
+        };
+        let mut u2 = crate::geom::uniform(6);
+        let mut grid = |n: f64| (u2() * n).floor();
+        let (mut p, mut w) = (vec![], vec![]);
+        for i in 0..40 {
+            let k = 40 + (i % 25);
+            let base = [grid(3.0), grid(3.0), grid(3.0)];
+            p.push(base.map(|b| q(b) + tiny(k)));
+            w.push(match i % 3 {
+                0 => Q::from(0),
+                1 => q(grid(4.0) / 4.0),
+                _ => q(grid(4.0) / 4.0) + tiny(k),
+            });
+        }
+        let s = Weighted3::new(&p, &w);
+        let mut pick = crate::geom::uniform(7);
+        let mut next = || (pick() * 40.0) as u32;
+        let (mut orients, mut powers) = (0, 0);
+        for _ in 0..6000 {
+            let t = [next(), next(), next(), next()];
+            if let Some(o) = s.orient_f64(t) {
+                assert_eq!(o, s.orient_exact(t), "{t:?}");
+                orients += 1;
+            }
+            if s.orient_exact(t) != Ordering::Greater {
+                continue;
+            }
+            let e = next();
+            if let Some(o) = s.power_f64(t, e) {
+                assert_eq!(o, s.power_exact(t, e), "{t:?} {e}");
+                powers += 1;
+            }
+        }
+        assert!(orients > 1000 && powers > 300, "{orients} {powers}");
     }
 }
