@@ -208,7 +208,7 @@ impl Attempt {
             }
         }
         lap("sites");
-        let mut d = Diagram3::build(backend, &cx, &s)?;
+        let mut d = Diagram3::build(backend, &cx, &s, false)?;
         let mut exact = d.rebuilt as usize;
         let mut rounds = 0;
         while rounds < RELOCATION_ROUNDS {
@@ -227,7 +227,7 @@ impl Attempt {
             }
             s.remirror();
             rounds += 1;
-            d = Diagram3::build(backend, &cx, &s)?;
+            d = Diagram3::build(backend, &cx, &s, d.engine)?;
             exact += d.rebuilt as usize;
         }
         let outside = (0..s.p.len())

@@ -33,6 +33,8 @@ pub(super) struct Regular3 {
     /// Whether the backend's triangulation of the rounded sites failed the
     /// check and was rebuilt from the exact sites.
     pub rebuilt: bool,
+    /// Whether the crate's engine triangulated the exact sites.
+    pub engine: bool,
 }
 
 /// The power vertices of a regular triangulation.
@@ -68,19 +70,26 @@ pub(super) fn regular3<B: Backend + ?Sized>(
     cx: &Complex3,
     s: &Sites3,
     k: &Weighted3,
+    engine_first: bool,
 ) -> Result<Regular3> {
-    let approx = s.approx();
-    let p: Vec<[f64; 3]> = approx.iter().map(|a| [a[0], a[1], a[2]]).collect();
-    let w: Vec<f64> = approx.iter().map(|a| a[3]).collect();
-    let mut fast = backend.regular3(&p, &w)?;
     let tests = Tests::new(cx, s, k);
-    let mut checked = check(&tests, &fast);
+    let (mut fast, mut checked) = if engine_first {
+        (Tetrahedralisation::default(), Err("not tried".into()))
+    } else {
+        let approx = s.approx();
+        let p: Vec<[f64; 3]> = approx.iter().map(|a| [a[0], a[1], a[2]]).collect();
+        let w: Vec<f64> = approx.iter().map(|a| a[3]).collect();
+        let fast = backend.regular3(&p, &w)?;
+        let checked = check(&tests, &fast);
+        (fast, checked)
+    };
     if checked.is_err() && !fast.tets.is_empty() {
         let limit = fast.tets.len() / 8 + 64;
         if fast.flip_to_regular3(&tests, limit) {
             checked = check(&tests, &fast);
         }
     }
+    let mut engine = false;
     if checked.is_err() {
         // the Rust engine on the exact sites; ties it breaks by hiding a
         // site are left to the backend (CGAL keeps such sites)
@@ -88,6 +97,7 @@ pub(super) fn regular3<B: Backend + ?Sized>(
             if exact.hidden.iter().all(|&x| s.is_mirror(x as usize)) {
                 checked = check(&tests, &exact);
                 fast = exact;
+                engine = true;
             }
         }
     }
@@ -106,6 +116,7 @@ pub(super) fn regular3<B: Backend + ?Sized>(
                         rough: vec![],
                     },
                     rebuilt: true,
+                    engine,
                 });
             }
             let ties = check(&tests, &rt).map_err(|why| {
@@ -117,7 +128,12 @@ pub(super) fn regular3<B: Backend + ?Sized>(
         }
     };
     let pv = power_vertices(cx, &tests, &rt, &ties);
-    Ok(Regular3 { rt, pv, rebuilt })
+    Ok(Regular3 {
+        rt,
+        pv,
+        rebuilt,
+        engine,
+    })
 }
 
 /// The exact tests on the sites. Sites with power w_v at the same point

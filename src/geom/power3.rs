@@ -195,6 +195,10 @@ impl<'a> Weighted3<'a> {
     pub fn orient_exact(&self, t: [u32; 4]) -> Ordering {
         let [a, b, c, d] = t.map(|x| x as usize);
         self.exact();
+        // four points on one plane x, y or z = const (the usual tie)
+        if (0..3).any(|k| [b, c, d].iter().all(|&x| self.p[x][k] == self.p[a][k])) {
+            return Ordering::Equal;
+        }
         // det[b - a; c - a; d - a] = -det[(p, 1) rows]
         let m = [a, b, c, d].map(|x| self.rows(x).0.to_vec());
         bareiss(m.to_vec()).reverse()
