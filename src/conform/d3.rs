@@ -78,9 +78,9 @@ pub fn conform3<B: Backend + ?Sized>(
     clock.lap("split facets");
     let Attempt {
         cx: split,
-        wt,
+        mut wt,
         s,
-        d,
+        mut d,
         rounds,
         exact,
         ..
@@ -98,6 +98,9 @@ pub fn conform3<B: Backend + ?Sized>(
     if outside > 0 && !opts.allow_sites_outside {
         return Err(sites_outside(cx, &wt, &s, &d));
     }
+    // what the mesh does not need goes first (peak memory: the field
+    // 16 x 16 x 4 peaked here, 251 MiB, now 231 in relocation)
+    (d.rt, d.faces, d.vertex_of, wt.rt) = Default::default();
     let mesh = mesh(&d, &s, &wt);
     certificate.orthogonality_defect = mesh.orthogonality_defect();
     clock.lap("mesh");
@@ -227,7 +230,11 @@ impl Attempt {
             }
             s.remirror();
             rounds += 1;
-            d = Diagram3::build(backend, &cx, &s, d.engine)?;
+            // the old diagram goes before the new one is built (peak memory)
+            drop(neighbours);
+            let engine = d.engine;
+            drop(std::mem::take(&mut d));
+            d = Diagram3::build(backend, &cx, &s, engine)?;
             exact += d.rebuilt as usize;
         }
         let outside = (0..s.p.len())

@@ -20,7 +20,7 @@ use std::collections::{HashMap, HashSet};
 pub type Cell = Vec<(Vec<u32>, u32)>;
 
 /// Power diagram of the sites.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Diagram3 {
     /// Regular triangulation of the sites (exact).
     pub rt: Tetrahedralisation,
