@@ -278,7 +278,7 @@ pub fn stacked_boxes(k: usize) -> crate::complex::Complex3 {
 /// edge's midpoint), shared with the neighbour; each well side is a
 /// rectangle per layer. At each level a cell's top is an octagon (the
 /// well's section) and the ring between it and the cell's square. The
-/// midpoints make the ring's 16 triangles acute (largest angle 78 degrees),
+/// midpoints make the ring's 16 triangles acute (largest angle 82 degrees),
 /// so every face is Delaunay with its centre inside: zero weights serve.
 pub fn field3(n: usize, layers: usize) -> crate::complex::Complex3 {
     use crate::complex::Facet;
