@@ -317,21 +317,11 @@ pub fn det4<T: Filter>(r: [[T; 4]; 4]) -> T {
 pub(crate) fn det4_f64(r: [[f64; 4]; 4], m: [[f64; 4]; 4]) -> (f64, f64) {
     let three =
         |x: &[[f64; 4]; 4], skip: usize| OTHER_ROWS[skip].map(|i| [x[i][0], x[i][1], x[i][2]]);
-    let det3 = |a: [[f64; 3]; 3]| {
-        a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
-            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
-    };
-    let per3 = |a: [[f64; 3]; 3]| {
-        a[0][0] * (a[1][1] * a[2][2] + a[1][2] * a[2][1])
-            + a[0][1] * (a[1][0] * a[2][2] + a[1][2] * a[2][0])
-            + a[0][2] * (a[1][0] * a[2][1] + a[1][1] * a[2][0])
-    };
+    let det3 = |a: [[f64; 3]; 3]| super::det3_f(a[0], a[1], a[2]);
     let det =
         r[1][3] * det3(three(&r, 1)) - r[0][3] * det3(three(&r, 0)) - r[2][3] * det3(three(&r, 2))
             + r[3][3] * det3(three(&r, 3));
-    let perm = (0..4).map(|i| m[i][3] * per3(three(&m, i))).sum();
-    (det, perm)
+    (det, per4_f64(m))
 }
 
 /// The permanent of a 3x3 matrix of magnitudes, in doubles.

@@ -4,7 +4,7 @@
 //! filter), then in outward-rounded intervals around the rationals, and in
 //! integers only where the interval holds 0.
 
-use super::{det3, det3_q, det4, det4_f64, f, norm2, per3_f64, per4_f64, sub, Iv, Q};
+use super::{det3, det3_f, det3_q, det4, det4_f64, f, norm2, per3_f64, per4_f64, sub, Iv, Q};
 use malachite_base::num::arithmetic::traits::{DivExact, Lcm, Sign};
 use malachite_nz::integer::Integer;
 use malachite_nz::natural::Natural;
@@ -153,10 +153,7 @@ impl<'a> Weighted3<'a> {
     /// permanent, is generous.
     fn orient_f64(&self, t: [u32; 4]) -> Option<Ordering> {
         let rows = [t[1], t[2], t[3]].map(|x| self.diff(x, t[0]));
-        let a = rows.map(|r| r.0);
-        let det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
-            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+        let det = det3_f(rows[0].0, rows[1].0, rows[2].0);
         let p0 = per3_f64(rows.map(|r| r.0.map(f64::abs)));
         let p1 = per3_f64(rows.map(|(d, e)| std::array::from_fn(|k| d[k].abs() + e[k])));
         decide(det, p0, p1, 64.0)

@@ -98,7 +98,7 @@ pub fn solve<B: Backend + ?Sized>(
     }
     let mut out = Err(Error::Internal("the 3D weights made no attempt".into()));
     for &way in keep.ways() {
-        out = solve_kept(backend, cx, sc, &dt, way);
+        out = solve_kept(backend, cx, sc, &dt, &all, way);
         if !no_solution(&out) {
             break;
         }
@@ -116,12 +116,12 @@ fn solve_kept<B: Backend + ?Sized>(
     cx: &Complex3,
     sc: &Simplices3,
     dt: &Tetrahedralisation,
+    all: &[bool],
     way: Keep,
 ) -> Result<Weights3> {
-    let all = kept_whole(cx);
-    let mut out = global(backend, cx, dt, faces(cx, sc, &all), way);
-    let mut whole = all.clone();
-    for retry in [untouched(cx, sc, &all), vec![false; all.len()]] {
+    let mut out = global(backend, cx, dt, faces(cx, sc, all), way);
+    let mut whole = all.to_vec();
+    for retry in [untouched(cx, sc, all), vec![false; all.len()]] {
         if !matches!(
             out,
             Err(Error::NoRegularConstrainedTetrahedralisation { .. })

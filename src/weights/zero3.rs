@@ -37,8 +37,10 @@ pub(super) fn zero(
         return None;
     }
     let whole = faces.iter().filter(|f| f.vertices.len() > 3).count();
-    let mut report = WeightsReport::started("zero");
-    report.deadline = None;
+    let report = WeightsReport {
+        method: "zero".into(),
+        ..Default::default()
+    };
     Some(finish(
         w,
         dt.clone(),
