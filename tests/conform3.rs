@@ -356,6 +356,10 @@ fn generated_field3_round_trips_and_certifies() {
         assert!(c.conforms(), "{c:?}");
         assert_eq!(r.weights.method, "zero");
         assert_eq!(c.sites_inside, c.domain_sites);
+        // moving the sites others beat before the first diagram spares
+        // every relocation round (each a whole site diagram)
+        assert!(r.sites.settle_moves > 0);
+        assert_eq!(r.sites.relocation_rounds, 0);
         // 3 levels of 16 ring triangles and an octagon, 2 layers of 8
         // half walls and 8 well sides
         assert_eq!(r.input.whole_polygons, 3 + 2 * 16);

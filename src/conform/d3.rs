@@ -22,6 +22,10 @@ const STAGES: usize = 7;
 /// Rounds of relocation (each builds the exact site diagram once).
 const RELOCATION_ROUNDS: usize = 24;
 
+/// Rounds of moving sites that others beat, before the first diagram
+/// (`Sites3::settle`: cheap, in doubles).
+const SETTLE_ROUNDS: usize = 8;
+
 /// Steiner points `split_facets` may add in all.
 const MAX_STEINER: usize = 10_000;
 
@@ -81,6 +85,7 @@ pub fn conform3<B: Backend + ?Sized>(
         mut wt,
         s,
         mut d,
+        settled,
         rounds,
         exact,
         ..
@@ -129,6 +134,7 @@ pub fn conform3<B: Backend + ?Sized>(
             placed: s.p.len(),
             extra_sites: (0..s.p.len()).filter(|&x| !s.is_mirror(x)).count()
                 - 2 * s.of_face.iter().flatten().count(),
+            settle_moves: settled,
             relocation_rounds: rounds,
             exact_triangulations: exact,
             sites_outside: outside,
@@ -156,6 +162,8 @@ struct Attempt {
     wt: weights::Weights3,
     s: Sites3,
     d: Diagram3,
+    /// Moves before the first diagram (`Sites3::settle`).
+    settled: usize,
     /// Relocation rounds, and the domain's sites left outside their cells.
     rounds: usize,
     /// Site diagrams built from the exact sites (`Diagram3::rebuilt`).
@@ -210,6 +218,7 @@ impl Attempt {
                 )));
             }
         }
+        let settled = s.settle(&cx, &wt.w, SETTLE_ROUNDS);
         lap("sites");
         let mut d = Diagram3::build(backend, &cx, &s, false)?;
         let mut exact = d.rebuilt as usize;
@@ -247,6 +256,7 @@ impl Attempt {
             wt,
             s,
             d,
+            settled,
             rounds,
             exact,
             outside,

@@ -118,6 +118,9 @@ pub struct SitesReport3 {
     pub placed: usize,
     /// Sites beyond two per face (edges and vertices that need more).
     pub extra_sites: usize,
+    /// Moves of sites that others beat, made before the first diagram
+    /// (in doubles, `Sites3::settle`).
+    pub settle_moves: usize,
     /// Rounds of relocation.
     pub relocation_rounds: usize,
     /// Site diagrams (one per round, and one before) whose triangulation

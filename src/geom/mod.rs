@@ -4,6 +4,7 @@
 
 mod dyadic;
 mod exact;
+mod grid;
 mod measure;
 mod power3;
 mod running;
@@ -11,6 +12,7 @@ mod simplices;
 
 pub use dyadic::*;
 pub use exact::*;
+pub use grid::Grid;
 pub use measure::*;
 pub use power3::Weighted3;
 pub use running::*;

@@ -13,6 +13,7 @@ use crate::complex::Complex3;
 use crate::error::{Error, Result};
 use crate::geom::{along, cross, dot, f, is_pos, norm2, q, sub, Q};
 use crate::weights::{face_centre, fan, sorted3, Weights3};
+use crate::FastMap;
 use std::collections::{BTreeMap, HashMap};
 
 /// All sites, exactly.
@@ -550,6 +551,51 @@ impl Sites3 {
         self.move_to(x, cx, w, target)
     }
 
+    /// Moves the sites on lines that another site beats at their own
+    /// place (in doubles), as the first relocation round would, but
+    /// without a site diagram. Site y can beat site x only if |x - y|^2 <=
+    /// w_y - w_x, so x's candidates are the sites whose ball of radius
+    /// sqrt(w_y - min w) holds it (`Reach`). The diagram still decides
+    /// inside or outside exactly; this only spares it rounds. Stops after
+    /// `rounds` rounds, or when the balls would fill more than 64 grid
+    /// cells a site (weights of very different sizes). Returns how many
+    /// moves it made.
+    pub fn settle(&mut self, cx: &Complex3, w: &[Q], rounds: usize) -> usize {
+        let mut moves = 0;
+        for _ in 0..rounds {
+            let a = self.approx();
+            let Some(reach) = Reach::new(&a, 64 * a.len()) else {
+                break;
+            };
+            let beaten: Vec<(usize, Vec<u32>)> = (0..a.len())
+                .filter(|&x| self.line[x].is_some())
+                .filter_map(|x| {
+                    let by: Vec<u32> = reach
+                        .at(a[x])
+                        .filter(|&y| {
+                            let b = a[y as usize];
+                            let d2: f64 = (0..3).map(|k| (a[x][k] - b[k]).powi(2)).sum();
+                            y as usize != x && d2 - b[3] + a[x][3] <= 0.0
+                        })
+                        .collect();
+                    (!by.is_empty()).then_some((x, by))
+                })
+                .collect();
+            if beaten.is_empty() {
+                break;
+            }
+            let before = moves;
+            for (x, by) in beaten {
+                moves += usize::from(self.jump(x, cx, w, &by));
+            }
+            self.remirror();
+            if moves == before {
+                break;
+            }
+        }
+        moves
+    }
+
     /// Moves a site on a line to parameter `to` when that double lies
     /// strictly between the face and the site, else exactly halfway.
     fn move_to(&mut self, x: usize, cx: &Complex3, w: &[Q], to: f64) -> bool {
@@ -578,5 +624,97 @@ impl Sites3 {
             .zip(&self.w)
             .map(|(p, w)| [f(&p[0]), f(&p[1]), f(&p[2]), f(w)])
             .collect()
+    }
+}
+
+/// Weighted points' power balls (radius sqrt(w - min w)) bucketed in a
+/// uniform grid: the points whose ball may hold a given point.
+struct Reach {
+    lo: [f64; 3],
+    h: f64,
+    cells: FastMap<[i64; 3], Vec<u32>>,
+}
+
+impl Reach {
+    /// None when the balls would fill more than `budget` cells.
+    fn new(a: &[[f64; 4]], budget: usize) -> Option<Reach> {
+        let points: Vec<[f64; 3]> = a.iter().map(|x| [x[0], x[1], x[2]]).collect();
+        let (lo, hi) = crate::geom::bbox(&points);
+        let low = a.iter().map(|x| x[3]).fold(f64::INFINITY, f64::min);
+        let radius: Vec<f64> = a
+            .iter()
+            .map(|x| (x[3] - low).sqrt() * (1.0 + 1e-9))
+            .collect();
+        let extent = (0..3).fold(0.0f64, |m, k| m.max(hi[k] - lo[k]));
+        let mut sorted = radius.clone();
+        sorted.sort_unstable_by(f64::total_cmp);
+        let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0.0);
+        let h = (extent / (a.len() as f64).cbrt())
+            .max(median)
+            .max(f64::MIN_POSITIVE);
+        let mut reach = Reach {
+            lo,
+            h,
+            cells: FastMap::default(),
+        };
+        let mut filled = 0usize;
+        for (y, (p, r)) in points.iter().zip(&radius).enumerate() {
+            let (u, v) = (reach.key(p.map(|c| c - r)), reach.key(p.map(|c| c + r)));
+            filled += (0..3)
+                .map(|k| (v[k] - u[k] + 1) as usize)
+                .product::<usize>();
+            if !r.is_finite() || filled > budget {
+                return None;
+            }
+            for i in u[0]..=v[0] {
+                for j in u[1]..=v[1] {
+                    for k in u[2]..=v[2] {
+                        reach.cells.entry([i, j, k]).or_default().push(y as u32);
+                    }
+                }
+            }
+        }
+        Some(reach)
+    }
+
+    fn key(&self, p: [f64; 3]) -> [i64; 3] {
+        std::array::from_fn(|k| ((p[k] - self.lo[k]) / self.h).floor() as i64)
+    }
+
+    /// The points whose ball may hold p.
+    fn at(&self, p: [f64; 4]) -> impl Iterator<Item = u32> + '_ {
+        self.cells
+            .get(&self.key([p[0], p[1], p[2]]))
+            .into_iter()
+            .flatten()
+            .copied()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reach_offers_every_site_whose_ball_holds_the_point() {
+        let mut r = crate::geom::uniform(7);
+        let a: Vec<[f64; 4]> = (0..400)
+            .map(|_| [r() * 10.0, r() * 10.0, r() * 3.0, r() * r() * 4.0])
+            .collect();
+        let reach = Reach::new(&a, 64 * a.len()).expect("within budget");
+        let low = a.iter().map(|x| x[3]).fold(f64::INFINITY, f64::min);
+        for x in &a {
+            let offered: Vec<u32> = reach.at(*x).collect();
+            for (y, b) in a.iter().enumerate() {
+                let d2: f64 = (0..3).map(|k| (x[k] - b[k]).powi(2)).sum();
+                if d2 <= b[3] - low {
+                    assert!(offered.contains(&(y as u32)), "{x:?} misses {b:?}");
+                }
+            }
+        }
+        // one huge ball over many small ones: over budget
+        let mut big = a.clone();
+        big[0][3] = 1e6;
+        assert!(Reach::new(&big, 64 * big.len()).is_none());
     }
 }
