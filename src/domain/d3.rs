@@ -83,7 +83,9 @@ impl Complex3 {
     }
 
     /// Pairs of facets (ids from 1) with simplices that meet other than in
-    /// a common face: a sweep along x over bounding boxes, then exact tests.
+    /// a common face: a sweep over bounding boxes, then exact tests. The
+    /// sweep runs along the axis where the boxes are shortest against the
+    /// whole (a stack of boxes: along the stack), so few are active at once.
     fn crossing_facets(&self, sc: &Simplices3) -> Vec<(i64, i64)> {
         let mut items: Vec<(Vec<u32>, u32)> = vec![];
         items.extend(
@@ -110,15 +112,28 @@ impl Complex3 {
             [lo, hi]
         };
         let boxes: Vec<[[f64; 3]; 2]> = items.iter().map(|(vs, _)| bbox(vs)).collect();
+        let (lo, hi) = crate::geom::bbox(&self.points);
+        let a = (0..3)
+            .min_by(|&k, &l| {
+                let share = |k: usize| {
+                    let span = (hi[k] - lo[k]).max(f64::MIN_POSITIVE);
+                    boxes
+                        .iter()
+                        .map(|b| (b[1][k] - b[0][k]) / span)
+                        .sum::<f64>()
+                };
+                share(k).total_cmp(&share(l))
+            })
+            .unwrap_or(0);
         let mut order: Vec<usize> = (0..items.len()).collect();
-        order.sort_unstable_by(|&i, &j| boxes[i][0][0].total_cmp(&boxes[j][0][0]));
+        order.sort_unstable_by(|&i, &j| boxes[i][0][a].total_cmp(&boxes[j][0][a]));
         let mut active: Vec<usize> = vec![];
         let mut pairs = std::collections::BTreeSet::new();
         for &i in &order {
-            active.retain(|&j| boxes[j][1][0] >= boxes[i][0][0]);
+            active.retain(|&j| boxes[j][1][a] >= boxes[i][0][a]);
             for &j in &active {
                 let (fi, fj) = (items[i].1, items[j].1);
-                let overlap = (1..3)
+                let overlap = (0..3)
                     .all(|k| boxes[i][0][k] <= boxes[j][1][k] && boxes[j][0][k] <= boxes[i][1][k]);
                 if fi != fj && overlap && Simplices(&self.points).improper(&items[i].0, &items[j].0)
                 {

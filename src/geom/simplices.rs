@@ -25,7 +25,13 @@ impl Simplices<'_> {
     }
 
     fn o3(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
-        orient3(self.p(a), self.p(b), self.p(c), self.p(d))
+        let p = [a, b, c, d].map(|v| self.p(v));
+        // four points on one plane x, y or z = const: the usual tie between
+        // neighbouring facets, which the adaptive test is slowest on
+        if (0..3).any(|k| p[1..].iter().all(|x| x[k] == p[0][k])) {
+            return Ordering::Equal;
+        }
+        orient3(p[0], p[1], p[2], p[3])
     }
 
     fn coplanar(&self, a: u32, b: u32, c: u32, d: u32) -> bool {
@@ -166,6 +172,18 @@ impl Simplices<'_> {
             return false; // one is a face of the other
         }
         let g = self;
+        // The vertices not shared strictly on one side of the other
+        // triangle's plane: the simplices meet in the shared face only.
+        let off = |a: &[u32], t: &[u32]| {
+            let [x, y, z] = t[..] else {
+                return false;
+            };
+            let first = g.o3(x, y, z, a[0]);
+            first != Ordering::Equal && a[1..].iter().all(|&v| g.o3(x, y, z, v) == first)
+        };
+        if off(&s1, t) || off(&t1, s) {
+            return false;
+        }
         match shared.len() {
             0 => g.meet(s, t),
             1 => {
@@ -207,4 +225,48 @@ pub fn plane_axis(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<usize> {
 /// A point with coordinate `axis` dropped (the others in cyclic order).
 pub fn drop_axis(axis: usize, x: [f64; 3]) -> [f64; 2] {
     [x[(axis + 1) % 3], x[(axis + 2) % 3]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn improper_meetings_of_triangles() {
+        let p: Vec<[f64; 3]> = vec![
+            [0.0, 0.0, 0.0],   // 0: a corner of the base triangle in z = 0
+            [4.0, 0.0, 0.0],   // 1
+            [0.0, 4.0, 0.0],   // 2
+            [1.0, 1.0, 2.0],   // 3: above the base
+            [2.0, 1.0, 3.0],   // 4: above the base
+            [1.0, 1.0, -2.0],  // 5: below the base
+            [1.0, 2.0, 0.0],   // 6: inside the base, in its plane
+            [-1.0, -1.0, 0.0], // 7: outside the base, in its plane
+            [0.0, -4.0, 0.0],  // 8: beyond edge 0-1, in the plane
+            [5.0, 5.0, 5.0],   // 9: far above
+            [6.0, 5.0, 5.0],   // 10
+            [5.0, 6.0, 5.0],   // 11
+        ];
+        let s = Simplices(&p);
+        let base = [0, 1, 2];
+        // one shared vertex, the rest strictly on one side: only the vertex
+        assert!(!s.improper(&base, &[0, 3, 4]));
+        // one shared vertex, piercing the base through its inside
+        assert!(s.improper(&base, &[0, 3, 5]));
+        // one shared vertex, lying in the base's plane over it
+        assert!(s.improper(&base, &[0, 6, 1]));
+        // one shared vertex, in the plane but outside it
+        assert!(!s.improper(&base, &[0, 7, 8]));
+        // no shared vertex: far apart, or piercing
+        assert!(!s.improper(&base, &[9, 10, 11]));
+        assert!(s.improper(&base, &[3, 5, 4]));
+        // a shared edge: folded onto the base in its plane, or bent away
+        assert!(s.improper(&base, &[0, 1, 6]));
+        assert!(!s.improper(&base, &[0, 1, 8]));
+        assert!(!s.improper(&base, &[0, 1, 3]));
+        // the answers do not depend on the order
+        for t in [[0, 3, 4], [0, 3, 5], [0, 6, 1], [3, 5, 4], [0, 1, 6]] {
+            assert_eq!(s.improper(&base, &t), s.improper(&t, &base));
+        }
+    }
 }
