@@ -73,7 +73,7 @@ pub(super) fn regular3<B: Backend + ?Sized>(
     engine_first: bool,
 ) -> Result<Regular3> {
     let tests = Tests::new(cx, s, k);
-    let (mut fast, mut checked) = if engine_first {
+    let (mut fast, mut checked) = if engine_first || rounding_breaks_planes(cx, s) {
         (Tetrahedralisation::default(), Err("not tried".into()))
     } else {
         let approx = s.approx();
@@ -134,6 +134,35 @@ pub(super) fn regular3<B: Backend + ?Sized>(
         rebuilt,
         engine,
     })
+}
+
+/// Whether rounding the sites to doubles moves some of them off a plane
+/// that four or more lie on exactly: the radical plane of two input
+/// vertices they all serve, when it is not an axis plane (there every
+/// site's coordinate along the axis is the same rational, so it rounds
+/// the same) and some site on it is not a double. The backend's
+/// triangulation of the rounded sites then has flat tetrahedra that fail
+/// the check (every field3 and TetGen run measured), and building it is
+/// wasted, so the engine goes first. Sites serving more than 16 vertices
+/// (large whole polygons) are not counted: the answer may then be a
+/// wrong guess, which costs time, never exactness.
+fn rounding_breaks_planes(cx: &Complex3, s: &Sites3) -> bool {
+    let double = |x: usize| s.p[x].iter().all(|c| q(crate::geom::f(c)) == *c);
+    let mut planes: crate::FastMap<[u32; 2], (u32, bool)> = Default::default();
+    for (x, sv) in s.serves.iter().enumerate().filter(|(_, v)| v.len() <= 16) {
+        let off = !double(x);
+        for (i, &a) in sv.iter().enumerate() {
+            for &b in &sv[i + 1..] {
+                let (pa, pb) = (cx.points[a as usize], cx.points[b as usize]);
+                if (0..3).filter(|&k| pa[k] != pb[k]).count() > 1 {
+                    let e = planes.entry([a, b]).or_default();
+                    e.0 += 1;
+                    e.1 |= off;
+                }
+            }
+        }
+    }
+    planes.values().any(|&(n, off)| n >= 4 && off)
 }
 
 /// The exact tests on the sites. Sites with power w_v at the same point
