@@ -247,20 +247,27 @@ impl Predicates3 for Tests<'_> {
     fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Ordering {
         // four sites with power w_v at two points lie on a plane (normal
         // to the segment joining the points)
+        // (ties seen without arithmetic before the intervals: most that
+        // the doubles leave are such, and intervals cannot decide them)
         let t = [a, b, c, d];
-        self.k
-            .orient_iv(t)
-            .unwrap_or_else(|| match self.witnesses(&t) {
-                2 => Ordering::Equal,
-                _ => self.k.orient_exact(t),
-            })
+        self.k.orient_f64(t).unwrap_or_else(|| {
+            if self.k.axis_flat(t) || self.witnesses(&t) == 2 {
+                return Ordering::Equal;
+            }
+            self.k
+                .orient_interval(t)
+                .unwrap_or_else(|| self.k.orient_exact(t))
+        })
     }
     fn power(&self, t: [u32; 4], e: u32) -> Ordering {
         let five = [t[0], t[1], t[2], t[3], e];
         self.k
-            .power_iv(t, e)
+            .power_f64(t, e)
             .unwrap_or_else(|| match self.witnesses(&five) {
-                0 => self.k.power_exact(t, e),
+                0 => self
+                    .k
+                    .power_interval(t, e)
+                    .unwrap_or_else(|| self.k.power_exact(t, e)),
                 _ => Ordering::Equal,
             })
     }

@@ -129,9 +129,11 @@ impl<'a> Weighted3<'a> {
     /// counter-clockwise, the sign of det[b - a; c - a; d - a] (as
     /// `orient3` on doubles).
     pub fn orient_iv(&self, t: [u32; 4]) -> Option<Ordering> {
-        if let Some(s) = self.orient_f64(t) {
-            return Some(s);
-        }
+        self.orient_f64(t).or_else(|| self.orient_interval(t))
+    }
+
+    /// `orient_iv`'s second step alone: in intervals around the rationals.
+    pub fn orient_interval(&self, t: [u32; 4]) -> Option<Ordering> {
         let [a, b, c, d] = t.map(|x| x as usize);
         let v = |x: usize| [0, 1, 2].map(|k| self.iv[x][k] - self.iv[a][k]);
         det3([v(b), v(c), v(d)]).sign()
@@ -151,7 +153,7 @@ impl<'a> Weighted3<'a> {
     /// its entries move by at most eta is at most perm(|a| + eta) -
     /// perm(|a|) (expand both products); its rounding, 64 eps of the
     /// permanent, is generous.
-    fn orient_f64(&self, t: [u32; 4]) -> Option<Ordering> {
+    pub fn orient_f64(&self, t: [u32; 4]) -> Option<Ordering> {
         let rows = [t[1], t[2], t[3]].map(|x| self.diff(x, t[0]));
         let det = det3_f(rows[0].0, rows[1].0, rows[2].0);
         let p0 = per3_f64(rows.map(|r| r.0.map(f64::abs)));
@@ -162,7 +164,7 @@ impl<'a> Weighted3<'a> {
     /// The semi-static filter of `power_iv`, as `orient_f64`; the lifted
     /// entry |d|^2 - (w_x - w_e) moves by at most sum (2 |d_k| + eta_k)
     /// eta_k, the weights' rounding and its own (4 eps of its magnitude).
-    fn power_f64(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
+    pub fn power_f64(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
         let (we, re) = (self.mid[e as usize][3], self.rad[e as usize][3]);
         let rows = t.map(|x| {
             let (d, eta) = self.diff(x, e);
@@ -190,15 +192,35 @@ impl<'a> Weighted3<'a> {
 
     /// The same orientation in integers.
     pub fn orient_exact(&self, t: [u32; 4]) -> Ordering {
-        let [a, b, c, d] = t.map(|x| x as usize);
-        self.exact();
-        // four points on one plane x, y or z = const (the usual tie)
-        if (0..3).any(|k| [b, c, d].iter().all(|&x| self.p[x][k] == self.p[a][k])) {
+        if self.axis_flat(t) {
             return Ordering::Equal;
         }
+        self.exact();
         // det[b - a; c - a; d - a] = -det[(p, 1) rows]
-        let m = [a, b, c, d].map(|x| self.rows(x).0.to_vec());
+        let m = t.map(|x| self.rows(x as usize).0.to_vec());
         bareiss(m.to_vec()).reverse()
+    }
+
+    /// Whether four points are flat for a reason seen without arithmetic:
+    /// all on one plane x, y or z = const, or three on one line parallel
+    /// to an axis (the usual ties of boxes and prisms). The doubles are
+    /// compared first: equal rationals round alike.
+    pub fn axis_flat(&self, t: [u32; 4]) -> bool {
+        let same = |x: u32, y: u32, k: usize| {
+            let (x, y) = (x as usize, y as usize);
+            self.mid[x][k] == self.mid[y][k] && self.p[x][k] == self.p[y][k]
+        };
+        let [a, b, c, d] = t;
+        if (0..3).any(|k| [b, c, d].iter().all(|&x| same(a, x, k))) {
+            return true;
+        }
+        let on_line = |x: u32, y: u32, z: u32| {
+            (0..3).any(|k| {
+                let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+                [y, z].iter().all(|&v| same(x, v, i) && same(x, v, j))
+            })
+        };
+        on_line(a, b, c) || on_line(a, b, d) || on_line(a, c, d) || on_line(b, c, d)
     }
 
     /// In intervals, when they decide it: Greater when e conflicts with
@@ -207,9 +229,11 @@ impl<'a> Weighted3<'a> {
     /// `backend::points::F64Points3::power` on doubles); Equal when the
     /// five lie on one orthosphere.
     pub fn power_iv(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
-        if let Some(s) = self.power_f64(t, e) {
-            return Some(s);
-        }
+        self.power_f64(t, e).or_else(|| self.power_interval(t, e))
+    }
+
+    /// `power_iv`'s second step alone: in intervals around the rationals.
+    pub fn power_interval(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
         let ie = self.iv[e as usize];
         let rows = t.map(|x| {
             let ix = self.iv[x as usize];
@@ -375,6 +399,7 @@ mod tests {
             [1.0, 1.0, 1.0, 0.0],
             [1.0, 1.0, 1.0, 0.5],
             [0.2, 0.2, 0.2, 0.0],
+            [0.0, 0.0, 0.5, 0.0],
         ]);
         let s = Weighted3::new(&p, &w);
         let orient = |t: [u32; 4]| s.orient_iv(t).unwrap_or_else(|| s.orient_exact(t));
@@ -393,6 +418,12 @@ mod tests {
         let iv = s.orthocentre_iv(t);
         assert!((0..3).all(|k| iv[k].lo <= 0.5 && 0.5 <= iv[k].hi));
         assert_eq!(s.apart(0, 1), [true, true]);
+        // flat without arithmetic: three points on the line x = y = 0 ...
+        assert!(s.axis_flat([0, 3, 7, 6]));
+        // ... all four on the plane z = 0 (with a repeat), or neither
+        assert!(s.axis_flat([0, 1, 2, 0]));
+        assert!(!s.axis_flat(t));
+        assert!(!s.axis_flat([0, 1, 2, 6]));
         assert_eq!(s.apart(4, 5), [false, true]);
     }
 

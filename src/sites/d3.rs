@@ -11,9 +11,12 @@
 
 use crate::complex::Complex3;
 use crate::error::{Error, Result};
-use crate::geom::{along, cross, dot, f, is_pos, norm2, q, sub, Q};
+use crate::geom::{
+    along, cross, cross_f, det3, det3_f, dot, dot_f, f, is_pos, norm2, q, sub, Iv, Q,
+};
 use crate::weights::{face_centre, fan, sorted3, Weights3};
 use crate::FastMap;
+use std::cmp::Ordering;
 use std::collections::{BTreeMap, HashMap};
 
 /// All sites, exactly.
@@ -275,7 +278,7 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         };
         let link = links.get(e).cloned().unwrap_or_default();
         let mut candidates = link.iter().map(|&m| sorted3(&[e[0], e[1], m]));
-        while affine_rank(&s, &have(&s, &index)) < 2 {
+        while !spans(&s, &have(&s, &index), 2) {
             let Some(t) = candidates.next() else {
                 return Err(short(cx, "edge", e));
             };
@@ -306,7 +309,7 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         let mut candidates = around.get(&v).cloned().unwrap_or_default().into_iter();
         loop {
             let have = index.get(&v).cloned().unwrap_or_default();
-            if affine_rank(&s, &have) >= 3 {
+            if spans(&s, &have, 3) {
                 break;
             }
             let Some(t) = candidates.next() else {
@@ -341,6 +344,54 @@ fn by_vertex(s: &Sites3) -> HashMap<u32, Vec<u32>> {
         }
     }
     out
+}
+
+/// Whether these sites' affine hull has dimension at least r (2 or 3),
+/// exactly: r + 1 of them chosen in doubles (each farthest from the span
+/// of those before) and their cross product or volume proved nonzero in
+/// intervals, else the rank in rationals.
+fn spans(s: &Sites3, ids: &[u32], r: usize) -> bool {
+    if ids.len() <= r {
+        return false;
+    }
+    let m: Vec<[f64; 3]> = ids
+        .iter()
+        .map(|&x| s.p[x as usize].each_ref().map(f))
+        .collect();
+    let d: Vec<[f64; 3]> = m
+        .iter()
+        .map(|a| [0, 1, 2].map(|k| a[k] - m[0][k]))
+        .collect();
+    let widest = |size: &dyn Fn(usize) -> f64| {
+        (1..ids.len())
+            .max_by(|&a, &b| size(a).total_cmp(&size(b)))
+            .expect("more than r sites")
+    };
+    let b = widest(&|x| dot_f(d[x], d[x]));
+    let c = widest(&|x| {
+        let n = cross_f(d[b], d[x]);
+        dot_f(n, n)
+    });
+    let e = widest(&|x| det3_f(d[b], d[c], d[x]).abs());
+    let [b, c, e] = [b, c, e].map(|i| ids[i]);
+    let iv = |x: u32| {
+        let (p, o) = (&s.p[x as usize], &s.p[ids[0] as usize]);
+        [0, 1, 2].map(|k| Iv::of_q(&p[k]) - Iv::of_q(&o[k]))
+    };
+    let (vb, vc) = (iv(b), iv(c));
+    let proved = if r == 2 {
+        (0..3).any(|k| {
+            let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+            (vb[i] * vc[j] - vb[j] * vc[i])
+                .sign()
+                .is_some_and(|o| o != Ordering::Equal)
+        })
+    } else {
+        det3([vb, vc, iv(e)])
+            .sign()
+            .is_some_and(|o| o != Ordering::Equal)
+    };
+    proved || affine_rank(s, ids) >= r as i32
 }
 
 /// The dimension of the affine hull of these sites (-1 for none), exactly.
@@ -694,6 +745,34 @@ impl Reach {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn spans_agrees_with_the_exact_rank() {
+        // points on a line, a plane (tilted: rounding makes them look off
+        // it), and in space
+        let third = Q::from(1) / Q::from(3);
+        let on_line = |t: i64| [0, 1, 2].map(|k| Q::from(t * (k as i64 + 1)) * &third);
+        let on_plane = |u: i64, v: i64| {
+            let (u, v) = (Q::from(u) * &third, Q::from(v) / Q::from(7));
+            [u.clone(), v.clone(), -(u + v)]
+        };
+        let line: Vec<[Q; 3]> = (0..5).map(on_line).collect();
+        let plane: Vec<[Q; 3]> = (0..6).map(|i| on_plane(i % 3, i / 3 + i)).collect();
+        let mut space = plane.clone();
+        space.push([third.clone(), third.clone(), -Q::from(1) / Q::from(1000)]);
+        for (p, rank) in [(line, 1), (plane, 2), (space, 3)] {
+            let s = Sites3 {
+                p,
+                ..Default::default()
+            };
+            let ids: Vec<u32> = (0..s.p.len() as u32).collect();
+            assert_eq!(affine_rank(&s, &ids), rank);
+            for r in [2, 3] {
+                assert_eq!(spans(&s, &ids, r), rank >= r as i32, "rank {rank}, r {r}");
+            }
+            assert!(!spans(&s, &ids[..2], 2));
+        }
+    }
 
     #[test]
     fn reach_offers_every_site_whose_ball_holds_the_point() {
