@@ -2,18 +2,14 @@
 //! triangles of double points, by index): whether they meet, and the
 //! coordinate plane a facet projects onto.
 
-use super::exact::{is_pos, orient, orient3, q, Q};
+use super::exact::{orient, orient3};
 use std::cmp::Ordering;
 
 /// Whether three double points lie on one line (exactly: the cross
-/// product of b - a and c - a in rationals is zero).
+/// product of b - a and c - a is zero, each of its coordinates an exact 2D
+/// orientation of the points projected along an axis).
 pub fn collinear(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> bool {
-    let d = |u: [f64; 3], k: usize| q(u[k]) - q(a[k]);
-    let (u, v) = ([0, 1, 2].map(|k| d(b, k)), [0, 1, 2].map(|k| d(c, k)));
-    (0..3).all(|k| {
-        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-        &u[i] * &v[j] == &u[j] * &v[i]
-    })
+    (0..3).all(|k| orient(drop_axis(k, a), drop_axis(k, b), drop_axis(k, c)) == Ordering::Equal)
 }
 
 /// Exact predicates on simplices of double points, by index.
@@ -125,8 +121,13 @@ impl Simplices<'_> {
     /// Whether the segment from v (a vertex of t) to a has points other
     /// than v in the closed simplex t.
     fn beyond_vertex(&self, v: u32, a: u32, t: &[u32]) -> bool {
-        let others: Vec<u32> = t.iter().copied().filter(|&x| x != v).collect();
-        match others[..] {
+        let mut others = [0u32; 2];
+        let mut n = 0;
+        for &x in t.iter().filter(|&&x| x != v).take(2) {
+            others[n] = x;
+            n += 1;
+        }
+        match others[..n] {
             // t a segment (v, b): overlap along one line, on b's side.
             [b] => collinear(self.p(v), self.p(b), self.p(a)) && self.same_direction(v, a, b),
             // t a triangle (v, b, c): a in its plane, within its cone at v.
@@ -146,13 +147,14 @@ impl Simplices<'_> {
         }
     }
 
-    /// For collinear v, a, b: whether a and b lie on the same side of v.
+    /// For collinear v, a, b (a not v): whether a and b lie on the same
+    /// side of v, read off an axis along which a and v differ (comparing
+    /// doubles is exact).
     fn same_direction(&self, v: u32, a: u32, b: u32) -> bool {
         let (v, a, b) = (self.p(v), self.p(a), self.p(b));
-        let d = (0..3)
-            .map(|k| (q(a[k]) - q(v[k])) * (q(b[k]) - q(v[k])))
-            .fold(Q::from(0), |s, x| s + x);
-        is_pos(&d)
+        (0..3)
+            .find(|&k| a[k] != v[k])
+            .is_some_and(|k| (a[k] > v[k]) == (b[k] > v[k]) && b[k] != v[k])
     }
 
     /// For a, b coplanar with the line vw: whether they lie on one side of it.
@@ -164,10 +166,20 @@ impl Simplices<'_> {
     /// Whether two simplices (1 to 3 vertices) meet in more than the face
     /// their shared vertices span (exactly).
     pub fn improper(&self, s: &[u32], t: &[u32]) -> bool {
-        let shared: Vec<u32> = s.iter().copied().filter(|v| t.contains(v)).collect();
-        let rest =
-            |x: &[u32]| -> Vec<u32> { x.iter().copied().filter(|v| !shared.contains(v)).collect() };
-        let (s1, t1) = (rest(s), rest(t));
+        // (fixed arrays: this runs for every nearby pair of facet simplices)
+        let pick = |x: &[u32], keep: &dyn Fn(u32) -> bool| {
+            let mut out = ([0u32; 3], 0);
+            for &v in x.iter().filter(|&&v| keep(v)) {
+                out.0[out.1] = v;
+                out.1 += 1;
+            }
+            out
+        };
+        let (sh, n) = pick(s, &|v| t.contains(&v));
+        let shared = &sh[..n];
+        let (s1, ns) = pick(s, &|v| !shared.contains(&v));
+        let (t1, nt) = pick(t, &|v| !shared.contains(&v));
+        let (s1, t1) = (&s1[..ns], &t1[..nt]);
         if s1.is_empty() || t1.is_empty() {
             return false; // one is a face of the other
         }
@@ -181,7 +193,7 @@ impl Simplices<'_> {
             let first = g.o3(x, y, z, a[0]);
             first != Ordering::Equal && a[1..].iter().all(|&v| g.o3(x, y, z, v) == first)
         };
-        if off(&s1, t) || off(&t1, s) {
+        if off(s1, t) || off(t1, s) {
             return false;
         }
         match shared.len() {
@@ -191,8 +203,8 @@ impl Simplices<'_> {
                 // The faces away from v, then the edges from v (a point of
                 // such an edge other than v lies in the other simplex only
                 // in its plane, inside its cone at v).
-                g.meet(&s1, t)
-                    || g.meet(&t1, s)
+                g.meet(s1, t)
+                    || g.meet(t1, s)
                     || s1.iter().any(|&a| g.beyond_vertex(v, a, t))
                     || t1.iter().any(|&a| g.beyond_vertex(v, a, s))
             }
@@ -246,6 +258,8 @@ mod tests {
             [5.0, 5.0, 5.0],   // 9: far above
             [6.0, 5.0, 5.0],   // 10
             [5.0, 6.0, 5.0],   // 11
+            [8.0, 0.0, 0.0],   // 12: on the line of edge 0-1, beyond 1
+            [-3.0, 0.0, 0.0],  // 13: on that line, behind 0
         ];
         let s = Simplices(&p);
         let base = [0, 1, 2];
@@ -264,6 +278,13 @@ mod tests {
         assert!(s.improper(&base, &[0, 1, 6]));
         assert!(!s.improper(&base, &[0, 1, 8]));
         assert!(!s.improper(&base, &[0, 1, 3]));
+        // segments from a shared vertex along one line: overlapping when
+        // they leave it on the same side
+        assert!(s.improper(&[0, 1], &[0, 12]));
+        assert!(!s.improper(&[0, 1], &[0, 13]));
+        assert!(s.improper(&base, &[0, 12]));
+        assert!(!s.improper(&base, &[0, 13]));
+        assert!(collinear(p[13], p[0], p[12]) && !collinear(p[0], p[1], p[6]));
         // the answers do not depend on the order
         for t in [[0, 3, 4], [0, 3, 5], [0, 6, 1], [3, 5, 4], [0, 1, 6]] {
             assert_eq!(s.improper(&base, &t), s.improper(&t, &base));
