@@ -711,9 +711,12 @@ impl Reach {
         let mut filled = 0usize;
         for (y, (p, r)) in points.iter().zip(&radius).enumerate() {
             let (u, v) = (reach.key(p.map(|c| c - r)), reach.key(p.map(|c| c + r)));
-            filled += (0..3)
-                .map(|k| (v[k] - u[k] + 1) as usize)
-                .product::<usize>();
+            // (saturating: a huge ball among small ones is over budget, not
+            // an overflow)
+            let cells = (0..3).fold(1usize, |m, k| {
+                m.saturating_mul(v[k].saturating_sub(u[k]).saturating_add(1) as usize)
+            });
+            filled = filled.saturating_add(cells);
             if !r.is_finite() || filled > budget {
                 return None;
             }
@@ -794,6 +797,9 @@ mod tests {
         // one huge ball over many small ones: over budget
         let mut big = a.clone();
         big[0][3] = 1e6;
+        assert!(Reach::new(&big, 64 * big.len()).is_none());
+        // (cells beyond what a usize counts)
+        big[0][3] = 1e300;
         assert!(Reach::new(&big, 64 * big.len()).is_none());
     }
 }
