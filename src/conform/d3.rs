@@ -106,9 +106,12 @@ pub fn conform3<B: Backend + ?Sized>(
     // what the mesh does not need goes first (peak memory: the field
     // 16 x 16 x 4 peaked here, 251 MiB, now 231 in relocation)
     (d.rt, d.faces, d.vertex_of, wt.rt) = Default::default();
-    // (the sites' relocation lines too: seven rationals a site, 16 x 16 x
-    // 8: the peak went from 419 to 390 MiB)
-    s.line = Vec::new();
+    // (and the sites' rationals: the mesh reads their doubles; field3 16 x
+    // 16 x 8's peak went from 419 to 390 MiB without the relocation lines)
+    let placed = s.p.len();
+    let extra_sites =
+        (0..placed).filter(|&x| !s.is_mirror(x)).count() - 2 * s.of_face.iter().flatten().count();
+    (s.p, s.w, s.serves, s.line) = Default::default();
     let mesh = mesh(&d, &s, &wt);
     certificate.orthogonality_defect = mesh.orthogonality_defect();
     clock.lap("mesh");
@@ -134,9 +137,8 @@ pub fn conform3<B: Backend + ?Sized>(
                 .into_iter()
                 .filter(|&f| !clips.iter().any(|c| c.facet as i64 + 1 == f))
                 .collect(),
-            placed: s.p.len(),
-            extra_sites: (0..s.p.len()).filter(|&x| !s.is_mirror(x)).count()
-                - 2 * s.of_face.iter().flatten().count(),
+            placed,
+            extra_sites,
             settle_moves: settled,
             relocation_rounds: rounds,
             exact_triangulations: exact,
@@ -407,8 +409,8 @@ fn sites_outside(cx: &Complex3, wt: &weights::Weights3, s: &Sites3, d: &Diagram3
 /// The domain's cells as a mesh, with the faces between them.
 fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
     let approx = &d.approx;
-    let domain: Vec<usize> = (0..s.p.len()).filter(|&x| d.in_domain[x]).collect();
-    let mut cell_of = vec![usize::MAX; s.p.len()];
+    let domain: Vec<usize> = (0..d.in_domain.len()).filter(|&x| d.in_domain[x]).collect();
+    let mut cell_of = vec![usize::MAX; d.in_domain.len()];
     for (c, &x) in domain.iter().enumerate() {
         cell_of[x] = c;
     }
