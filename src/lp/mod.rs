@@ -228,7 +228,10 @@ fn settle(sys: &System, best: &Solution, report: &mut WeightsReport) -> Result<V
             }
         }
     }
-    let (m, _, mut lp) = margin(&rest, true, report)?;
+    // The elastic optimum's weights were free: so are these (a bound
+    // ladder would cost a solve per rung).
+    let mut lp = Lp::build(&rest, true, None, &Mode::Margin)?;
+    let m = lp.solve(&rest, report, f64::NEG_INFINITY)?.delta;
     if m <= TRUST {
         return Ok(best.w.clone());
     }
@@ -280,19 +283,19 @@ pub(crate) fn solve_rows(
             // Reweighted once (cost 1 / (violation + eps)): the total
             // violation is spread over fewer segments, so fewer miss their
             // duals and fewer sites end outside.
-            let costs = quick
+            let costs: HashMap<u32, f64> = quick
                 .slack
                 .iter()
                 .map(|(&s, &v)| (s, 1.0 / (v.max(0.0) + 1e-3)))
                 .collect();
-            let mut sparse_lp = Lp::build(sys, true, None, &elastic(costs))?;
-            let sparse = sparse_lp.solve(sys, report, f64::NEG_INFINITY)?;
+            lp.elastic_costs(&costs)?;
+            let sparse = lp.solve(sys, report, f64::NEG_INFINITY)?;
             let best = if sparse.delta >= ELASTIC_MARGIN {
                 sparse
             } else {
                 quick
             };
-            drop((lp, sparse_lp));
+            drop(lp);
             report.margin = Some(best.delta);
             report.bound_k = None;
             (settle(sys, &best, report)?, false)
