@@ -64,6 +64,9 @@ pub enum Error {
     NoRegularConstrainedTriangulation {
         /// The segments (ids) the LP could not make faces.
         segments: Vec<i64>,
+        /// Rows of the exact certificate (`lp::Proof`) that proves it;
+        /// None when only the LP's floating-point margin says so.
+        proof_rows: Option<usize>,
     },
     /// 3D system 1 infeasible: no regular triangulation contains the
     /// facets' triangles (facet ids) and the isolated points (vertex ids).
@@ -72,6 +75,9 @@ pub enum Error {
         facets: Vec<i64>,
         /// Vertex ids.
         vertices: Vec<i64>,
+        /// Rows of the exact certificate (`lp::Proof`) that proves it;
+        /// None when only the LP's floating-point margin says so.
+        proof_rows: Option<usize>,
     },
     /// System 3 infeasible: these segments cannot cross their dual edges, so
     /// some sites must lie outside their cells.
@@ -82,6 +88,9 @@ pub enum Error {
         segments: Vec<i64>,
         /// Why the LP gave no answer, if it did not.
         lp_error: Option<String>,
+        /// Segments (ids) that an exact certificate proves cannot all
+        /// cross their duals; empty when the verdict is the LP's alone.
+        proved: Vec<i64>,
     },
     /// Sites that could not be brought into their own cells; `crowding`:
     /// the segments whose sites they lie beyond (or their own).
@@ -122,6 +131,14 @@ pub enum Error {
     },
     /// Each way a build was tried (how, and why it failed).
     Tried(Vec<(String, Error)>),
+}
+
+/// How a system 1 verdict is known.
+fn proved(rows: &Option<usize>) -> String {
+    match rows {
+        Some(n) => format!(", proved exactly by a certificate combining {n} LP rows"),
+        None => ": the LP's margin is not positive, not proved exactly".into(),
+    }
 }
 
 /// Shows at most 20 items, then how many more.
@@ -167,16 +184,25 @@ impl fmt::Display for Error {
             }
             Error::OutOfRange(m) => write!(f, "coordinates out of range: {m}"),
             Error::Degenerate(m) => write!(f, "nothing to mesh: {m}"),
-            Error::NoRegularConstrainedTriangulation { segments } => write!(
+            Error::NoRegularConstrainedTriangulation {
+                segments,
+                proof_rows,
+            } => write!(
                 f,
-                "no regular constrained triangulation exists (system 1 is infeasible), so no conforming \
+                "no regular constrained triangulation exists (system 1 is infeasible{}), so no conforming \
                  power diagram can be built without extra points; constraints involved (segment ids): {}",
+                proved(proof_rows),
                 list(segments)
             ),
-            Error::NoRegularConstrainedTetrahedralisation { facets, vertices } => write!(
+            Error::NoRegularConstrainedTetrahedralisation {
+                facets,
+                vertices,
+                proof_rows,
+            } => write!(
                 f,
-                "no regular triangulation contains the 3D constraints (system 1 is infeasible), so no \
+                "no regular triangulation contains the 3D constraints (system 1 is infeasible{}), so no \
                  conforming power diagram can be built without extra points; facets involved (ids): {}{}",
+                proved(proof_rows),
                 list(facets),
                 if vertices.is_empty() {
                     String::new()
@@ -184,13 +210,24 @@ impl fmt::Display for Error {
                     format!("; isolated vertices: {}", list(vertices))
                 }
             ),
-            Error::SegmentsMissTheirDuals { segments, lp_error } => write!(
+            Error::SegmentsMissTheirDuals {
+                segments,
+                lp_error,
+                proved,
+            } => write!(
                 f,
                 "a conforming mesh exists but these segments {}, so sites cannot all lie inside \
                  their cells; segment ids: {}. Rerun with --allow-sites-outside to write the \
                  conforming mesh anyway",
                 match lp_error {
-                    None => "cannot cross their dual edges (system 3 is infeasible)".to_string(),
+                    None if proved.is_empty() => "do not cross their dual edges (the LP finds no \
+                        weights for system 3; not proved exactly)"
+                        .to_string(),
+                    None => format!(
+                        "do not cross their dual edges (system 3 is infeasible, proved exactly: \
+                         segments {} cannot all cross theirs)",
+                        list(proved)
+                    ),
                     Some(m) => format!(
                         "do not cross their dual edges with zero weights (not proven infeasible: the LP \
                          gave no answer: {m})"

@@ -175,6 +175,11 @@ fn tetgen_example_plc_conforms() {
             let steiner = r.input.steiner_points.len();
             assert_eq!(r.input.vertices, 28 + steiner);
             let outside = c.domain_sites - c.sites_inside;
+            // Faces miss their duals because none can have them all: an
+            // exact certificate says so, under the faces as chosen.
+            let proof = r.weights.system3_proof.as_ref().expect("a certificate");
+            assert!(!proof.crossing.is_empty() && proof.rows > 0, "{proof:?}");
+            assert!(proof.premise.contains("as triangulated"), "{proof:?}");
             match (keep, split_facets) {
                 (Keep::Auto, false) => {
                     // shared weights solve it: 6 rectangles whole, 46

@@ -29,7 +29,14 @@ fn mother_of_all_examples_has_no_regular_constrained_triangulation() {
     let cx = Complex::new(points, segs);
     cx.validate().unwrap();
     match run(&default_backend(), &cx, "mother", true) {
-        Err(Error::NoRegularConstrainedTriangulation { segments }) => assert!(!segments.is_empty()),
+        Err(Error::NoRegularConstrainedTriangulation {
+            segments,
+            proof_rows,
+        }) => {
+            assert!(!segments.is_empty());
+            // proved exactly (a certificate), not read off the LP's margin
+            assert!(proof_rows.is_some_and(|n| n > 0), "{proof_rows:?}");
+        }
         other => panic!(
             "expected no regular constrained triangulation, got {:?}",
             other.map(|o| o.report.weights)

@@ -48,14 +48,22 @@ fn sys3_infeasible<B: Backend>(b: &B) {
     for name in SYS3_INFEASIBLE {
         let cx = read(name);
         match run(b, &cx, name, false) {
-            Err(Error::SegmentsMissTheirDuals { segments, lp_error }) => {
+            Err(Error::SegmentsMissTheirDuals {
+                segments,
+                lp_error,
+                proved,
+            }) => {
                 assert!(!segments.is_empty() && lp_error.is_none());
+                // the verdict is proved exactly (a certificate), not the LP's
+                assert!(!proved.is_empty(), "{name}");
                 let msg = Error::SegmentsMissTheirDuals {
                     segments: segments.clone(),
                     lp_error,
+                    proved,
                 }
                 .to_string();
                 assert!(msg.contains("--allow-sites-outside"), "{msg}");
+                assert!(msg.contains("proved exactly"), "{msg}");
             }
             other => panic!(
                 "{name}: expected the sites-in-cells error, got {:?}",

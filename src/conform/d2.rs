@@ -47,15 +47,12 @@ fn with_weights<B: Backend + ?Sized>(
     (start, mut clock): (Instant, Clock),
 ) -> Result<Outcome<D2>> {
     let cx = &dom.complex;
-    let missing_dual: Vec<i64> = wts
-        .sys3_failed
-        .iter()
-        .map(|&s| cx.segment_ids[s as usize])
-        .collect();
-    if !missing_dual.is_empty() && !opts.allow_sites_outside {
+    let ids = |v: &[u32]| -> Vec<i64> { v.iter().map(|&s| cx.segment_ids[s as usize]).collect() };
+    if !wts.sys3_failed.is_empty() && !opts.allow_sites_outside {
         return Err(Error::SegmentsMissTheirDuals {
-            segments: missing_dual,
+            segments: ids(&wts.sys3_failed),
             lp_error: wts.report.lp_error.clone(),
+            proved: ids(&wts.sys3_proved),
         });
     }
     let inside = |t: Option<u32>| t.is_some_and(|t| dom.inside[t as usize]);
@@ -155,7 +152,7 @@ fn with_weights<B: Backend + ?Sized>(
         },
         weights: wts.report.clone(),
         sites: SitesReport2 {
-            segments_missing_dual: missing_dual,
+            segments_missing_dual: ids(&wts.sys3_failed),
             placed: sites.len(),
             vertex_sites: sites
                 .role

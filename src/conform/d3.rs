@@ -392,13 +392,29 @@ fn sites_outside(cx: &Complex3, wt: &weights::Weights3, s: &Sites3, d: &Diagram3
         sites.push(match face {
             Some(f) => {
                 faces.push(f as u32);
+                let why = if wt.sys3_failed.contains(&(f as u32)) {
+                    ", whose face misses its dual"
+                } else {
+                    ""
+                };
                 format!(
-                    "site {x} of a face of facet {} (vertices {ids:?})",
+                    "site {x} of a face of facet {} (vertices {ids:?}){why}",
                     wt.faces[f].facet.map_or(0, |f| f + 1)
                 )
             }
             None => format!("extra site {x} (vertices {ids:?})"),
         });
+    }
+    if let Some(p) = &wt.report.system3_proof {
+        // First: `list` shows only the first sites.
+        sites.insert(
+            0,
+            format!(
+                "with {}, no weights make every face cross its dual (an exact certificate of {} LP \
+                 rows proves that faces {:?}, by vertex ids, cannot all cross theirs)",
+                p.premise, p.rows, p.crossing
+            ),
+        );
     }
     Error::SitesOutsideCells {
         sites,

@@ -1,6 +1,7 @@
 //! One HiGHS model of a row system, kept across phase 1's k ladder and
 //! phase 2, warm-started from its basis.
 
+use super::proof::{Duals, RowRef};
 use super::{
     finite, Family, Row, System, WeightsReport, ANCHOR_COST, BIG_MODEL, ELASTIC_ROW_MARGIN,
     LAZY_SLACK, LP_BUDGET,
@@ -51,6 +52,10 @@ pub(crate) struct Lp {
     pub(crate) lazy: Vec<usize>,
     /// Whether the next solve is the dual simplex (see `Lp::simplex`).
     pub(crate) dual: bool,
+    /// The system's row behind each model row, in order.
+    pub(crate) refs: Vec<RowRef>,
+    /// Whether delta starts bounded below (`margin_floor`).
+    pub(crate) floor: bool,
 }
 
 thread_local! {
@@ -264,9 +269,13 @@ impl Lp {
             .collect();
         let aux: Vec<_> = (0..sys.aux).map(|_| pb.add_column(0.0, free)).collect();
         let big = sys.eqs.len() + sys.rows.len() > BIG_MODEL;
+        let floor = match mode {
+            Mode::Margin => margin_floor(sys, with3, big),
+            Mode::Elastic { .. } => Bound::Unbounded,
+        };
         let (delta, sense) = match mode {
             Mode::Margin => (
-                pb.add_column(1.0, (margin_floor(sys, with3, big), Bound::Included(1.0))),
+                pb.add_column(1.0, (floor, Bound::Included(1.0))),
                 Sense::Maximise,
             ),
             Mode::Elastic { delta_min, .. } => (
@@ -284,8 +293,10 @@ impl Lp {
                 .collect()
         };
         let mut slack = HashMap::new();
-        for r in sys.eqs.iter().filter(finite) {
+        let mut refs = vec![];
+        for (at, r) in sys.eqs.iter().enumerate().filter(|(_, r)| finite(r)) {
             pb.add_row(r.rhs..=r.rhs, terms(r));
+            refs.push(RowRef::Eq(at));
         }
         let lazy_ok = matches!(mode, Mode::Margin) && sys.aux == 0 && !big;
         let mut lazy = vec![];
@@ -303,11 +314,13 @@ impl Lp {
                     let mut terms = terms(r);
                     terms.push((sl, 1.0));
                     pb.add_row((r.rhs + ELASTIC_ROW_MARGIN).., terms);
+                    refs.push(RowRef::Row(at));
                 }
                 _ => {
                     let mut terms = terms(r);
                     terms.push((delta, -r.share));
                     pb.add_row(r.rhs.., terms);
+                    refs.push(RowRef::Row(at));
                 }
             }
         }
@@ -340,6 +353,8 @@ impl Lp {
             slack,
             lazy,
             dual: false,
+            refs,
+            floor: floor != Bound::Unbounded,
         })
     }
 
@@ -365,6 +380,7 @@ impl Lp {
             terms.push((self.delta, -r.share));
             let model = self.model.as_mut().expect("model");
             model.try_add_row(r.rhs.., terms).map_err(rejected)?;
+            self.refs.push(RowRef::Row(at));
         }
         self.lazy = keep;
         if !enter.is_empty() {
@@ -442,9 +458,39 @@ impl Lp {
                 let mut terms = weight_row(&self.w, r);
                 terms.extend([(up, 1.0), (down, -1.0)]);
                 model.try_add_row(r.rhs..=r.rhs, terms).map_err(rejected)?;
+                self.refs.push(RowRef::Other);
             }
         }
         Ok(())
+    }
+
+    /// The row duals of a Margin model's optimum, by system row (nonzero
+    /// ones only). Delta is freed from its floor first: at that bound the
+    /// duals need not sum to one, and say nothing.
+    #[allow(unsafe_code)]
+    pub(crate) fn duals(&mut self, sys: &System, report: &mut WeightsReport) -> Result<Duals> {
+        if self.floor {
+            self.floor = false;
+            self.simplex(false);
+            let model = self.model.as_mut().expect("model");
+            model.change_column_bounds(self.delta, ..=1.0);
+            self.solve(sys, report, f64::NEG_INFINITY)?;
+        }
+        let model = self.model.as_mut().expect("model");
+        let mut dual = vec![0.0; model.num_rows()];
+        let none = std::ptr::null_mut();
+        // SAFETY: `model` is a live HiGHS instance and `dual` has its row
+        // count, which HiGHS fills; it skips the arrays given as null.
+        unsafe {
+            highs_sys::Highs_getSolution(model.as_mut_ptr(), none, none, none, dual.as_mut_ptr())
+        };
+        Ok(self
+            .refs
+            .iter()
+            .zip(dual)
+            .filter(|d| d.1 != 0.0 && d.1.is_finite())
+            .map(|(&r, y)| (r, y))
+            .collect())
     }
 
     /// Solves, and again while the solution violates lazy rows (which

@@ -28,12 +28,17 @@
 
 mod highs;
 mod pieces;
+mod proof;
 mod rows;
 
 pub(crate) use highs::destroy_finished;
 use highs::{Lp, Mode, Solution};
 pub(crate) use pieces::solve_pieces;
-pub(crate) use rows::{plane_rows, rel, sys3_rows, Family, Row, System, Units};
+#[cfg(test)]
+pub(crate) use proof::agrees as proof_agrees;
+pub use proof::Proof;
+pub(crate) use proof::{prove, Certificate, Duals};
+pub(crate) use rows::{plane_rows, rel, sys3_rows, Family, Origin, Row, System, Units};
 
 use crate::error::Result;
 use serde::Serialize;
@@ -118,6 +123,11 @@ pub struct WeightsReport {
     pub anchors: usize,
     /// Anchors on their segments' dual lines.
     pub anchors_met: usize,
+    /// Where system 3 could not hold: an exact certificate that no weights
+    /// make every face one of the regular triangulation with the faces of
+    /// `crossing` crossing their duals (absent when none was found).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub system3_proof: Option<Proof>,
 }
 
 impl WeightsReport {
@@ -244,10 +254,12 @@ fn settle(sys: &System, best: &Solution, report: &mut WeightsReport) -> Result<V
 /// What the LP says about one row system (no verification yet).
 pub(crate) enum Answer {
     /// Weights (for the system's columns), and whether system 3 held on
-    /// the rows (false: elastic).
-    Weights(Vec<f64>, bool),
-    /// System 1 has no trusted margin on these rows.
-    Sys1Infeasible,
+    /// the rows (false: elastic, with the duals of systems 1 and 3
+    /// together for `prove` when the system is a verdict's).
+    Weights(Vec<f64>, bool, Duals),
+    /// System 1 has no trusted margin on these rows (the duals, for
+    /// `prove`, when the system is a verdict's).
+    Sys1Infeasible(Duals),
     /// Systems 1 and 3 together have none (asked not to go elastic).
     Sys3Infeasible,
 }
@@ -262,6 +274,11 @@ pub(crate) fn solve_rows(
     let (m3, k3, mut lp) = margin(sys, true, report)?;
     if m3 <= TRUST && !elastic {
         return Ok(Answer::Sys3Infeasible);
+    }
+    // A verdict's first rung is free: its duals may prove the margin's sign.
+    let mut duals = vec![];
+    if m3 <= TRUST && sys.verdict {
+        duals = lp.duals(sys, report)?;
     }
     let (w, lp_sys3) = if m3 > TRUST {
         report.margin = Some(m3);
@@ -300,11 +317,16 @@ pub(crate) fn solve_rows(
             report.bound_k = None;
             (settle(sys, &best, report)?, false)
         } else {
-            let (m1, k1, _) = margin(sys, false, report)?;
+            let (m1, k1, mut lp1) = margin(sys, false, report)?;
             report.margin = Some(m1);
             report.bound_k = k1;
             if m1 <= TRUST {
-                return Ok(Answer::Sys1Infeasible);
+                let duals = if sys.verdict {
+                    lp1.duals(sys, report)?
+                } else {
+                    vec![]
+                };
+                return Ok(Answer::Sys1Infeasible(duals));
             }
             (
                 run(
@@ -322,5 +344,5 @@ pub(crate) fn solve_rows(
             )
         }
     };
-    Ok(Answer::Weights(w, lp_sys3))
+    Ok(Answer::Weights(w, lp_sys3, duals))
 }

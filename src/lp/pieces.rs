@@ -1,7 +1,7 @@
 //! The local form's system split into independent pieces, solved in
 //! parallel.
 
-use super::{solve_rows, Answer, Row, System, WeightsReport};
+use super::{solve_rows, Answer, Origin, Row, System, WeightsReport};
 use crate::error::Result;
 use crate::progress::Progress;
 
@@ -130,6 +130,7 @@ pub(crate) fn pieces(mut sys: System) -> Vec<Piece> {
                 share,
                 outside: r.outside,
                 weak: r.weak,
+                origin: Origin::Other,
             };
             let piece = &mut out[k].sys;
             if eq {
@@ -179,7 +180,7 @@ pub(crate) fn solve_pieces(
     for ((answer, r), part) in answers.into_iter().zip(&parts) {
         report.absorb(&r);
         match answer? {
-            Answer::Weights(pw, _) => {
+            Answer::Weights(pw, ..) => {
                 for (k, &v) in part.cols.iter().enumerate() {
                     w[v] = pw[k];
                 }
@@ -204,6 +205,7 @@ mod tests {
             share: 1.0,
             outside,
             weak,
+            origin: crate::lp::Origin::Other,
         };
         let sys = System {
             n: 5,

@@ -14,6 +14,38 @@ pub(crate) enum Family {
     Anchor,
 }
 
+/// Where a row comes from, so that `proof` can rebuild it exactly. Points
+/// are the LP's (`Units`), p_x is point x, and `aux` the first of a face's
+/// D slope columns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Origin {
+    /// Not rebuilt: a certificate that needs it is not attempted.
+    Other,
+    /// The lift of j on face's plane through the lift of i.
+    PlaneOn {
+        face: u32,
+        i: u32,
+        j: u32,
+        aux: usize,
+    },
+    /// The lift of m above face's plane through the lift of i.
+    PlaneAbove {
+        face: u32,
+        i: u32,
+        m: u32,
+        aux: usize,
+    },
+    /// |w_i - w_j| < |p_j - p_i|^2, one side (`up`: w_j - w_i).
+    Apart { i: u32, j: u32, up: bool },
+    /// The radical point of i and j on their segment nearer (in power) to
+    /// i than to m.
+    Radical { i: u32, j: u32, m: u32 },
+    /// The power centre of triangle t inside beyond its edge (a, b).
+    CentreInside { t: [u32; 3], a: u32, b: u32 },
+    /// The power centre of triangle t nearer (in power) to t[0] than to o.
+    CentreNearer { t: [u32; 3], o: u32 },
+}
+
 /// sum(terms) - share * delta >= rhs  (or == rhs for equalities, without
 /// delta).
 #[derive(Debug, Clone)]
@@ -31,6 +63,7 @@ pub(crate) struct Row {
     /// strict edges, and a gap between cavities on a lattice is
     /// cocircular: splitting its rows would tie the pieces' weights.
     pub(crate) weak: bool,
+    pub(crate) origin: Origin,
 }
 
 /// An LP over the weights (columns 0..n) and auxiliary free columns.
@@ -61,6 +94,7 @@ impl Row {
             share: 1.0,
             outside: false,
             weak: false,
+            origin: Origin::Other,
         }
     }
 }
@@ -91,6 +125,11 @@ pub(crate) fn sys3_rows<const D: usize>(
             share: 1.0,
             outside: false,
             weak: false,
+            origin: Origin::Apart {
+                i: i as u32,
+                j: j as u32,
+                up: true,
+            },
         },
         Row {
             terms: vec![(i, 1.0 / l), (j, -1.0 / l)],
@@ -99,6 +138,11 @@ pub(crate) fn sys3_rows<const D: usize>(
             share: 1.0,
             outside: false,
             weak: false,
+            origin: Origin::Apart {
+                i: i as u32,
+                j: j as u32,
+                up: false,
+            },
         },
     ];
     for &m in others {
@@ -115,6 +159,11 @@ pub(crate) fn sys3_rows<const D: usize>(
             share: 1.0,
             outside: false,
             weak: false,
+            origin: Origin::Radical {
+                i: i as u32,
+                j: j as u32,
+                m,
+            },
         });
     }
     rows
@@ -127,6 +176,7 @@ pub(crate) fn sys3_rows<const D: usize>(
 pub(crate) fn plane_rows<const D: usize>(
     sys: &mut System,
     p: &[[f64; D]],
+    face: u32,
     i: u32,
     on: &[u32],
     others: &[u32],
@@ -141,14 +191,28 @@ pub(crate) fn plane_rows<const D: usize>(
         let u = rel(p, i, j);
         let mut terms: Vec<(usize, f64)> = slopes(u, 1.0).collect();
         terms.extend([(j as usize, 1.0 / scale2), (i as usize, -1.0 / scale2)]);
-        sys.eqs.push(Row::sys1(terms, u.norm_squared() / scale2));
+        let mut row = Row::sys1(terms, u.norm_squared() / scale2);
+        row.origin = Origin::PlaneOn {
+            face,
+            i,
+            j,
+            aux: a0,
+        };
+        sys.eqs.push(row);
     }
     for &m in others {
         let r = rel(p, i, m);
         // |r|^2 - w_m + w_i - a.r >= delta * scale2
         let mut terms = vec![(m as usize, -1.0 / scale2), (i as usize, 1.0 / scale2)];
         terms.extend(slopes(r, -1.0));
-        sys.rows.push(Row::sys1(terms, -r.norm_squared() / scale2));
+        let mut row = Row::sys1(terms, -r.norm_squared() / scale2);
+        row.origin = Origin::PlaneAbove {
+            face,
+            i,
+            m,
+            aux: a0,
+        };
+        sys.rows.push(row);
     }
     a0
 }
@@ -233,7 +297,7 @@ mod tests {
             l2: vec![1.0; 3],
             ..Default::default()
         };
-        let a0 = plane_rows(&mut sys, &p, 0, &[1], &[2], 4.0);
+        let a0 = plane_rows(&mut sys, &p, 0, 0, &[1], &[2], 4.0);
         assert_eq!((a0, sys.aux), (3, 2));
         // a.u + w_1 - w_0 = |u|^2, over L = 4
         let eq = &sys.eqs[0];

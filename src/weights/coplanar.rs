@@ -129,6 +129,19 @@ impl Relations {
         }
     }
 
+    /// Exact terms over free weights only (dependent ones replaced by
+    /// their combinations), for `lp::prove`.
+    pub(super) fn substitute_exact(&self, terms: Vec<(usize, Q)>) -> Vec<(usize, Q)> {
+        let mut out = vec![];
+        for (c, x) in terms {
+            match self.of.get(c).copied().flatten() {
+                Some(k) => out.extend(self.dependent[k].1.iter().map(|(f, y)| (*f, &x * y))),
+                None => out.push((c, x)),
+            }
+        }
+        out
+    }
+
     /// The LP's weights as exact rationals, the dependent ones recomputed.
     pub(super) fn exact(&self, w: &[f64]) -> Vec<Q> {
         let mut out: Vec<Q> = w.iter().map(|&x| q(x)).collect();

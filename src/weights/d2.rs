@@ -26,8 +26,9 @@ use crate::domain::Domain;
 use crate::error::{Error, Result};
 use crate::geom::{abs, dot, in_diametral_disc, is_pos, norm2, orient, q, qp, sub, Q};
 use crate::lp::{
-    destroy_finished, plane_rows, rel, solve_pieces, solve_rows, sys3_rows, Answer, Family, Row,
-    System, Units, WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
+    destroy_finished, plane_rows, prove, rel, solve_pieces, solve_rows, sys3_rows, Answer,
+    Certificate, Duals, Family, Origin, Row, System, Units, WeightsReport, GLOBAL_ROUNDS,
+    MAX_GLOBAL_ROWS,
 };
 use crate::progress::Progress;
 use nalgebra::Vector2;
@@ -49,6 +50,9 @@ pub struct Weights {
     pub report: WeightsReport,
     /// Segments that do not cross their dual edge (exact check).
     pub sys3_failed: Vec<u32>,
+    /// Segments that an exact certificate proves cannot all cross their
+    /// dual edges (`lp::prove`; empty without one).
+    pub sys3_proved: Vec<u32>,
 }
 
 /// Finds weights for the domain's complex.
@@ -112,6 +116,7 @@ fn solve_unanchored_first<B: Backend + ?Sized>(
             ..Default::default()
         },
         sys3_failed: vec![],
+        sys3_proved: vec![],
     };
     // A constrained Delaunay triangulation that is Delaunay at every edge
     // is a Delaunay triangulation holding every segment: no second build.
@@ -169,6 +174,7 @@ fn solve_unanchored_first<B: Backend + ?Sized>(
                 rt,
                 report,
                 sys3_failed,
+                sys3_proved: vec![],
             })
         }
         (_, other) => other,
@@ -213,7 +219,7 @@ fn lp<B: Backend + ?Sized>(
             local
         };
         if let Some(w) = solve_pieces(system(), &mut report, progress)? {
-            if let Attempt::Found(found) = verify(backend, dom, w, true)? {
+            if let Attempt::Found(found) = verify(backend, dom, w, (true, vec![]))? {
                 if found.sys3_failed.is_empty() {
                     return finish(found, report);
                 }
@@ -242,6 +248,9 @@ struct Found {
     sys3_failed: Vec<u32>,
     /// Whether the LP found system 3 feasible on its rows (false: elastic).
     lp_sys3: bool,
+    /// The duals of systems 1 and 3 together when they did not hold (for
+    /// `prove`).
+    duals: Duals,
 }
 
 fn finish(found: Found, mut report: WeightsReport) -> Result<Weights> {
@@ -252,6 +261,7 @@ fn finish(found: Found, mut report: WeightsReport) -> Result<Weights> {
         rt: found.rt,
         report,
         sys3_failed: found.sys3_failed,
+        sys3_proved: vec![],
     })
 }
 
@@ -346,6 +356,7 @@ fn anchor_rows(sys: &mut System, cx: &Complex, units: &Units<2>) {
             share: 1.0,
             outside: false,
             weak: false,
+            origin: Origin::Other,
         };
         if anchor_offset(cx, &zero, s).is_some_and(|o| o.abs() <= ANCHOR_MET) {
             sys.eqs.push(row);
@@ -405,6 +416,7 @@ fn convexity_row(p: &[[f64; 2]], a: u32, b: u32, c: u32, d: u32) -> Row {
         share: 1.0,
         outside: false,
         weak: false,
+        origin: Origin::Other,
     }
 }
 
@@ -415,8 +427,8 @@ enum Attempt {
     /// Weights whose RT (given) misses segments or hides vertices: rows
     /// are missing.
     NotConforming(Vec<f64>, Triangulation),
-    /// System 1 has no trusted margin on these rows.
-    Sys1Infeasible,
+    /// System 1 has no trusted margin on these rows (the LP's duals).
+    Sys1Infeasible(Duals),
     /// Systems 1 and 3 together have none (asked not to go elastic).
     Sys3Infeasible,
 }
@@ -430,8 +442,8 @@ fn attempt<B: Backend + ?Sized>(
     report: &mut WeightsReport,
 ) -> Result<Attempt> {
     match solve_rows(sys, elastic, report)? {
-        Answer::Weights(w, lp_sys3) => verify(backend, dom, w, lp_sys3),
-        Answer::Sys1Infeasible => Ok(Attempt::Sys1Infeasible),
+        Answer::Weights(w, lp_sys3, duals) => verify(backend, dom, w, (lp_sys3, duals)),
+        Answer::Sys1Infeasible(duals) => Ok(Attempt::Sys1Infeasible(duals)),
         Answer::Sys3Infeasible => Ok(Attempt::Sys3Infeasible),
     }
 }
@@ -441,7 +453,7 @@ fn verify<B: Backend + ?Sized>(
     backend: &B,
     dom: &Domain,
     w: Vec<f64>,
-    lp_sys3: bool,
+    (lp_sys3, duals): (bool, Duals),
 ) -> Result<Attempt> {
     let cx = &dom.complex;
     let rt = regular_from(backend, &cx.points, &w, &dom.cdt, dom.cdt.edges().collect())?;
@@ -454,6 +466,7 @@ fn verify<B: Backend + ?Sized>(
         rt,
         sys3_failed,
         lp_sys3,
+        duals,
     }))
 }
 
@@ -635,8 +648,16 @@ fn slivers(p: &[[f64; 2]], t: &Triangulation) -> Vec<u32> {
 /// What the LP's infeasibility of system 1 means: no regular constrained
 /// triangulation (the segments last missing, or all), unless triangles far
 /// thinner than its tolerances make it no verdict at all.
-fn sys1_verdict(dom: &Domain, last_missing: Vec<u32>) -> Error {
+fn sys1_verdict(dom: &Domain, last_missing: Vec<u32>, proof: Option<Certificate>) -> Error {
     let cx = &dom.complex;
+    if let Some(c) = proof {
+        // Faces beyond the segments are isolated vertices' (`global`).
+        let of = |f: &u32| cx.segment_ids.get(*f as usize).copied();
+        return Error::NoRegularConstrainedTriangulation {
+            segments: c.faces.iter().filter_map(of).collect(),
+            proof_rows: Some(c.rows),
+        };
+    }
     let thin = slivers(&cx.points, &dom.cdt);
     if !thin.is_empty() {
         let ids: Vec<i64> = thin.iter().map(|&v| cx.vertex_ids[v as usize]).collect();
@@ -653,6 +674,7 @@ fn sys1_verdict(dom: &Domain, last_missing: Vec<u32>) -> Error {
     };
     Error::NoRegularConstrainedTriangulation {
         segments: ids.iter().map(|&s| cx.segment_ids[s as usize]).collect(),
+        proof_rows: None,
     }
 }
 
@@ -693,6 +715,7 @@ fn global<B: Backend + ?Sized>(
         })
         .collect();
     let mut last_missing: Vec<u32> = vec![];
+    let lp_points: Vec<[Q; 2]> = p.iter().map(|x| x.map(q)).collect();
     for round in 1..=GLOBAL_ROUNDS + 2 {
         report.global_rounds = round;
         let mut sys = System {
@@ -706,7 +729,7 @@ fn global<B: Backend + ?Sized>(
         for (o, &(i, j)) in owners.iter().enumerate() {
             let others: Vec<u32> = sets[o].iter().copied().collect();
             let scale2 = j.map_or(l2[i as usize], |j| rel(p, i, j).norm_squared());
-            plane_rows(&mut sys, p, i, j.as_slice(), &others, scale2);
+            plane_rows(&mut sys, p, o as u32, i, j.as_slice(), &others, scale2);
             if let Some(j) = j {
                 sys.rows.extend(sys3_rows(p, o as u32, i, j, &others));
             }
@@ -715,11 +738,23 @@ fn global<B: Backend + ?Sized>(
             anchor_rows(&mut sys, cx, units);
         }
         let (found, w, rt) = match attempt(backend, dom, &sys, true, &mut report)? {
-            Attempt::Sys1Infeasible => return Err(sys1_verdict(dom, last_missing)),
+            Attempt::Sys1Infeasible(duals) => {
+                let proof = prove(&sys, &duals, &lp_points, &|t| t);
+                return Err(sys1_verdict(dom, last_missing, proof));
+            }
             // Elastic: system 3 is infeasible on a subset of its rows, hence
             // outright; keep these weights.
             Attempt::Found(f) if f.sys3_failed.is_empty() || !f.lp_sys3 => {
-                return finish(f, report)
+                let name = |o: u32| {
+                    let (i, j) = owners[o as usize];
+                    let ends = std::iter::once(i).chain(j);
+                    ends.map(|v| cx.vertex_ids[v as usize]).collect()
+                };
+                let proof = prove(&sys, &f.duals, &lp_points, &|t| t);
+                report.system3_proof = proof.as_ref().map(|c| c.named(name, ""));
+                let mut out = finish(f, report)?;
+                out.sys3_proved = proof.map(|c| c.crossing).unwrap_or_default();
+                return Ok(out);
             }
             Attempt::Found(f) => {
                 let (w, rt) = (f.w.clone(), f.rt.clone());

@@ -29,15 +29,14 @@ use crate::backend::{Backend, Tetrahedralisation};
 use crate::error::{Error, Result};
 use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
 use crate::lp::{
-    destroy_finished, plane_rows, rel, solve_rows, sys3_rows, Answer, Family, Row, System, Units,
-    WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
+    destroy_finished, prove, solve_rows, Answer, Certificate, Duals, Units, WeightsReport,
+    GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
 };
 use crate::{
     complex::Complex3,
     domain::Simplices3,
     geom::{drop_axis, plane_axis},
 };
-use nalgebra::{Matrix2, Matrix3x2, Vector2};
 use std::collections::{BTreeSet, HashMap, HashSet};
 
 /// Polygons with more vertices than this are triangulated (the exact check
@@ -293,59 +292,6 @@ pub(super) fn ties(n: usize, faces: &[Face]) -> Vec<u32> {
     (0..n as u32).map(|v| root(&mut rep, v)).collect()
 }
 
-/// System 3 for a triangle or polygon face f: its power centre c (in its
-/// plane, equal power to all its vertices) lies strictly inside it, at
-/// least delta times its longest edge from every edge, and every point m
-/// has a larger power at c than the face's vertices (over the squared
-/// longest edge). With u = p_j - p_i, v = p_k - p_i and G their Gram
-/// matrix, c - p_i = M (|u|^2 + w_i - w_j, |v|^2 + w_i - w_k), M = [u v] G^-1 / 2.
-fn centre_rows(p: &[[f64; 3]], f: u32, verts: &[u32], others: &[u32]) -> Vec<Row> {
-    let (i, j, k) = (verts[0], verts[1], verts[2]);
-    let (u, v) = (rel(p, i, j), rel(p, i, k));
-    let g = Matrix2::new(u.dot(&u), u.dot(&v), u.dot(&v), v.dot(&v));
-    let Some(gi) = g.try_inverse() else {
-        return vec![];
-    };
-    let m = Matrix3x2::from_columns(&[u, v]) * gi * 0.5;
-    let x0 = m * Vector2::new(u.norm_squared(), v.norm_squared());
-    let cycle = || verts.iter().zip(verts.iter().cycle().skip(1));
-    let l = cycle()
-        .map(|(&a, &b)| rel(p, a, b).norm_squared())
-        .fold(0.0, f64::max);
-    // base + c . (w_i - w_j, w_i - w_k) + extra >= delta * scale
-    let row = |base: f64, c: Vector2<f64>, extra: &[(u32, f64)], scale: f64| {
-        let mut terms = vec![
-            (i as usize, (c[0] + c[1]) / scale),
-            (j as usize, -c[0] / scale),
-            (k as usize, -c[1] / scale),
-        ];
-        terms.extend(extra.iter().map(|&(v, x)| (v as usize, x / scale)));
-        let mut r = Row::sys1(terms, -base / scale);
-        r.family = Family::Sys3(f);
-        r
-    };
-    let normal = u.cross(&v);
-    let mut rows: Vec<Row> = cycle()
-        .map(|(&a, &b)| {
-            // inward in the face's plane (the cycle turns about `normal`)
-            let n = normal.cross(&rel(p, a, b)).normalize();
-            let base = (rel(p, a, i) + x0).dot(&n);
-            row(base, m.transpose() * n, &[], l.sqrt())
-        })
-        .collect();
-    for &o in others {
-        let r = rel(p, i, o);
-        let base = r.norm_squared() - 2.0 * x0.dot(&r);
-        rows.push(row(
-            base,
-            -2.0 * m.transpose() * r,
-            &[(o, -1.0), (i, 1.0)],
-            l,
-        ));
-    }
-    rows
-}
-
 /// What the exact check of RT(w) finds wrong.
 #[derive(Default)]
 pub(super) struct Misses {
@@ -368,6 +314,7 @@ fn global<B: Backend + ?Sized>(
     let units = Units::new(&cx.points, dt.edge_links().into_keys().map(|[a, b]| (a, b)));
     let p = &units.points;
     let pts_q: Vec<[Q; 3]> = cx.points.iter().map(|p| p.map(q)).collect();
+    let lp_points: Vec<[Q; 3]> = p.iter().map(|p| p.map(q)).collect();
     let relations = match keep {
         Keep::Shared => Relations::shared(n, &faces),
         _ => Relations::coplanar(cx, &faces),
@@ -401,36 +348,38 @@ fn global<B: Backend + ?Sized>(
     let mut found: Option<Weights3> = None;
     for round in 1..=GLOBAL_ROUNDS + 2 {
         report.global_rounds = round;
-        let mut sys = System {
-            n,
-            free: free.clone(),
-            verdict: true,
-            unit2: units.unit2,
-            l2: units.l2.clone(),
-            ..Default::default()
-        };
-        for (fi, face) in faces.iter().enumerate() {
-            let others: Vec<u32> = sets[fi].iter().copied().collect();
-            let vs = &face.vertices;
-            let on = &vs[1..vs.len().min(3)];
-            let scale2 = on
-                .iter()
-                .map(|&j| rel(p, vs[0], j).norm_squared())
-                .fold(units.l2[vs[0] as usize], f64::max);
-            plane_rows(&mut sys, p, vs[0], on, &others, scale2);
-            match face.dim() {
-                1 => sys
-                    .rows
-                    .extend(sys3_rows(p, fi as u32, vs[0], vs[1], &others)),
-                2 => sys.rows.extend(centre_rows(p, fi as u32, vs, &others)),
-                _ => {}
-            }
-        }
+        let mut sys = super::rows3::system(p, &faces, &sets, &units, free.clone());
         relations.substitute(&mut sys.rows);
         relations.substitute(&mut sys.eqs);
+        let exact = |duals: &Duals| {
+            let sub = |t| relations.substitute_exact(t);
+            prove(&sys, duals, &lp_points, &sub)
+        };
         let (w, lp_sys3) = match solve_rows(&sys, true, &mut report)? {
-            Answer::Weights(w, lp_sys3) => (w, lp_sys3),
-            Answer::Sys1Infeasible => return Err(infeasible(cx, &faces, &last)),
+            Answer::Weights(w, lp_sys3, duals) => {
+                let name = |f: u32| {
+                    faces[f as usize]
+                        .vertices
+                        .iter()
+                        .map(|&v| cx.vertex_ids[v as usize])
+                        .collect()
+                };
+                let premise = match (whole_polygons, keep) {
+                    (0, _) => "the facets as triangulated".to_string(),
+                    (k, Keep::Shared) => format!(
+                        "the facets as triangulated, {k} polygons kept whole, and the vertices of \
+                         whole polygons joined at vertices sharing one weight"
+                    ),
+                    (k, _) => format!("the facets as triangulated and {k} polygons kept whole"),
+                };
+                report.system3_proof = exact(&duals).map(|c| c.named(name, &premise));
+                (w, lp_sys3)
+            }
+            Answer::Sys1Infeasible(duals) => {
+                // Shared weights are a choice, not a necessity: no proof.
+                let proof = exact(&duals).filter(|_| keep != Keep::Shared || whole_polygons == 0);
+                return Err(infeasible(cx, &faces, &last, proof));
+            }
             Answer::Sys3Infeasible => unreachable!("the global form goes elastic"),
         };
         let w = relations.exact(&w);
@@ -522,10 +471,16 @@ pub(super) fn finish(
     }
 }
 
-/// The verdict of an infeasible restricted LP, naming the faces the last
-/// RT(w) missed (all, when none was built yet).
-fn infeasible(cx: &Complex3, faces: &[Face], last: &Misses) -> Error {
-    let named: Vec<&Face> = if last.faces.is_empty() && last.hidden.is_empty() {
+/// The verdict of an infeasible restricted LP, naming the faces of its
+/// exact certificate, else those the last RT(w) missed (all, when none
+/// was built yet).
+fn infeasible(cx: &Complex3, faces: &[Face], last: &Misses, proof: Option<Certificate>) -> Error {
+    let named: Vec<&Face> = if let Some(p) = &proof {
+        let mut v: Vec<u32> = p.faces.iter().chain(&p.crossing).copied().collect();
+        v.sort_unstable();
+        v.dedup();
+        v.iter().map(|&f| &faces[f as usize]).collect()
+    } else if last.faces.is_empty() && last.hidden.is_empty() {
         faces.iter().collect()
     } else {
         let mut v: Vec<&Face> = last.faces.iter().map(|&f| &faces[f as usize]).collect();
@@ -549,6 +504,7 @@ fn infeasible(cx: &Complex3, faces: &[Face], last: &Misses) -> Error {
     Error::NoRegularConstrainedTetrahedralisation {
         facets: facets.into_iter().collect(),
         vertices: vertices.into_iter().collect(),
+        proof_rows: proof.map(|p| p.rows),
     }
 }
 
@@ -976,8 +932,12 @@ mod tests {
             holes: vec![],
         };
         match run(&cx) {
-            Err(Error::NoRegularConstrainedTetrahedralisation { facets, .. }) => {
-                assert!(!facets.is_empty())
+            Err(Error::NoRegularConstrainedTetrahedralisation {
+                facets, proof_rows, ..
+            }) => {
+                assert!(!facets.is_empty());
+                // proved exactly, not only by the LP's margin
+                assert!(proof_rows.is_some_and(|n| n > 0), "{proof_rows:?}");
             }
             other => panic!("expected infeasible, got {:?}", other.map(|w| w.w)),
         }

@@ -8,6 +8,7 @@
 mod coplanar;
 mod d2;
 mod d3;
+mod rows3;
 mod zero3;
 
 pub use crate::lp::WeightsReport;
