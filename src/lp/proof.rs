@@ -404,6 +404,18 @@ mod tests {
         p.iter().map(|x| x.map(q)).collect()
     }
 
+    /// A verdict's system over n free weights, no rows yet.
+    fn verdict(n: usize) -> System {
+        System {
+            n,
+            free: vec![true; n],
+            verdict: true,
+            unit2: 1.0,
+            l2: vec![1.0; n],
+            ..Default::default()
+        }
+    }
+
     #[test]
     fn exact_rows_say_what_the_lp_rows_say() {
         let p = [
@@ -437,14 +449,7 @@ mod tests {
     #[test]
     fn nothing_proves_a_feasible_system_infeasible() {
         let p = [[0.0, 0.0], [1.0, 0.0], [0.5, 0.9], [0.4, -0.8], [2.0, 0.1]];
-        let mut sys = System {
-            n: 5,
-            free: vec![true; 5],
-            verdict: true,
-            unit2: 1.0,
-            l2: vec![1.0; 5],
-            ..Default::default()
-        };
+        let mut sys = verdict(5);
         plane_rows(&mut sys, &p, 0, 0, &[1], &[2, 3, 4], 1.0);
         sys.rows.extend(sys3_rows(&p, 0, 0, 1, &[2, 3, 4]));
         let mut report = WeightsReport::started("test");
@@ -466,14 +471,7 @@ mod tests {
     #[test]
     fn proves_crossing_segments_are_not_both_edges() {
         let p = [[-1.0, 0.0], [1.0, 0.25], [0.1, -1.0], [-0.2, 1.0]];
-        let mut sys = System {
-            n: 4,
-            free: vec![true; 4],
-            verdict: true,
-            unit2: 1.0,
-            l2: vec![1.0; 4],
-            ..Default::default()
-        };
+        let mut sys = verdict(4);
         plane_rows(&mut sys, &p, 0, 0, &[1], &[2, 3], 1.0);
         plane_rows(&mut sys, &p, 1, 2, &[3], &[0, 1], 1.0);
         let mut report = WeightsReport::started("test");
