@@ -2,6 +2,8 @@
 //! rectangle kept whole) exactly one face of the polyhedral cells, checked
 //! exactly; output read back by vtk (tests/readers.py: `conform3-*`).
 
+mod common;
+
 use orthomesh::backend::compiled;
 use orthomesh::Error;
 use orthomesh::Keep;
@@ -299,6 +301,7 @@ fn no_regular_triangulation_is_an_error_naming_facets() {
             "{e}"
         );
         assert!(e.to_string().contains("facets involved"), "{e}");
+        assert!(e.to_string().contains("proved exactly"), "{e}");
         // Folded the other way the prism is convex: meshed, and its
         // symmetry gives exactly distinct power vertices 1e-16 apart on
         // the axis, merged when written.
@@ -308,6 +311,42 @@ fn no_regular_triangulation_is_an_error_naming_facets() {
         assert!(out.report.collapsed_vertices > 0);
         assert!(c.orthogonality_defect < 1e-9, "{c:?}");
         write("prism", &out);
+    }
+}
+
+/// Points inside a box need extra sites (four affinely independent ones
+/// each), which move along their dual edges when outside their cells: the
+/// mesh is certified, relocation ran, and two runs give the same mesh (the
+/// triangles that carry extra sites were once chosen in hash-map order).
+#[test]
+fn isolated_points_in_a_box_get_extra_sites_that_move() {
+    let (mut points, faces) = common::cube();
+    for k in 0..6 {
+        let x = 0.2 + 0.1 * k as f64;
+        points.push([x, 0.75 - 0.08 * k as f64, 0.3 + 0.07 * (k % 3) as f64]);
+    }
+    let cx = common::with(points, &faces);
+    for b in compiled() {
+        let opts = Options {
+            allow_sites_outside: true,
+            ..Default::default()
+        };
+        let run = || Mesher::new(&*b).options(opts.clone()).conform(&cx).unwrap();
+        let (one, two) = (run(), run());
+        let (r, c) = (&one.report, &one.report.certificate);
+        println!(
+            "{}: 6 points in a box: {} extra sites, {} of {} sites outside after {} rounds",
+            b.name(),
+            r.sites.extra_sites,
+            c.domain_sites - c.sites_inside,
+            c.domain_sites,
+            r.sites.relocation_rounds
+        );
+        assert!(c.conforms(), "{c:?}");
+        assert!(r.sites.extra_sites >= 6, "{r:?}");
+        assert!(r.sites.relocation_rounds > 0, "{r:?}");
+        assert_eq!(one.mesh.cells.len(), two.mesh.cells.len());
+        assert_eq!(one.mesh.points, two.mesh.points);
     }
 }
 

@@ -111,7 +111,7 @@ pub fn conform3<B: Backend + ?Sized>(
     let placed = s.p.len();
     let extra_sites =
         (0..placed).filter(|&x| !s.is_mirror(x)).count() - 2 * s.of_face.iter().flatten().count();
-    (s.p, s.w, s.serves, s.line) = Default::default();
+    (s.p, s.w, s.serves, s.line, s.track) = Default::default();
     let mesh = mesh(&d, &s, &wt);
     certificate.orthogonality_defect = mesh.orthogonality_defect();
     clock.lap("mesh");
@@ -231,12 +231,13 @@ impl Attempt {
         while rounds < RELOCATION_ROUNDS {
             // Sites of faces that cross their duals move towards the face,
             // past the neighbours that beat them (`Sites3::jump`): near it,
-            // a site's cell is its half of a region around the face.
+            // a site's cell is its half of a region around the face. Extra
+            // sites try other places on their dual edges (`Sites3::wander`).
             let neighbours = d.rt.neighbours(s.p.len());
             let mut moved = false;
             for (x, around) in neighbours.iter().enumerate() {
                 if d.in_domain[x] && !d.site_inside[x] {
-                    moved |= s.jump(x, &cx, &wt.w, around);
+                    moved |= s.jump(x, &cx, &wt.w, around) || s.wander(x, &cx, &wt.w, around);
                 }
             }
             if !moved {

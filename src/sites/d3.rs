@@ -9,6 +9,7 @@
 //! exact rationals, so each site lies exactly on its dual and its weight
 //! is exactly that power.
 
+use super::track3::Track;
 use crate::complex::Complex3;
 use crate::error::{Error, Result};
 use crate::geom::{
@@ -17,7 +18,7 @@ use crate::geom::{
 use crate::weights::{face_centre, fan, sorted3, Weights3};
 use crate::FastMap;
 use std::cmp::Ordering;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// All sites, exactly.
 #[derive(Debug, Clone, Default)]
@@ -33,6 +34,8 @@ pub struct Sites3 {
     /// Per site of a face that crosses its dual: the line it may move on
     /// towards the face (relocation).
     pub line: Vec<Option<Line>>,
+    /// Per extra site: the dual edge it may move on (`wander`).
+    pub track: Vec<Option<Track>>,
     /// The planes the diagram is cut at (`clipped`), and per site the
     /// site and plane it mirrors (empty: no mirrors).
     pub clips: Vec<Clip>,
@@ -236,6 +239,7 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
             n: dual.n.clone(),
             t: t.clone(),
         }));
+        s.track.push(None);
         x as u32
     };
     for (fi, face) in wt.faces.iter().enumerate().filter(|(_, f)| f.dim() == 2) {
@@ -268,7 +272,12 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
             let dual = Dual::of(cx, w, &t, &tris[&t])?;
             let scale = dual.scale(cx, &t);
             let tt = dual.one(&scale);
-            Some(add(s, &dual, &tt, &t))
+            let x = add(s, &dual, &tt, &t);
+            // It moves anywhere on its dual edge, not towards a face.
+            s.line[x as usize] = None;
+            let ends = (&dual.lo, &dual.hi);
+            s.track[x as usize] = Some(Track::new((&dual.c, &dual.n), ends, &scale, &tt));
+            Some(x)
         })
     };
     // Constraint edges: those of triangles and polygons, and segments.
@@ -317,12 +326,7 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         .collect();
     vertices.sort_unstable();
     vertices.dedup();
-    let mut around: HashMap<u32, Vec<[u32; 3]>> = HashMap::new();
-    for t in tris.keys() {
-        for &v in t {
-            around.entry(v).or_default().push(*t);
-        }
-    }
+    let around = candidates(&tris, &s);
     for v in vertices {
         let mut candidates = around.get(&v).cloned().unwrap_or_default().into_iter();
         loop {
@@ -344,6 +348,25 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         }
     }
     Ok(s)
+}
+
+/// Per vertex, the RT triangles around it that may carry its extra sites,
+/// those with more vertices that no site serves yet first (one extra site
+/// then serves several that need it), in a fixed order: `tris` is a hash
+/// map, whose order changes from run to run (it chose different extra
+/// sites each run).
+fn candidates(tris: &HashMap<[u32; 3], Vec<u32>>, s: &Sites3) -> HashMap<u32, Vec<[u32; 3]>> {
+    let mut around: HashMap<u32, Vec<[u32; 3]>> = HashMap::new();
+    for t in tris.keys() {
+        for &v in t {
+            around.entry(v).or_default().push(*t);
+        }
+    }
+    let served: HashSet<u32> = s.serves.iter().flatten().copied().collect();
+    for list in around.values_mut() {
+        list.sort_unstable_by_key(|t| (t.iter().filter(|v| served.contains(v)).count(), *t));
+    }
+    around
 }
 
 fn short(cx: &Complex3, what: &str, vs: &[u32]) -> Error {
@@ -484,6 +507,7 @@ impl Sites3 {
             out.w.push(this.w[x].clone());
             out.serves.push(this.serves[x].clone());
             out.line.push(this.line[x].clone());
+            out.track.push(this.track[x].clone());
             out.mirror_of.push(None);
         }
         out.of_face = self
@@ -501,6 +525,7 @@ impl Sites3 {
                 out.w.push(Q::from(0));
                 out.serves.push(vec![]);
                 out.line.push(None);
+                out.track.push(None);
                 out.mirror_of.push(Some((x, c)));
             }
         }
@@ -544,7 +569,7 @@ impl Sites3 {
     }
 
     /// Gives site x the power w_v at the vertices v it serves.
-    fn reweigh(&mut self, x: usize, cx: &Complex3, w: &[Q]) {
+    pub(super) fn reweigh(&mut self, x: usize, cx: &Complex3, w: &[Q]) {
         let v0 = self.serves[x][0] as usize;
         self.w[x] = norm2(&sub(&self.p[x], &cx.points[v0].map(q))) - &w[v0];
     }

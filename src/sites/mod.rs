@@ -5,6 +5,7 @@
 
 mod d2;
 mod d3;
+mod track3;
 
 #[cfg(test)]
 pub(crate) use d2::tests;

@@ -4,7 +4,7 @@
 pub mod dense;
 
 use orthomesh::backend::Backend;
-use orthomesh::{io, Complex, Result};
+use orthomesh::{io, Complex, Complex3, Facet, Result};
 use orthomesh::{Mesher, Options, Outcome, D2};
 use std::path::{Path, PathBuf};
 
@@ -72,4 +72,43 @@ pub fn assert_certified_to(out: &Outcome<D2>, tag: &str, orthogonality: f64) {
         out.site_inside.iter().filter(|&&i| !i).count() + hidden,
         "{tag}"
     );
+}
+
+/// A complex of one facet per polygon (1-based vertex lists, as in files).
+pub fn complex(points: Vec<[f64; 3]>, polygons: &[&[u32]]) -> Complex3 {
+    Complex3 {
+        vertex_ids: (1..=points.len() as i64).collect(),
+        points,
+        facets: polygons
+            .iter()
+            .map(|p| Facet {
+                polygons: vec![p.iter().map(|v| v - 1).collect()],
+                ..Default::default()
+            })
+            .collect(),
+        holes: vec![],
+    }
+}
+
+/// The unit cube's corners (1-8: z = 0 then z = 1, counter-clockwise) and
+/// its six faces.
+pub fn cube() -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
+    let mut points = vec![];
+    for z in [0.0, 1.0] {
+        points.extend([[0.0, 0.0, z], [1.0, 0.0, z], [1.0, 1.0, z], [0.0, 1.0, z]]);
+    }
+    let faces = [
+        [1, 4, 3, 2],
+        [5, 6, 7, 8],
+        [1, 2, 6, 5],
+        [2, 3, 7, 6],
+        [3, 4, 8, 7],
+        [4, 1, 5, 8],
+    ];
+    (points, faces.iter().map(|f| f.to_vec()).collect())
+}
+
+pub fn with(points: Vec<[f64; 3]>, faces: &[Vec<u32>]) -> Complex3 {
+    let polys: Vec<&[u32]> = faces.iter().map(|f| f.as_slice()).collect();
+    complex(points, &polys)
 }
