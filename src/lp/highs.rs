@@ -402,20 +402,6 @@ impl Lp {
         }
     }
 
-    /// An elastic model with new costs per segment's violation (1 where
-    /// absent): the optimal basis stays feasible and the primal simplex
-    /// goes on from it.
-    pub(crate) fn elastic_costs(&mut self, costs: &HashMap<u32, f64>) -> Result<()> {
-        self.simplex(false);
-        let (cols, cost): (Vec<highs::Col>, Vec<f64>) = self
-            .slack
-            .iter()
-            .map(|(s, &c)| (c, costs.get(s).copied().unwrap_or(1.0)))
-            .unzip();
-        let model = self.model.as_mut().expect("model");
-        change_columns(model, &cols, Change::Costs(&cost))
-    }
-
     /// Phase 1 again with |w_i| <= k l_i^2 (free: None).
     pub(crate) fn bound(&mut self, sys: &System, k: Option<f64>) -> Result<()> {
         self.simplex(true);
