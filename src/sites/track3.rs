@@ -157,7 +157,7 @@ mod tests {
             s.w.push(q(wt));
             s.serves.push(vec![0]);
             s.line.push(None);
-            s.track.push(tr);
+            s.track.push(tr.map(Box::new));
         }
         s.reweigh(0, &cx, &w);
         let inside = |s: &Sites3| norm2(&sub(&s.p[0], &s.p[1])) + &s.w[0] - &s.w[1] > 0;
