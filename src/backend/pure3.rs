@@ -110,17 +110,28 @@ fn conflict<P: Predicates3 + ?Sized>(pts: &P, t: [u32; 4], e: u32) -> bool {
         Ordering::Equal => {}
     }
     let five = [t[0], t[1], t[2], t[3], e];
-    let mut order: Vec<(u32, Ordering)> = (0..5)
-        .map(|r| {
-            let o: Vec<u32> = (0..5).filter(|&i| i != r).map(|i| five[i]).collect();
+    // places in index order, each orientation computed only when all
+    // earlier ones vanish (usually the first decides)
+    let mut places = [0usize, 1, 2, 3, 4];
+    places.sort_unstable_by_key(|&r| five[r]);
+    places
+        .iter()
+        .map(|&r| {
+            let mut o = [0u32; 4];
+            let mut n = 0;
+            for (i, &x) in five.iter().enumerate() {
+                if i != r {
+                    o[n] = x;
+                    n += 1;
+                }
+            }
             let s = pts.orient(o[0], o[1], o[2], o[3]);
-            (five[r], if r % 2 == 0 { s.reverse() } else { s })
+            if r % 2 == 0 {
+                s.reverse()
+            } else {
+                s
+            }
         })
-        .collect();
-    order.sort_by_key(|x| x.0);
-    order
-        .into_iter()
-        .map(|(_, s)| s)
         .find(|s| *s != Ordering::Equal)
         == Some(Ordering::Less)
 }

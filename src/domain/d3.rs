@@ -83,66 +83,66 @@ impl Complex3 {
     }
 
     /// Pairs of facets (ids from 1) with simplices that meet other than in
-    /// a common face: a sweep over bounding boxes, then exact tests. The
-    /// sweep runs along the axis where the boxes are shortest against the
-    /// whole (a stack of boxes: along the stack), so few are active at once.
+    /// a common face: an R-tree of bounding boxes (boundaries included),
+    /// then exact tests. (A sweep along one axis was quadratic in a layer
+    /// of a layered field: 4 s of 22 on `generate field3` 16 x 16 x 8.)
     fn crossing_facets(&self, sc: &Simplices3) -> Vec<(i64, i64)> {
-        let mut items: Vec<(Vec<u32>, u32)> = vec![];
+        use rstar::primitives::{GeomWithData, Rectangle};
+        let mut items: Vec<(&[u32], u32)> = vec![];
         items.extend(
             sc.triangles
                 .iter()
                 .zip(&sc.triangle_facet)
-                .map(|(t, &f)| (t.to_vec(), f)),
+                .map(|(t, &f)| (&t[..], f)),
         );
         items.extend(
             sc.segments
                 .iter()
                 .zip(&sc.segment_facet)
-                .map(|(s, &f)| (s.to_vec(), f)),
+                .map(|(s, &f)| (&s[..], f)),
         );
         items.extend(
             sc.points
                 .iter()
                 .zip(&sc.point_facet)
-                .map(|(&p, &f)| (vec![p], f)),
+                .map(|(p, &f)| (std::slice::from_ref(p), f)),
         );
-        let bbox = |vs: &[u32]| {
-            let pts: Vec<[f64; 3]> = vs.iter().map(|&v| self.points[v as usize]).collect();
-            let (lo, hi) = crate::geom::bbox(&pts);
-            [lo, hi]
-        };
-        let boxes: Vec<[[f64; 3]; 2]> = items.iter().map(|(vs, _)| bbox(vs)).collect();
-        let (lo, hi) = crate::geom::bbox(&self.points);
-        let a = (0..3)
-            .min_by(|&k, &l| {
-                let share = |k: usize| {
-                    let span = (hi[k] - lo[k]).max(f64::MIN_POSITIVE);
-                    boxes
-                        .iter()
-                        .map(|b| (b[1][k] - b[0][k]) / span)
-                        .sum::<f64>()
-                };
-                share(k).total_cmp(&share(l))
+        let boxes: Vec<rstar::AABB<[f64; 3]>> = items
+            .iter()
+            .map(|(vs, _)| {
+                let pts: Vec<[f64; 3]> = vs.iter().map(|&v| self.points[v as usize]).collect();
+                let (lo, hi) = crate::geom::bbox(&pts);
+                rstar::AABB::from_corners(lo, hi)
             })
-            .unwrap_or(0);
-        let mut order: Vec<usize> = (0..items.len()).collect();
-        order.sort_unstable_by(|&i, &j| boxes[i][0][a].total_cmp(&boxes[j][0][a]));
-        let mut active: Vec<usize> = vec![];
-        let mut pairs = std::collections::BTreeSet::new();
-        for &i in &order {
-            active.retain(|&j| boxes[j][1][a] >= boxes[i][0][a]);
-            for &j in &active {
-                let (fi, fj) = (items[i].1, items[j].1);
-                let overlap = (0..3)
-                    .all(|k| boxes[i][0][k] <= boxes[j][1][k] && boxes[j][0][k] <= boxes[i][1][k]);
-                if fi != fj && overlap && Simplices(&self.points).improper(&items[i].0, &items[j].0)
-                {
-                    pairs.insert((fi.min(fj) as i64 + 1, fi.max(fj) as i64 + 1));
-                }
-            }
-            active.push(i);
-        }
-        pairs.into_iter().collect()
+            .collect();
+        let tree = rstar::RTree::bulk_load(
+            boxes
+                .iter()
+                .enumerate()
+                .map(|(i, b)| GeomWithData::new(Rectangle::from_aabb(*b), i))
+                .collect(),
+        );
+        // (in parallel: each query is independent, and the exact tests are
+        // most of this stage)
+        use rayon::prelude::*;
+        let pairs: std::collections::BTreeSet<(u32, u32)> = (0..items.len())
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                let (si, fi) = items[i];
+                let (items, points) = (&items, &self.points);
+                tree.locate_in_envelope_intersecting(&boxes[i])
+                    .filter_map(move |j| {
+                        let (sj, fj) = items[j.data];
+                        (j.data > i && fi != fj && Simplices(points).improper(si, sj))
+                            .then(|| (fi.min(fj) + 1, fi.max(fj) + 1))
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        pairs
+            .into_iter()
+            .map(|(a, b)| (a as i64, b as i64))
+            .collect()
     }
 }
 

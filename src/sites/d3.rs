@@ -17,8 +17,9 @@ use crate::geom::{
 };
 use crate::weights::{face_centre, fan, sorted3, Weights3};
 use crate::FastMap;
+use rayon::prelude::*;
 use std::cmp::Ordering;
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap};
 
 /// All sites, exactly.
 #[derive(Debug, Clone, Default)]
@@ -244,24 +245,39 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         s.track.push(None);
         x as u32
     };
-    for (fi, face) in wt.faces.iter().enumerate().filter(|(_, f)| f.dim() == 2) {
+    // (the faces' duals in parallel: exact and independent, most of this
+    // stage on a large input; the sites then added in face order)
+    let faces: Vec<_> = wt
+        .faces
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.dim() == 2)
+        .collect();
+    let duals: Vec<(Dual, [Q; 2])> = faces
+        .par_iter()
+        .map(|&(_, face)| {
+            let vs = &face.vertices;
+            let apexes: Vec<u32> = if vs.len() == 3 {
+                tris.get(&sorted3(vs)).cloned().unwrap_or_default()
+            } else {
+                fan(vs, &tris)
+                    .iter()
+                    .flat_map(|t| tris[t].iter().copied())
+                    .filter(|a| !vs.contains(a))
+                    .collect()
+            };
+            let dual = Dual::of(cx, w, vs, &apexes).ok_or_else(|| {
+                Error::Certificate(format!(
+                    "the dual edge of a face of facet {} is empty",
+                    face.facet.map_or(0, |f| f as i64 + 1)
+                ))
+            })?;
+            let two = dual.two(&dual.scale(cx, vs));
+            Ok((dual, two))
+        })
+        .collect::<Result<_>>()?;
+    for ((fi, face), (dual, [a, b])) in faces.into_iter().zip(duals) {
         let vs = &face.vertices;
-        let apexes: Vec<u32> = if vs.len() == 3 {
-            tris.get(&sorted3(vs)).cloned().unwrap_or_default()
-        } else {
-            fan(vs, &tris)
-                .iter()
-                .flat_map(|t| tris[t].iter().copied())
-                .filter(|a| !vs.contains(a))
-                .collect()
-        };
-        let dual = Dual::of(cx, w, vs, &apexes).ok_or_else(|| {
-            Error::Certificate(format!(
-                "the dual edge of a face of facet {} is empty",
-                face.facet.map_or(0, |f| f as i64 + 1)
-            ))
-        })?;
-        let [a, b] = dual.two(&dual.scale(cx, vs));
         s.of_face[fi] = Some([add(&mut s, &dual, &a, vs), add(&mut s, &dual, &b, vs)]);
     }
     // Extra sites, at most one per RT triangle (shared by its vertices).
@@ -295,6 +311,14 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
     edges.sort_unstable();
     edges.dedup();
     let mut index = by_vertex(&s);
+    // Most edges and vertices have enough sites from their faces: checked
+    // in parallel first (more sites only keep a span).
+    let spanned: Vec<bool> = edges.par_iter().map(|e| enough(&s, &index, e, 2)).collect();
+    let edges: Vec<[u32; 2]> = edges
+        .into_iter()
+        .zip(spanned)
+        .filter_map(|(e, ok)| (!ok).then_some(e))
+        .collect();
     for e in &edges {
         let have = |s: &Sites3, index: &HashMap<u32, Vec<u32>>| -> Vec<u32> {
             index
@@ -328,8 +352,15 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         .collect();
     vertices.sort_unstable();
     vertices.dedup();
-    let around = candidates(&tris, &s);
-    for v in vertices {
+    let spanned: Vec<bool> = vertices
+        .par_iter()
+        .map(|&v| enough(&s, &index, &[v], 3))
+        .collect();
+    // the candidates ordered by the sites placed so far, when first needed
+    let served = served(&s);
+    let mut around = None;
+    for (v, _) in vertices.into_iter().zip(spanned).filter(|(_, ok)| !ok) {
+        let around = around.get_or_insert_with(|| candidates(&tris, &served));
         let mut candidates = around.get(&v).cloned().unwrap_or_default().into_iter();
         loop {
             let have = index.get(&v).cloned().unwrap_or_default();
@@ -357,18 +388,42 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
 /// then serves several that need it), in a fixed order: `tris` is a hash
 /// map, whose order changes from run to run (it chose different extra
 /// sites each run).
-fn candidates(tris: &HashMap<[u32; 3], Vec<u32>>, s: &Sites3) -> HashMap<u32, Vec<[u32; 3]>> {
+fn candidates(tris: &FastMap<[u32; 3], Vec<u32>>, served: &[bool]) -> HashMap<u32, Vec<[u32; 3]>> {
     let mut around: HashMap<u32, Vec<[u32; 3]>> = HashMap::new();
     for t in tris.keys() {
         for &v in t {
             around.entry(v).or_default().push(*t);
         }
     }
-    let served: HashSet<u32> = s.serves.iter().flatten().copied().collect();
+    let served = |v: &u32| served.get(*v as usize).copied().unwrap_or(false);
     for list in around.values_mut() {
-        list.sort_unstable_by_key(|t| (t.iter().filter(|v| served.contains(v)).count(), *t));
+        list.sort_by_cached_key(|t| (t.iter().filter(|v| served(v)).count(), *t));
     }
     around
+}
+
+/// Whether the sites serving all of `vs` span dimension r (`spans`).
+fn enough(s: &Sites3, index: &HashMap<u32, Vec<u32>>, vs: &[u32], r: usize) -> bool {
+    let have: Vec<u32> = index
+        .get(&vs[0])
+        .into_iter()
+        .flatten()
+        .copied()
+        .filter(|&x| vs[1..].iter().all(|v| s.serves[x as usize].contains(v)))
+        .collect();
+    spans(s, &have, r)
+}
+
+/// Per input vertex, whether some site serves it.
+fn served(s: &Sites3) -> Vec<bool> {
+    let mut out = vec![];
+    for &v in s.serves.iter().flatten() {
+        if out.len() <= v as usize {
+            out.resize(v as usize + 1, false);
+        }
+        out[v as usize] = true;
+    }
+    out
 }
 
 fn short(cx: &Complex3, what: &str, vs: &[u32]) -> Error {

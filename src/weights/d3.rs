@@ -37,7 +37,7 @@ use crate::{
     domain::Simplices3,
     geom::{drop_axis, plane_axis},
 };
-use std::collections::{BTreeSet, HashMap, HashSet};
+use std::collections::{BTreeSet, HashSet};
 
 /// Polygons with more vertices than this are triangulated (the exact check
 /// of a whole polygon looks at every triple of its vertices).
@@ -516,7 +516,7 @@ pub(crate) fn sorted3(v: &[u32]) -> [u32; 3] {
 }
 
 /// The triangles of RT among a polygon's vertices (sorted triples).
-pub(crate) fn fan(vs: &[u32], tris: &HashMap<[u32; 3], Vec<u32>>) -> Vec<[u32; 3]> {
+pub(crate) fn fan(vs: &[u32], tris: &crate::FastMap<[u32; 3], Vec<u32>>) -> Vec<[u32; 3]> {
     let mut out = vec![];
     for a in 0..vs.len() {
         for b in a + 1..vs.len() {
@@ -573,8 +573,9 @@ pub(super) fn check(cx: &Complex3, faces: &[Face], rt: &Tetrahedralisation) -> M
     };
     let mut hidden: Vec<u32> = rt.hidden.clone();
     hidden.sort_unstable();
+    use rayon::prelude::*;
     Misses {
-        faces: faces.iter().enumerate().filter_map(present).collect(),
+        faces: faces.par_iter().enumerate().filter_map(present).collect(),
         hidden,
     }
 }
@@ -683,8 +684,10 @@ pub fn sys3_failures(cx: &Complex3, faces: &[Face], w: &[Q], rt: &Tetrahedralisa
         };
         near.iter().all(|&m| is_pos(&(power_to(m) - &power)))
     };
+    // (in parallel: exact and independent per face)
+    use rayon::prelude::*;
     faces
-        .iter()
+        .par_iter()
         .enumerate()
         .filter(|(_, f)| f.dim() > 0 && !crosses(f))
         .map(|(i, _)| i as u32)
