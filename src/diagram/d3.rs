@@ -12,8 +12,8 @@ use crate::error::{Error, Result};
 use crate::geom::{det3_f, dot_f, f, newell, norm2, q, sub, Weighted3, Q};
 use crate::sites::Sites3;
 use crate::weights::Weights3;
+use crate::{FastMap as HashMap, FastSet as HashSet};
 use serde::Serialize;
-use std::collections::{HashMap, HashSet};
 
 /// A cell: its faces, each a cycle of power vertices counter-clockwise
 /// seen from outside, with the site across it.
@@ -179,7 +179,7 @@ impl Diagram3 {
         }
         // Each edge's face: the power vertices of the tetrahedra around it,
         // repeats merged (None: unbounded).
-        let mut faces: HashMap<[u32; 2], Option<Vec<u32>>> = HashMap::new();
+        let mut faces: HashMap<[u32; 2], Option<Vec<u32>>> = HashMap::default();
         for (t, v) in rt.tets.iter().enumerate() {
             for a in 0..4 {
                 for b in a + 1..4 {
@@ -275,13 +275,13 @@ impl Diagram3 {
             Some(face.iter().copied().collect())
         };
         // power vertex of each input vertex
-        let mut of_input: HashMap<u32, u32> = HashMap::new();
+        let mut of_input: HashMap<u32, u32> = HashMap::default();
         for (v, iv) in self.input_vertex.iter().enumerate() {
             if let Some(i) = iv {
                 of_input.insert(*i, v as u32);
             }
         }
-        let mut edges: HashSet<[u32; 2]> = HashSet::new();
+        let mut edges: HashSet<[u32; 2]> = HashSet::default();
         for (t, _, u, _) in self.rt.inner_faces() {
             let (a, b) = (self.vertex_of[t as usize], self.vertex_of[u as usize]);
             if a != b {
@@ -384,7 +384,7 @@ fn domain(
     faces: &HashMap<[u32; 2], Option<Vec<u32>>>,
 ) -> Result<Vec<bool>> {
     let n = s.p.len();
-    let mut cut: HashSet<[u32; 2]> = HashSet::new();
+    let mut cut: HashSet<[u32; 2]> = HashSet::default();
     for [a, b] in s.of_face.iter().flatten() {
         cut.insert([*a.min(b), *a.max(b)]);
     }
@@ -411,7 +411,7 @@ fn domain(
             parent[a.max(b) as usize] = a.min(b);
         }
     }
-    let mut outside = HashSet::new();
+    let mut outside = HashSet::default();
     for x in (0..n).filter(|&x| s.is_mirror(x)) {
         outside.insert(find(&mut parent, x as u32));
     }

@@ -283,12 +283,20 @@ fn check(t: &Tests, rt: &Tetrahedralisation) -> std::result::Result<Vec<[u32; 2]
     if rt.tets.is_empty() {
         return Err("no tetrahedra".into());
     }
+    // (the exact tests in parallel: independent, and as many as the
+    // triangulation's faces)
+    use rayon::prelude::*;
+    let flat = rt
+        .tets
+        .par_iter()
+        .enumerate()
+        .find_first(|(_, tet)| t.orient(tet[0], tet[1], tet[2], tet[3]) != Ordering::Greater);
+    if let Some((i, tet)) = flat {
+        return Err(format!("tetrahedron {i} {tet:?} is not positive"));
+    }
     let mut vertex = vec![false; t.s.p.len()];
-    for (i, &tet) in rt.tets.iter().enumerate() {
+    for tet in &rt.tets {
         tet.iter().for_each(|&v| vertex[v as usize] = true);
-        if t.orient(tet[0], tet[1], tet[2], tet[3]) != Ordering::Greater {
-            return Err(format!("tetrahedron {i} {tet:?} is not positive"));
-        }
     }
     // Only mirrors may be hidden (a site's own tie is the caller's to
     // name), and only under the lifted hull of the others.
@@ -307,15 +315,21 @@ fn check(t: &Tests, rt: &Tetrahedralisation) -> std::result::Result<Vec<[u32; 2]
     if let Some(x) = vertex.iter().position(|&v| !v) {
         return Err(format!("site {x} is not a vertex"));
     }
-    let mut ties = vec![];
-    for (t1, _, t2, l) in rt.inner_faces() {
-        let (tet, apex) = (rt.tets[t1 as usize], rt.tets[t2 as usize][l]);
-        match t.power(tet, apex) {
-            Ordering::Greater => return Err(format!("the face of {t1} and {t2} is not regular")),
-            Ordering::Equal => ties.push([t1, t2]),
-            Ordering::Less => {}
-        }
+    let faces: Vec<(u32, u32, usize)> = rt.inner_faces().map(|(a, _, b, l)| (a, b, l)).collect();
+    let power: Vec<Ordering> = faces
+        .par_iter()
+        .map(|&(t1, t2, l)| t.power(rt.tets[t1 as usize], rt.tets[t2 as usize][l]))
+        .collect();
+    if let Some(k) = power.iter().position(|&o| o == Ordering::Greater) {
+        let (t1, t2, _) = faces[k];
+        return Err(format!("the face of {t1} and {t2} is not regular"));
     }
+    let ties = faces
+        .iter()
+        .zip(&power)
+        .filter(|(_, &o)| o == Ordering::Equal)
+        .map(|(&(t1, t2, _), _)| [t1, t2])
+        .collect();
     // The hull bends inwards at every edge: the third vertex of the hull
     // face across the edge is not beyond this face's plane.
     let hull: Vec<[u32; 3]> = rt.hull_faces().collect();
@@ -385,47 +399,46 @@ fn power_vertices(
         .iter()
         .flatten()
         .fold(1e-300f64, |m, x| m.max(x.abs()));
-    let mut points = Vec::with_capacity(first.len());
-    let mut rough = vec![];
-    for (id, &t) in first.iter().enumerate() {
-        if let Some(v) = input[id] {
-            points.push(cx.points[v as usize]);
-            continue;
-        }
-        let tet = rt.tets[t as usize];
-        let iv = tests.k.orthocentre_iv(tet);
-        let lo = by_x.partition_point(|&v| cx.points[v as usize][0] < iv[0].lo);
-        let mut candidates = by_x[lo..]
-            .iter()
-            .take_while(|&&v| cx.points[v as usize][0] <= iv[0].hi)
-            .filter(|&&v| {
-                (1..3).all(|c| {
-                    iv[c].lo <= cx.points[v as usize][c] && cx.points[v as usize][c] <= iv[c].hi
+    // (each class apart, in parallel: the exact orthocentres are costly)
+    use rayon::prelude::*;
+    let placed: Vec<([f64; 3], Option<u32>, bool)> = first
+        .par_iter()
+        .zip(&input)
+        .map(|(&t, &known)| {
+            if let Some(v) = known {
+                return (cx.points[v as usize], Some(v), false);
+            }
+            let tet = rt.tets[t as usize];
+            let iv = tests.k.orthocentre_iv(tet);
+            let lo = by_x.partition_point(|&v| cx.points[v as usize][0] < iv[0].lo);
+            let mut candidates = by_x[lo..]
+                .iter()
+                .take_while(|&&v| cx.points[v as usize][0] <= iv[0].hi)
+                .filter(|&&v| {
+                    (1..3).all(|c| {
+                        iv[c].lo <= cx.points[v as usize][c] && cx.points[v as usize][c] <= iv[c].hi
+                    })
                 })
-            })
-            .peekable();
-        let narrow = iv.iter().all(|x| x.hi - x.lo <= 1e-12 * scale);
-        if candidates.peek().is_none() {
-            points.push(iv.map(|x| x.mid()));
-            if !narrow {
-                rough.push(id as u32);
+                .peekable();
+            let narrow = iv.iter().all(|x| x.hi - x.lo <= 1e-12 * scale);
+            if candidates.peek().is_none() {
+                return (iv.map(|x| x.mid()), None, !narrow);
             }
-            continue;
-        }
-        let Some(c) = tests.k.orthocentre(tet) else {
-            // (a positive tetrahedron is not flat)
-            points.push(iv.map(|x| x.mid()));
-            continue;
-        };
-        let hit = candidates.find(|&&v| cx.points[v as usize].map(q) == c);
-        match hit {
-            Some(&v) => {
-                input[id] = Some(v);
-                points.push(cx.points[v as usize]);
+            let Some(c) = tests.k.orthocentre(tet) else {
+                // (a positive tetrahedron is not flat)
+                return (iv.map(|x| x.mid()), None, false);
+            };
+            match candidates.find(|&&v| cx.points[v as usize].map(q) == c) {
+                Some(&v) => (cx.points[v as usize], Some(v), false),
+                None => (Weighted3::round(&c), None, false),
             }
-            None => points.push(Weighted3::round(&c)),
-        }
-    }
+        })
+        .collect();
+    let points = placed.iter().map(|x| x.0).collect();
+    let input = placed.iter().map(|x| x.1).collect();
+    let rough: Vec<u32> = (0..placed.len() as u32)
+        .filter(|&i| placed[i as usize].2)
+        .collect();
     PowerVertices {
         vertex_of,
         points,

@@ -8,9 +8,19 @@ use super::{det3, det3_f, det3_q, det4, det4_f64, f, norm2, per3_f64, per4_f64, 
 use malachite_base::num::arithmetic::traits::{DivExact, Lcm, Sign};
 use malachite_nz::integer::Integer;
 use malachite_nz::natural::Natural;
+use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 use std::sync::OnceLock;
+
+/// A point's doubles and their error bounds, in one cache line (the
+/// filters read both for five random points per test).
+#[derive(Clone, Copy)]
+#[repr(align(64))]
+struct Near {
+    mid: [f64; 4],
+    rad: [f64; 4],
+}
 
 /// Weighted points (p, w), exactly, with enclosures of (x, y, z, w).
 pub struct Weighted3<'a> {
@@ -19,8 +29,7 @@ pub struct Weighted3<'a> {
     iv: Vec<[Iv; 4]>,
     /// The nearest doubles to (x, y, z, w), and how far the exact values
     /// may be from them (from the enclosures).
-    mid: Vec<[f64; 4]>,
-    rad: Vec<[f64; 4]>,
+    near: Vec<Near>,
     /// Per point, made when an exact test first needs it: (p, 1) and
     /// (p, |p|^2 - w, 1), each scaled by a positive integer to integers
     /// (a determinant's sign in integers needs no gcd).
@@ -54,8 +63,9 @@ fn sign(x: &Q) -> Ordering {
 
 impl<'a> Weighted3<'a> {
     pub fn new(p: &'a [[Q; 3]], w: &'a [Q]) -> Self {
+        // (in parallel: rounding rationals is slow)
         let iv: Vec<[Iv; 4]> = p
-            .iter()
+            .par_iter()
             .zip(w)
             .map(|(p, w)| {
                 [
@@ -66,22 +76,20 @@ impl<'a> Weighted3<'a> {
                 ]
             })
             .collect();
-        let mid: Vec<[f64; 4]> = p
-            .iter()
-            .zip(w)
-            .map(|(p, w)| [f(&p[0]), f(&p[1]), f(&p[2]), f(w)])
-            .collect();
-        let rad = iv
-            .iter()
-            .zip(&mid)
-            .map(|(i, m)| std::array::from_fn(|k| (i[k].hi - m[k]).max(m[k] - i[k].lo)))
+        let near = iv
+            .par_iter()
+            .zip(p.par_iter().zip(w))
+            .map(|(i, (p, w))| {
+                let mid = [f(&p[0]), f(&p[1]), f(&p[2]), f(w)];
+                let rad = std::array::from_fn(|k| (i[k].hi - mid[k]).max(mid[k] - i[k].lo));
+                Near { mid, rad }
+            })
             .collect();
         Weighted3 {
             p,
             w,
             iv,
-            mid,
-            rad,
+            near,
             rows: (0..p.len()).map(|_| OnceLock::new()).collect(),
             exact_evaluations: AtomicUsize::new(0),
         }
@@ -142,8 +150,8 @@ impl<'a> Weighted3<'a> {
     /// Differences p_x - p_o in doubles, each with a bound on how far the
     /// exact difference may be: both points' rounding and the subtraction's.
     fn diff(&self, x: u32, o: u32) -> ([f64; 3], [f64; 3]) {
-        let (mx, mo) = (self.mid[x as usize], self.mid[o as usize]);
-        let (rx, ro) = (self.rad[x as usize], self.rad[o as usize]);
+        let (nx, no) = (&self.near[x as usize], &self.near[o as usize]);
+        let (mx, mo, rx, ro) = (nx.mid, no.mid, nx.rad, no.rad);
         let d: [f64; 3] = std::array::from_fn(|k| mx[k] - mo[k]);
         let eta = std::array::from_fn(|k| rx[k] + ro[k] + f64::EPSILON * d[k].abs());
         (d, eta)
@@ -165,10 +173,10 @@ impl<'a> Weighted3<'a> {
     /// entry |d|^2 - (w_x - w_e) moves by at most sum (2 |d_k| + eta_k)
     /// eta_k, the weights' rounding and its own (4 eps of its magnitude).
     pub fn power_f64(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
-        let (we, re) = (self.mid[e as usize][3], self.rad[e as usize][3]);
+        let (we, re) = (self.near[e as usize].mid[3], self.near[e as usize].rad[3]);
         let rows = t.map(|x| {
             let (d, eta) = self.diff(x, e);
-            let (wx, rx) = (self.mid[x as usize][3], self.rad[x as usize][3]);
+            let (wx, rx) = (self.near[x as usize].mid[3], self.near[x as usize].rad[3]);
             let sq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             let wz = wx - we;
             let moved: f64 = (0..3).map(|k| (2.0 * d[k].abs() + eta[k]) * eta[k]).sum();
@@ -208,7 +216,7 @@ impl<'a> Weighted3<'a> {
     pub fn axis_flat(&self, t: [u32; 4]) -> bool {
         let same = |x: u32, y: u32, k: usize| {
             let (x, y) = (x as usize, y as usize);
-            self.mid[x][k] == self.mid[y][k] && self.p[x][k] == self.p[y][k]
+            self.near[x].mid[k] == self.near[y].mid[k] && self.p[x][k] == self.p[y][k]
         };
         let [a, b, c, d] = t;
         if (0..3).any(|k| [b, c, d].iter().all(|&x| same(a, x, k))) {

@@ -656,8 +656,8 @@ impl Sites3 {
             return false;
         };
         let (c, n, t) = (
-            line.c.clone().map(|v| f(&v)),
-            line.n.clone().map(|v| f(&v)),
+            line.c.each_ref().map(f),
+            line.n.each_ref().map(f),
             f(&line.t),
         );
         let v0 = self.serves[x][0] as usize;
@@ -668,7 +668,7 @@ impl Sites3 {
         let a = 2.0 * (0..3).map(|k| n[k] * n[k]).sum::<f64>();
         let mut target = t / 2.0;
         for &y in neighbours {
-            let py = self.p[y as usize].clone().map(|v| f(&v));
+            let py = self.p[y as usize].each_ref().map(f);
             let wy = f(&self.w[y as usize]);
             let d: [f64; 3] = std::array::from_fn(|k| c[k] - py[k]);
             let b = 2.0 * (0..3).map(|k| n[k] * d[k]).sum::<f64>();
@@ -719,6 +719,7 @@ impl Sites3 {
                 break;
             };
             let beaten: Vec<(usize, Vec<u32>)> = (0..a.len())
+                .into_par_iter()
                 .filter(|&x| self.line[x].is_some())
                 .filter_map(|x| {
                     let by: Vec<u32> = reach
@@ -770,8 +771,9 @@ impl Sites3 {
 
     /// Doubles nearest the sites and weights.
     pub fn approx(&self) -> Vec<[f64; 4]> {
+        // (in parallel: rounding rationals is slow, and this runs per round)
         self.p
-            .iter()
+            .par_iter()
             .zip(&self.w)
             .map(|(p, w)| [f(&p[0]), f(&p[1]), f(&p[2]), f(w)])
             .collect()
