@@ -25,6 +25,11 @@ pub(crate) trait Predicates3 {
     fn power(&self, t: [u32; 4], e: u32) -> Ordering;
     /// The exact point and weight.
     fn exact(&self, v: u32) -> ([Q; 3], Q);
+    /// `conflict_in_plane`'s sign before its tie-break, when a filter
+    /// decides it.
+    fn in_plane_filtered(&self, _face: [u32; 3], _p: u32) -> Option<Ordering> {
+        None
+    }
 }
 
 impl Predicates3 for F64Points3<'_> {
@@ -93,6 +98,9 @@ impl Predicates3 for Weighted3<'_> {
         let (p, w) = self.point(v);
         (p.clone(), w.clone())
     }
+    fn in_plane_filtered(&self, face: [u32; 3], p: u32) -> Option<Ordering> {
+        self.in_plane_interval(face, p)
+    }
 }
 
 /// Whether e conflicts with the positive tetrahedron t, ties broken by
@@ -152,6 +160,11 @@ fn perturbed_sign(mut order: Vec<(u32, Q)>) -> Ordering {
 /// heights z_x = |x - a|^2 - w_x + w_a, p conflicts iff E = s z_b + t z_c -
 /// z_p > 0; perturbed, E gains (s + t - 1) eps_a - s eps_b - t eps_c + eps_p.
 fn conflict_in_plane<P: Predicates3 + ?Sized>(pts: &P, [a, b, c]: [u32; 3], p: u32) -> bool {
+    match pts.in_plane_filtered([a, b, c], p) {
+        Some(Ordering::Greater) => return true,
+        Some(Ordering::Less) => return false,
+        _ => {}
+    }
     let (pa, wa) = pts.exact(a);
     let rel = |x: u32| {
         let (px, wx) = pts.exact(x);

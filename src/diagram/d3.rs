@@ -178,25 +178,36 @@ impl Diagram3 {
             )));
         }
         // Each edge's face: the power vertices of the tetrahedra around it,
-        // repeats merged (None: unbounded).
-        let mut faces: HashMap<[u32; 2], Option<Vec<u32>>> = HashMap::default();
-        for (t, v) in rt.tets.iter().enumerate() {
-            for a in 0..4 {
-                for b in a + 1..4 {
-                    let e = [v[a].min(v[b]), v[a].max(v[b])];
-                    faces.entry(e).or_insert_with(|| {
-                        let ring = rt.ring(t as u32, e[0], e[1])?;
-                        let mut face: Vec<u32> =
-                            ring.iter().map(|&t| pv.vertex_of[t as usize]).collect();
-                        face.dedup();
-                        while face.len() > 1 && face.first() == face.last() {
-                            face.pop();
-                        }
-                        Some(face)
-                    });
-                }
-            }
-        }
+        // repeats merged (None: unbounded), from its first tetrahedron.
+        // (In parallel: each edge once, found by sorting.)
+        use rayon::prelude::*;
+        let mut first: Vec<([u32; 2], u32)> = rt
+            .tets
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(t, v)| {
+                (0..4).flat_map(move |a| {
+                    (a + 1..4).map(move |b| ([v[a].min(v[b]), v[a].max(v[b])], t as u32))
+                })
+            })
+            .collect();
+        first.par_sort_unstable();
+        first.dedup_by_key(|x| x.0);
+        let faces: HashMap<[u32; 2], Option<Vec<u32>>> = first
+            .par_iter()
+            .map(|&(e, t)| {
+                let face = rt.ring(t, e[0], e[1]).map(|ring| {
+                    let mut face: Vec<u32> =
+                        ring.iter().map(|&t| pv.vertex_of[t as usize]).collect();
+                    face.dedup();
+                    while face.len() > 1 && face.first() == face.last() {
+                        face.pop();
+                    }
+                    face
+                });
+                (e, face)
+            })
+            .collect();
         let in_domain = domain(cx, s, &k, &rt, &faces)?;
         // the power vertices of the domain's cells well rounded
         let mut used = vec![false; pv.points.len()];
@@ -213,37 +224,47 @@ impl Diagram3 {
             ..
         } = pv;
         let sp = s.approx();
-        let site_inside = sites_inside(&k, s.p.len(), faces.keys());
-        let mut cells: Vec<Option<Cell>> = vec![None; s.p.len()];
         // in key order: the same input gives the same cells' face order
         let mut keys: Vec<[u32; 2]> = faces.keys().copied().collect();
-        keys.sort_unstable();
-        for [a, b] in keys {
-            let face = &faces[&[a, b]];
-            for (me, other) in [(a, b), (b, a)] {
-                if !in_domain[me as usize] {
-                    continue;
-                }
-                let Some(face) = face else {
-                    return Err(Error::Certificate(format!(
-                        "a domain cell (site {me}) is unbounded"
-                    )));
-                };
-                if face.len() < 3 {
-                    continue;
-                }
-                // outward: the face's normal points towards the other site
-                let mut face = face.clone();
-                let d: [f64; 3] =
-                    std::array::from_fn(|k| sp[other as usize][k] - sp[me as usize][k]);
-                let pts: Vec<[f64; 3]> = face.iter().map(|&v| points[v as usize]).collect();
-                if dot_f(newell(&pts), d) < 0.0 {
-                    face.reverse();
-                }
-                cells[me as usize]
-                    .get_or_insert_with(Vec::new)
-                    .push((face, other));
-            }
+        keys.par_sort_unstable();
+        let site_inside = sites_inside(&k, s.p.len(), &keys);
+        // each side's face oriented outward (its normal towards the other
+        // site), in parallel; None for an unbounded domain cell
+        let sides: Vec<(u32, u32, Option<Vec<u32>>)> = keys
+            .par_iter()
+            .flat_map_iter(|&[a, b]| {
+                let face = &faces[&[a, b]];
+                [(a, b), (b, a)]
+                    .into_iter()
+                    .filter(|&(me, _)| in_domain[me as usize])
+                    .filter(|_| face.as_ref().is_none_or(|f| f.len() >= 3))
+                    .map(|(me, other)| {
+                        let oriented = face.as_ref().map(|face| {
+                            let mut face = face.clone();
+                            let d: [f64; 3] =
+                                std::array::from_fn(|k| sp[other as usize][k] - sp[me as usize][k]);
+                            let pts: Vec<[f64; 3]> =
+                                face.iter().map(|&v| points[v as usize]).collect();
+                            if dot_f(newell(&pts), d) < 0.0 {
+                                face.reverse();
+                            }
+                            face
+                        });
+                        (me, other, oriented)
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let mut cells: Vec<Option<Cell>> = vec![None; s.p.len()];
+        for (me, other, face) in sides {
+            let Some(face) = face else {
+                return Err(Error::Certificate(format!(
+                    "a domain cell (site {me}) is unbounded"
+                )));
+            };
+            cells[me as usize]
+                .get_or_insert_with(Vec::new)
+                .push((face, other));
         }
         // A site whose cell has no face of positive area (a vertex of the
         // site triangulation whose cell is a point or a segment) has no
@@ -358,14 +379,11 @@ impl Diagram3 {
 /// Per site, whether it lies strictly inside its own cell, exactly:
 /// |p_s - p_t|^2 - w_t + w_s > 0 for every neighbour t (`edges`: the
 /// edges of the sites' regular triangulation).
-fn sites_inside<'a>(
-    k: &Weighted3,
-    n: usize,
-    edges: impl Iterator<Item = &'a [u32; 2]>,
-) -> Vec<bool> {
+fn sites_inside(k: &Weighted3, n: usize, edges: &[[u32; 2]]) -> Vec<bool> {
+    use rayon::prelude::*;
+    let apart: Vec<[bool; 2]> = edges.par_iter().map(|&[a, b]| k.apart(a, b)).collect();
     let mut inside = vec![true; n];
-    for &[a, b] in edges {
-        let [in_a, in_b] = k.apart(a, b);
+    for (&[a, b], [in_a, in_b]) in edges.iter().zip(apart) {
         inside[a as usize] &= in_a;
         inside[b as usize] &= in_b;
     }

@@ -274,6 +274,9 @@ impl Predicates3 for Tests<'_> {
     fn exact(&self, v: u32) -> ([Q; 3], Q) {
         (self.s.p[v as usize].clone(), self.s.w[v as usize].clone())
     }
+    fn in_plane_filtered(&self, face: [u32; 3], p: u32) -> Option<Ordering> {
+        self.k.in_plane_interval(face, p)
+    }
 }
 
 /// Why `rt` is not the regular triangulation of the exact sites, or the

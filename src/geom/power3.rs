@@ -240,6 +240,36 @@ impl<'a> Weighted3<'a> {
         self.power_f64(t, e).or_else(|| self.power_interval(t, e))
     }
 
+    /// For p coplanar with the triangle (a, b, c): the sign of E, where p
+    /// conflicts with the triangle's power circle iff E > 0 (see
+    /// `pure3::conflict_in_plane`), in intervals; None when they cannot
+    /// decide. With u = b - a, v = c - a, r = p - a and heights
+    /// z_x = |x - a|^2 - w_x + w_a, E times the positive Gram determinant
+    /// is (vv ur - uv vr) z_b + (uu vr - uv ur) z_c - (uu vv - uv^2) z_p.
+    pub fn in_plane_interval(&self, [a, b, c]: [u32; 3], p: u32) -> Option<Ordering> {
+        let ia = self.iv[a as usize];
+        let rel = |x: u32| {
+            let ix = self.iv[x as usize];
+            let d = [0, 1, 2].map(|k| ix[k] - ia[k]);
+            let z = d[0].sqr() + d[1].sqr() + d[2].sqr() - ix[3] + ia[3];
+            (d, z)
+        };
+        let dot = |x: &[Iv; 3], y: &[Iv; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+        let ((u, zb), (v, zc), (r, zp)) = (rel(b), rel(c), rel(p));
+        let (uu, uv, vv, ur, vr) = (
+            u[0].sqr() + u[1].sqr() + u[2].sqr(),
+            dot(&u, &v),
+            v[0].sqr() + v[1].sqr() + v[2].sqr(),
+            dot(&u, &r),
+            dot(&v, &r),
+        );
+        let gram = uu * vv - uv.sqr();
+        if gram.sign() != Some(Ordering::Greater) {
+            return None;
+        }
+        ((vv * ur - uv * vr) * zb + (uu * vr - uv * ur) * zc - gram * zp).sign()
+    }
+
     /// `power_iv`'s second step alone: in intervals around the rationals.
     pub fn power_interval(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
         let ie = self.iv[e as usize];
@@ -387,7 +417,7 @@ fn bareiss(mut m: Vec<Vec<Integer>>) -> Ordering {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::q;
+    use crate::geom::{dot, q};
 
     fn points(p: &[[f64; 4]]) -> (Vec<[Q; 3]>, Vec<Q>) {
         (
@@ -478,5 +508,55 @@ mod tests {
             }
         }
         assert!(orients > 1000 && powers > 300, "{orients} {powers}");
+    }
+    #[test]
+    fn in_plane_filter_agrees_with_rationals() {
+        // points on the tilted plane x + 2y + 3z = 1 (thirds: not doubles),
+        // some on a common circle, weights small
+        let mut seed = 11u64;
+        let mut next = |m: i64| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 33) as i64).rem_euclid(m)
+        };
+        let third = Q::from(1) / Q::from(3);
+        let (mut p, mut w) = (vec![], vec![]);
+        for _ in 0..40 {
+            let (x, y) = (Q::from(next(7) - 3), Q::from(next(7) - 3));
+            let z = (Q::from(1) - &x - Q::from(2) * &y) * &third;
+            p.push([x, y, z]);
+            w.push(Q::from(next(3)) / Q::from(4));
+        }
+        let s = Weighted3::new(&p, &w);
+        let exact = |[a, b, c]: [u32; 3], e: u32| {
+            let rel = |x: u32| {
+                let d = sub(&p[x as usize], &p[a as usize]);
+                let z = norm2(&d) - &w[x as usize] + &w[a as usize];
+                (d, z)
+            };
+            let ((u, zb), (v, zc), (r, zp)) = (rel(b), rel(c), rel(e));
+            let (uu, uv, vv) = (norm2(&u), dot(&u, &v), norm2(&v));
+            let (ur, vr) = (dot(&u, &r), dot(&v, &r));
+            let gram = &uu * &vv - &uv * &uv;
+            (gram != 0).then(|| {
+                sign(&((&vv * &ur - &uv * &vr) * zb + (&uu * &vr - &uv * &ur) * zc - gram * zp))
+            })
+        };
+        let (mut decided, mut ties) = (0, 0);
+        for _ in 0..3000 {
+            let f = [0; 3].map(|_| next(40) as u32);
+            let e = next(40) as u32;
+            let Some(want) = exact(f, e) else { continue };
+            ties += usize::from(want == Ordering::Equal);
+            if let Some(got) = s.in_plane_interval(f, e) {
+                assert_eq!(got, want, "{f:?} {e}");
+                decided += 1;
+            }
+        }
+        assert!(
+            decided > 1000 && ties > 10,
+            "{decided} decided, {ties} ties"
+        );
     }
 }
