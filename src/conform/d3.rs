@@ -233,6 +233,9 @@ impl Attempt {
             // past the neighbours that beat them (`Sites3::jump`): near it,
             // a site's cell is its half of a region around the face. Extra
             // sites try other places on their dual edges (`Sites3::wander`).
+            if !(0..s.p.len()).any(|x| d.in_domain[x] && !d.site_inside[x]) {
+                break;
+            }
             let neighbours = d.rt.neighbours(s.p.len());
             let mut moved = false;
             for (x, around) in neighbours.iter().enumerate() {

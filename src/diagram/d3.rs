@@ -133,6 +133,10 @@ fn on_lower_hull(s: &Sites3, rt: &Tetrahedralisation, h: usize) -> bool {
     })
 }
 
+/// Items per parallel batch where results are gathered (bounds the
+/// intermediate memory).
+const CHUNK: usize = 1 << 15;
+
 impl Diagram3 {
     /// Builds the site diagram and its domain (cells not separated by a
     /// face from an unbounded cell or a hole point). `engine_first` skips
@@ -179,35 +183,40 @@ impl Diagram3 {
         }
         // Each edge's face: the power vertices of the tetrahedra around it,
         // repeats merged (None: unbounded), from its first tetrahedron.
-        // (In parallel: each edge once, found by sorting.)
+        // (The faces in parallel, a chunk at a time: whole intermediate
+        // vectors raised the peak by a KB a facet triangle.)
         use rayon::prelude::*;
-        let mut first: Vec<([u32; 2], u32)> = rt
-            .tets
-            .par_iter()
-            .enumerate()
-            .flat_map_iter(|(t, v)| {
-                (0..4).flat_map(move |a| {
-                    (a + 1..4).map(move |b| ([v[a].min(v[b]), v[a].max(v[b])], t as u32))
+        let mut first: HashMap<[u32; 2], u32> = HashMap::default();
+        for (t, v) in rt.tets.iter().enumerate() {
+            for a in 0..4 {
+                for b in a + 1..4 {
+                    first
+                        .entry([v[a].min(v[b]), v[a].max(v[b])])
+                        .or_insert(t as u32);
+                }
+            }
+        }
+        let first: Vec<([u32; 2], u32)> = first.into_iter().collect();
+        let mut faces: HashMap<[u32; 2], Option<Vec<u32>>> = HashMap::default();
+        faces.reserve(first.len());
+        for chunk in first.chunks(CHUNK) {
+            let made: Vec<Option<Vec<u32>>> = chunk
+                .par_iter()
+                .map(|&(e, t)| {
+                    rt.ring(t, e[0], e[1]).map(|ring| {
+                        let mut face: Vec<u32> =
+                            ring.iter().map(|&t| pv.vertex_of[t as usize]).collect();
+                        face.dedup();
+                        while face.len() > 1 && face.first() == face.last() {
+                            face.pop();
+                        }
+                        face
+                    })
                 })
-            })
-            .collect();
-        first.par_sort_unstable();
-        first.dedup_by_key(|x| x.0);
-        let faces: HashMap<[u32; 2], Option<Vec<u32>>> = first
-            .par_iter()
-            .map(|&(e, t)| {
-                let face = rt.ring(t, e[0], e[1]).map(|ring| {
-                    let mut face: Vec<u32> =
-                        ring.iter().map(|&t| pv.vertex_of[t as usize]).collect();
-                    face.dedup();
-                    while face.len() > 1 && face.first() == face.last() {
-                        face.pop();
-                    }
-                    face
-                });
-                (e, face)
-            })
-            .collect();
+                .collect();
+            faces.extend(chunk.iter().map(|x| x.0).zip(made));
+        }
+        drop(first);
         let in_domain = domain(cx, s, &k, &rt, &faces)?;
         // the power vertices of the domain's cells well rounded
         let mut used = vec![false; pv.points.len()];
@@ -229,42 +238,46 @@ impl Diagram3 {
         keys.par_sort_unstable();
         let site_inside = sites_inside(&k, s.p.len(), &keys);
         // each side's face oriented outward (its normal towards the other
-        // site), in parallel; None for an unbounded domain cell
-        let sides: Vec<(u32, u32, Option<Vec<u32>>)> = keys
-            .par_iter()
-            .flat_map_iter(|&[a, b]| {
-                let face = &faces[&[a, b]];
-                [(a, b), (b, a)]
-                    .into_iter()
-                    .filter(|&(me, _)| in_domain[me as usize])
-                    .filter(|_| face.as_ref().is_none_or(|f| f.len() >= 3))
-                    .map(|(me, other)| {
-                        let oriented = face.as_ref().map(|face| {
-                            let mut face = face.clone();
-                            let d: [f64; 3] =
-                                std::array::from_fn(|k| sp[other as usize][k] - sp[me as usize][k]);
-                            let pts: Vec<[f64; 3]> =
-                                face.iter().map(|&v| points[v as usize]).collect();
-                            if dot_f(newell(&pts), d) < 0.0 {
-                                face.reverse();
-                            }
-                            face
-                        });
-                        (me, other, oriented)
-                    })
-                    .collect::<Vec<_>>()
-            })
-            .collect();
+        // site), in parallel a chunk at a time; None for an unbounded
+        // domain cell
         let mut cells: Vec<Option<Cell>> = vec![None; s.p.len()];
-        for (me, other, face) in sides {
-            let Some(face) = face else {
-                return Err(Error::Certificate(format!(
-                    "a domain cell (site {me}) is unbounded"
-                )));
-            };
-            cells[me as usize]
-                .get_or_insert_with(Vec::new)
-                .push((face, other));
+        for chunk in keys.chunks(CHUNK) {
+            let sides: Vec<(u32, u32, Option<Vec<u32>>)> = chunk
+                .par_iter()
+                .flat_map_iter(|&[a, b]| {
+                    let face = &faces[&[a, b]];
+                    [(a, b), (b, a)]
+                        .into_iter()
+                        .filter(|&(me, _)| in_domain[me as usize])
+                        .filter(|_| face.as_ref().is_none_or(|f| f.len() >= 3))
+                        .map(|(me, other)| {
+                            let oriented = face.as_ref().map(|face| {
+                                let mut face = face.clone();
+                                let d: [f64; 3] = std::array::from_fn(|k| {
+                                    sp[other as usize][k] - sp[me as usize][k]
+                                });
+                                let pts: Vec<[f64; 3]> =
+                                    face.iter().map(|&v| points[v as usize]).collect();
+                                if dot_f(newell(&pts), d) < 0.0 {
+                                    face.reverse();
+                                }
+                                face
+                            });
+                            (me, other, oriented)
+                        })
+                        .collect::<Vec<_>>()
+                })
+                .collect();
+            for (me, other, face) in sides {
+                let Some(face) = face else {
+                    return Err(Error::Certificate(format!(
+                        "a domain cell (site {me}) is unbounded"
+                    )));
+                };
+                cells[me as usize]
+                    .get_or_insert_with(Vec::new)
+                    .push((face, other));
+            }
         }
         // A site whose cell has no face of positive area (a vertex of the
         // site triangulation whose cell is a point or a segment) has no

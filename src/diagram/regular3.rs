@@ -318,21 +318,28 @@ fn check(t: &Tests, rt: &Tetrahedralisation) -> std::result::Result<Vec<[u32; 2]
     if let Some(x) = vertex.iter().position(|&v| !v) {
         return Err(format!("site {x} is not a vertex"));
     }
-    let faces: Vec<(u32, u32, usize)> = rt.inner_faces().map(|(a, _, b, l)| (a, b, l)).collect();
-    let power: Vec<Ordering> = faces
-        .par_iter()
-        .map(|&(t1, t2, l)| t.power(rt.tets[t1 as usize], rt.tets[t2 as usize][l]))
-        .collect();
-    if let Some(k) = power.iter().position(|&o| o == Ordering::Greater) {
-        let (t1, t2, _) = faces[k];
-        return Err(format!("the face of {t1} and {t2} is not regular"));
+    let mut ties = vec![];
+    let mut faces = rt.inner_faces().map(|(a, _, b, l)| (a, b, l));
+    loop {
+        // (a chunk at a time: all faces at once held 16 bytes each)
+        let chunk: Vec<(u32, u32, usize)> = faces.by_ref().take(1 << 15).collect();
+        if chunk.is_empty() {
+            break;
+        }
+        let power: Vec<Ordering> = chunk
+            .par_iter()
+            .map(|&(t1, t2, l)| t.power(rt.tets[t1 as usize], rt.tets[t2 as usize][l]))
+            .collect();
+        for (&(t1, t2, _), o) in chunk.iter().zip(power) {
+            match o {
+                Ordering::Greater => {
+                    return Err(format!("the face of {t1} and {t2} is not regular"))
+                }
+                Ordering::Equal => ties.push([t1, t2]),
+                Ordering::Less => {}
+            }
+        }
     }
-    let ties = faces
-        .iter()
-        .zip(&power)
-        .filter(|(_, &o)| o == Ordering::Equal)
-        .map(|(&(t1, t2, _), _)| [t1, t2])
-        .collect();
     // The hull bends inwards at every edge: the third vertex of the hull
     // face across the edge is not beyond this face's plane.
     let hull: Vec<[u32; 3]> = rt.hull_faces().collect();

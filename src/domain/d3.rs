@@ -28,51 +28,32 @@ pub struct Simplices3 {
     pub point_facet: Vec<u32>,
 }
 
+/// A facet's triangles, segments and points.
+type Piece = (Vec<[u32; 3]>, Vec<[u32; 2]>, Vec<u32>);
+
 impl Complex3 {
     /// Validates, triangulates the facets, and checks that simplices of
     /// different facets meet only in a common face (exactly): else an
     /// error naming the facets.
     pub fn triangulate<B: Backend + ?Sized>(&self, backend: &B) -> Result<Simplices3> {
         self.validate_in_space()?;
+        // (facets in parallel: each is its own 2D domain; gathered in
+        // facet order, the first error in that order reported)
+        use rayon::prelude::*;
+        let pieces: Vec<Result<Piece>> = (0..self.facets.len())
+            .into_par_iter()
+            .map(|f| self.facet_simplices(backend, f))
+            .collect();
         let mut out = Simplices3::default();
-        for (f, facet) in self.facets.iter().enumerate() {
-            let mut on_triangle = std::collections::HashSet::new();
-            let mut on_edge = std::collections::HashSet::new();
-            let area = facet.polygons.iter().any(|p| p.len() >= 3);
-            if let Some((cx, global)) = self.checked_facet_2d(f)?.filter(|_| area) {
-                let dom = crate::domain::build(backend, &cx).map_err(|e| Error::InFacet {
-                    facet: f as i64 + 1,
-                    error: Box::new(e),
-                })?;
-                for (t, tri) in dom.cdt.triangles.iter().enumerate() {
-                    if dom.inside[t] {
-                        let g = tri.map(|v| global[v as usize]);
-                        for k in 0..3 {
-                            on_triangle.insert(g[k]);
-                            let (a, b) = (g[k], g[(k + 1) % 3]);
-                            on_edge.insert((a.min(b), a.max(b)));
-                        }
-                        out.triangles.push(g);
-                        out.triangle_facet.push(f as u32);
-                    }
-                }
-            }
-            for poly in &facet.polygons {
-                if poly.len() == 2 {
-                    let (a, b) = (poly[0].min(poly[1]), poly[0].max(poly[1]));
-                    if on_edge.insert((a, b)) {
-                        out.segments.push([a, b]);
-                        out.segment_facet.push(f as u32);
-                        on_triangle.extend([a, b]);
-                    }
-                }
-            }
-            for poly in &facet.polygons {
-                if poly.len() == 1 && on_triangle.insert(poly[0]) {
-                    out.points.push(poly[0]);
-                    out.point_facet.push(f as u32);
-                }
-            }
+        for (f, piece) in pieces.into_iter().enumerate() {
+            let (triangles, segments, points) = piece?;
+            let f = f as u32;
+            out.triangle_facet.extend(triangles.iter().map(|_| f));
+            out.triangles.extend(triangles);
+            out.segment_facet.extend(segments.iter().map(|_| f));
+            out.segments.extend(segments);
+            out.point_facet.extend(points.iter().map(|_| f));
+            out.points.extend(points);
         }
         let pairs = self.crossing_facets(&out);
         if pairs.is_empty() {
@@ -80,6 +61,48 @@ impl Complex3 {
         } else {
             Err(Error::CrossingFacets { pairs })
         }
+    }
+
+    /// One facet's triangles, segments on no triangle, and points on
+    /// neither (see `Simplices3`).
+    fn facet_simplices<B: Backend + ?Sized>(&self, backend: &B, f: usize) -> Result<Piece> {
+        let facet = &self.facets[f];
+        let mut piece: Piece = Default::default();
+        let mut on_triangle = std::collections::HashSet::new();
+        let mut on_edge = std::collections::HashSet::new();
+        let area = facet.polygons.iter().any(|p| p.len() >= 3);
+        if let Some((cx, global)) = self.checked_facet_2d(f)?.filter(|_| area) {
+            let dom = crate::domain::build(backend, &cx).map_err(|e| Error::InFacet {
+                facet: f as i64 + 1,
+                error: Box::new(e),
+            })?;
+            for (t, tri) in dom.cdt.triangles.iter().enumerate() {
+                if dom.inside[t] {
+                    let g = tri.map(|v| global[v as usize]);
+                    for k in 0..3 {
+                        on_triangle.insert(g[k]);
+                        let (a, b) = (g[k], g[(k + 1) % 3]);
+                        on_edge.insert((a.min(b), a.max(b)));
+                    }
+                    piece.0.push(g);
+                }
+            }
+        }
+        for poly in &facet.polygons {
+            if poly.len() == 2 {
+                let (a, b) = (poly[0].min(poly[1]), poly[0].max(poly[1]));
+                if on_edge.insert((a, b)) {
+                    piece.1.push([a, b]);
+                    on_triangle.extend([a, b]);
+                }
+            }
+        }
+        for poly in &facet.polygons {
+            if poly.len() == 1 && on_triangle.insert(poly[0]) {
+                piece.2.push(poly[0]);
+            }
+        }
+        Ok(piece)
     }
 
     /// Pairs of facets (ids from 1) with simplices that meet other than in
