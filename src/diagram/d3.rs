@@ -13,6 +13,7 @@ use crate::geom::{det3_f, dot_f, f, newell, norm2, q, sub, Weighted3, Q};
 use crate::sites::Sites3;
 use crate::weights::Weights3;
 use crate::{FastMap as HashMap, FastSet as HashSet};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// A cell: its faces, each a cycle of power vertices counter-clockwise
@@ -181,42 +182,7 @@ impl Diagram3 {
                 "{hidden} sites are hidden in their own diagram"
             )));
         }
-        // Each edge's face: the power vertices of the tetrahedra around it,
-        // repeats merged (None: unbounded), from its first tetrahedron.
-        // (The faces in parallel, a chunk at a time: whole intermediate
-        // vectors raised the peak by a KB a facet triangle.)
-        use rayon::prelude::*;
-        let mut first: HashMap<[u32; 2], u32> = HashMap::default();
-        for (t, v) in rt.tets.iter().enumerate() {
-            for a in 0..4 {
-                for b in a + 1..4 {
-                    first
-                        .entry([v[a].min(v[b]), v[a].max(v[b])])
-                        .or_insert(t as u32);
-                }
-            }
-        }
-        let first: Vec<([u32; 2], u32)> = first.into_iter().collect();
-        let mut faces: HashMap<[u32; 2], Option<Vec<u32>>> = HashMap::default();
-        faces.reserve(first.len());
-        for chunk in first.chunks(CHUNK) {
-            let made: Vec<Option<Vec<u32>>> = chunk
-                .par_iter()
-                .map(|&(e, t)| {
-                    rt.ring(t, e[0], e[1]).map(|ring| {
-                        let mut face: Vec<u32> =
-                            ring.iter().map(|&t| pv.vertex_of[t as usize]).collect();
-                        face.dedup();
-                        while face.len() > 1 && face.first() == face.last() {
-                            face.pop();
-                        }
-                        face
-                    })
-                })
-                .collect();
-            faces.extend(chunk.iter().map(|x| x.0).zip(made));
-        }
-        drop(first);
+        let faces = edge_faces(&rt, &pv.vertex_of);
         let in_domain = domain(cx, s, &k, &rt, &faces)?;
         // the power vertices of the domain's cells well rounded
         let mut used = vec![false; pv.points.len()];
@@ -389,11 +355,47 @@ impl Diagram3 {
     }
 }
 
+/// Each edge's face: the power vertices of the tetrahedra around it,
+/// repeats merged (None: unbounded), from its first tetrahedron. (The faces
+/// in parallel, a chunk at a time: whole intermediate vectors raised the
+/// peak by a KB a facet triangle.)
+fn edge_faces(rt: &Tetrahedralisation, vertex_of: &[u32]) -> HashMap<[u32; 2], Option<Vec<u32>>> {
+    let mut first: HashMap<[u32; 2], u32> = HashMap::default();
+    for (t, v) in rt.tets.iter().enumerate() {
+        for a in 0..4 {
+            for b in a + 1..4 {
+                first
+                    .entry([v[a].min(v[b]), v[a].max(v[b])])
+                    .or_insert(t as u32);
+            }
+        }
+    }
+    let first: Vec<([u32; 2], u32)> = first.into_iter().collect();
+    let mut faces: HashMap<[u32; 2], Option<Vec<u32>>> = HashMap::default();
+    faces.reserve(first.len());
+    for chunk in first.chunks(CHUNK) {
+        let made: Vec<Option<Vec<u32>>> = chunk
+            .par_iter()
+            .map(|&(e, t)| {
+                rt.ring(t, e[0], e[1]).map(|ring| {
+                    let mut face: Vec<u32> = ring.iter().map(|&t| vertex_of[t as usize]).collect();
+                    face.dedup();
+                    while face.len() > 1 && face.first() == face.last() {
+                        face.pop();
+                    }
+                    face
+                })
+            })
+            .collect();
+        faces.extend(chunk.iter().map(|x| x.0).zip(made));
+    }
+    faces
+}
+
 /// Per site, whether it lies strictly inside its own cell, exactly:
 /// |p_s - p_t|^2 - w_t + w_s > 0 for every neighbour t (`edges`: the
 /// edges of the sites' regular triangulation).
 fn sites_inside(k: &Weighted3, n: usize, edges: &[[u32; 2]]) -> Vec<bool> {
-    use rayon::prelude::*;
     let apart: Vec<[bool; 2]> = edges.par_iter().map(|&[a, b]| k.apart(a, b)).collect();
     let mut inside = vec![true; n];
     for (&[a, b], [in_a, in_b]) in edges.iter().zip(apart) {

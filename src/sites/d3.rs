@@ -245,37 +245,13 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         s.track.push(None);
         x as u32
     };
-    // (the faces' duals in parallel: exact and independent, most of this
-    // stage on a large input; the sites then added in face order)
     let faces: Vec<_> = wt
         .faces
         .iter()
         .enumerate()
         .filter(|(_, f)| f.dim() == 2)
         .collect();
-    let duals: Vec<(Dual, [Q; 2])> = faces
-        .par_iter()
-        .map(|&(_, face)| {
-            let vs = &face.vertices;
-            let apexes: Vec<u32> = if vs.len() == 3 {
-                tris.get(&sorted3(vs)).cloned().unwrap_or_default()
-            } else {
-                fan(vs, &tris)
-                    .iter()
-                    .flat_map(|t| tris[t].iter().copied())
-                    .filter(|a| !vs.contains(a))
-                    .collect()
-            };
-            let dual = Dual::of(cx, w, vs, &apexes).ok_or_else(|| {
-                Error::Certificate(format!(
-                    "the dual edge of a face of facet {} is empty",
-                    face.facet.map_or(0, |f| f as i64 + 1)
-                ))
-            })?;
-            let two = dual.two(&dual.scale(cx, vs));
-            Ok((dual, two))
-        })
-        .collect::<Result<_>>()?;
+    let duals = face_duals(cx, w, &tris, &faces)?;
     for ((fi, face), (dual, [a, b])) in faces.into_iter().zip(duals) {
         let vs = &face.vertices;
         s.of_face[fi] = Some([add(&mut s, &dual, &a, vs), add(&mut s, &dual, &b, vs)]);
@@ -381,6 +357,40 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         }
     }
     Ok(s)
+}
+
+/// Each face's dual with the two sites' parameters on it, in parallel
+/// (exact and independent, most of the sites stage on a large input; the
+/// sites are then added in face order).
+fn face_duals(
+    cx: &Complex3,
+    w: &[Q],
+    tris: &FastMap<[u32; 3], Vec<u32>>,
+    faces: &[(usize, &crate::weights::Face)],
+) -> Result<Vec<(Dual, [Q; 2])>> {
+    faces
+        .par_iter()
+        .map(|&(_, face)| {
+            let vs = &face.vertices;
+            let apexes: Vec<u32> = if vs.len() == 3 {
+                tris.get(&sorted3(vs)).cloned().unwrap_or_default()
+            } else {
+                fan(vs, tris)
+                    .iter()
+                    .flat_map(|t| tris[t].iter().copied())
+                    .filter(|a| !vs.contains(a))
+                    .collect()
+            };
+            let dual = Dual::of(cx, w, vs, &apexes).ok_or_else(|| {
+                Error::Certificate(format!(
+                    "the dual edge of a face of facet {} is empty",
+                    face.facet.map_or(0, |f| f as i64 + 1)
+                ))
+            })?;
+            let two = dual.two(&dual.scale(cx, vs));
+            Ok((dual, two))
+        })
+        .collect()
 }
 
 /// Per vertex, the RT triangles around it that may carry its extra sites,
