@@ -5,7 +5,7 @@
 //! Positions are rounded only for output, and input vertices are written
 //! as the input's own doubles.
 
-use super::regular3::{regular3, PowerVertices, Regular3};
+use super::regular3::{regular3, PowerVertices, Regular3, CHUNK};
 use crate::backend::{Backend, Tetrahedralisation};
 use crate::complex::Complex3;
 use crate::error::{Error, Result};
@@ -133,10 +133,6 @@ fn on_lower_hull(s: &Sites3, rt: &Tetrahedralisation, h: usize) -> bool {
         interpolated == height(h)
     })
 }
-
-/// Items per parallel batch where results are gathered (bounds the
-/// intermediate memory).
-const CHUNK: usize = 1 << 15;
 
 impl Diagram3 {
     /// Builds the site diagram and its domain (cells not separated by a

@@ -26,6 +26,10 @@ use crate::sites::Sites3;
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
+/// Items per parallel batch where results are gathered (bounds the
+/// intermediate memory).
+pub(super) const CHUNK: usize = 1 << 15;
+
 /// The sites' regular triangulation with its power vertices.
 pub(super) struct Regular3 {
     pub rt: Tetrahedralisation,
@@ -322,7 +326,7 @@ fn check(t: &Tests, rt: &Tetrahedralisation) -> std::result::Result<Vec<[u32; 2]
     let mut faces = rt.inner_faces().map(|(a, _, b, l)| (a, b, l));
     loop {
         // (a chunk at a time: all faces at once held 16 bytes each)
-        let chunk: Vec<(u32, u32, usize)> = faces.by_ref().take(1 << 15).collect();
+        let chunk: Vec<(u32, u32, usize)> = faces.by_ref().take(CHUNK).collect();
         if chunk.is_empty() {
             break;
         }

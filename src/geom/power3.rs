@@ -509,17 +509,13 @@ mod tests {
         }
         assert!(orients > 1000 && powers > 300, "{orients} {powers}");
     }
+
     #[test]
     fn in_plane_filter_agrees_with_rationals() {
         // points on the tilted plane x + 2y + 3z = 1 (thirds: not doubles),
         // some on a common circle, weights small
-        let mut seed = 11u64;
-        let mut next = |m: i64| {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 33) as i64).rem_euclid(m)
-        };
+        let mut u = crate::geom::uniform(11);
+        let mut next = |m: i64| (u() * m as f64) as i64;
         let third = Q::from(1) / Q::from(3);
         let (mut p, mut w) = (vec![], vec![]);
         for _ in 0..40 {

@@ -326,17 +326,13 @@ mod tests {
             assert_eq!(s.improper(&base, &t), s.improper(&t, &base));
         }
     }
+
     #[test]
     fn coplanar_separation_never_hides_a_meeting() {
         // triangles on a small grid (many collinear and shared points), in
         // an axis plane and in a tilted one; sharing no vertex or one
-        let mut seed = 7u64;
-        let mut next = |m: u64| {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 33) % m
-        };
+        let mut u = crate::geom::uniform(7);
+        let mut next = |m: u64| (u() * m as f64) as u64;
         let (mut separated, mut checked) = (0, 0);
         for tilted in [false, true] {
             let p: Vec<[f64; 3]> = (0..25)
