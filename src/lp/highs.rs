@@ -346,13 +346,23 @@ impl Lp {
             // checked exactly anyway.
             model.set_option("rebuild_refactor_solution_error_tolerance", 0.0);
         }
+        // An elastic model minimises non-negative costs: its slack basis is
+        // dual feasible, so the dual simplex starts in its phase 2.
+        // Measured on TetGen's example: 6.5 ms a solve against the
+        // primal's 14.5; on the shared inputs no more sites outside or
+        // constraints missing their duals, and on face.poly 8 sites
+        // outside instead of 18.
+        let dual = !big && matches!(mode, Mode::Elastic { .. });
+        if dual {
+            model.set_option("simplex_strategy", 1);
+        }
         Ok(Lp {
             model: Some(model),
             w,
             delta,
             slack,
             lazy,
-            dual: false,
+            dual,
             refs,
             floor: floor != Bound::Unbounded,
         })
