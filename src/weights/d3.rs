@@ -377,7 +377,9 @@ fn global<B: Backend + ?Sized>(
             }
             Answer::Sys1Infeasible(duals) => {
                 // Shared weights are a choice, not a necessity: no proof.
-                let proof = exact(&duals).filter(|_| keep != Keep::Shared || whole_polygons == 0);
+                let proof = (keep != Keep::Shared || whole_polygons == 0)
+                    .then(|| exact(&duals))
+                    .flatten();
                 return Err(infeasible(cx, &faces, &last, proof));
             }
             Answer::Sys3Infeasible => unreachable!("the global form goes elastic"),
