@@ -308,8 +308,8 @@ pub(crate) fn solve_rows(
                 .collect();
             // From scratch: going on from the quick solve's basis lands on
             // another optimal vertex, and measured on the staggered chains
-            // (tests/corpus, pure backend) 10 segments then missed their
-            // duals instead of 8.
+            // (tests/corpus, pure backend, with the primal simplex) 10
+            // segments then missed their duals instead of 8.
             let mut sparse_lp = Lp::build(sys, true, None, &elastic(costs))?;
             let sparse = sparse_lp.solve(sys, report, f64::NEG_INFINITY)?;
             let best = if sparse.delta >= ELASTIC_MARGIN {

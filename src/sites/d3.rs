@@ -20,6 +20,7 @@ use crate::FastMap;
 use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
 
 /// All sites, exactly.
 #[derive(Debug, Clone, Default)]
@@ -76,8 +77,10 @@ impl Clip {
 /// A site at c + t n on the dual line of a face that crosses it at c.
 #[derive(Debug, Clone)]
 pub struct Line {
-    pub c: [Q; 3],
-    pub n: [Q; 3],
+    /// Shared by the face's two sites: exact centres and normals are large
+    /// rationals (field3 16 x 16 x 8: about 10% of the peak memory).
+    pub c: Arc<[Q; 3]>,
+    pub n: Arc<[Q; 3]>,
     pub t: Q,
 }
 
@@ -85,8 +88,8 @@ pub struct Line {
 /// centre c, the normal n, and the range (lo, hi) of t for which c + t n
 /// is in the power cells of these vertices only (None: unbounded).
 struct Dual {
-    c: [Q; 3],
-    n: [Q; 3],
+    c: Arc<[Q; 3]>,
+    n: Arc<[Q; 3]>,
     lo: Option<Q>,
     hi: Option<Q>,
 }
@@ -116,7 +119,12 @@ impl Dual {
         }
         match (&lo, &hi) {
             (Some(l), Some(h)) if l >= h => None,
-            _ => Some(Dual { c, n, lo, hi }),
+            _ => Some(Dual {
+                c: Arc::new(c),
+                n: Arc::new(n),
+                lo,
+                hi,
+            }),
         }
     }
 
