@@ -360,3 +360,14 @@ fn collinear_sites_do_not_place_a_power_vertex() {
 fn lattice_sliver_cell_is_meshed() {
     zigzag_input_is_certified("lattice-sliver.poly");
 }
+
+/// Known defect (issue 23), found by the zig-zag property test at 600
+/// cases (seed 2026) and present before that session's LP changes: on both
+/// backends the weights leave vertex 19's power cell too thin in doubles
+/// for its extra site, and the run stops with that named limit. Run with
+/// `--ignored`.
+#[test]
+#[ignore = "known defect: a sliver vertex cell on both backends (issue 23)"]
+fn thin_vertex_cell_is_meshed() {
+    zigzag_input_is_certified("zigzag-thin-vertex-cell.poly");
+}
