@@ -329,13 +329,20 @@ impl Lp {
         // Measured: dual simplex stalls on large sparse systems of this shape
         // where interior point finishes in seconds (docs/method.md section 2).
         model.set_option("solver", if big { "ipm" } else { "simplex" });
+        // An elastic model minimises non-negative costs: its slack basis is
+        // dual feasible, so the dual simplex starts in its phase 2.
+        // Measured on TetGen's example: 6.5 ms a solve against the
+        // primal's 14.5; on the shared inputs no more sites outside or
+        // constraints missing their duals, and on face.poly 8 sites
+        // outside instead of 18.
+        let dual = !big && matches!(mode, Mode::Elastic { .. });
         if !big {
             // Measured: the primal simplex is 20% faster than the dual
             // (steepest edge) on the pieces' phase 1, and goes on from phase
             // 1's basis in phase 2. The dual goes on after rows enter or
             // bounds loosen (`Lp::simplex`); devex pricing, as the primal's:
             // steepest edge weights cost more than the few iterations need.
-            model.set_option("simplex_strategy", 4);
+            model.set_option("simplex_strategy", if dual { 1 } else { 4 });
             model.set_option("simplex_dual_edge_weight_strategy", 1);
             // Measured: on the local form's small pieces presolve costs as
             // much as the solve (and it would discard the warm start).
@@ -345,16 +352,6 @@ impl Lp {
             // few updates keep the factors accurate, and the weights are
             // checked exactly anyway.
             model.set_option("rebuild_refactor_solution_error_tolerance", 0.0);
-        }
-        // An elastic model minimises non-negative costs: its slack basis is
-        // dual feasible, so the dual simplex starts in its phase 2.
-        // Measured on TetGen's example: 6.5 ms a solve against the
-        // primal's 14.5; on the shared inputs no more sites outside or
-        // constraints missing their duals, and on face.poly 8 sites
-        // outside instead of 18.
-        let dual = !big && matches!(mode, Mode::Elastic { .. });
-        if dual {
-            model.set_option("simplex_strategy", 1);
         }
         Ok(Lp {
             model: Some(model),
