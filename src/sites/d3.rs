@@ -167,11 +167,8 @@ impl Dual {
     /// when the face crosses its dual (halfway to the ends), else at its
     /// thirds; a step of `scale` stands in for a missing end.
     fn two(&self, scale: &Q) -> [Q; 2] {
-        let zero = Q::from(0);
         let (lo, hi) = (self.lo.clone(), self.hi.clone());
-        let crosses =
-            lo.as_ref().is_none_or(|l| l < &zero) && hi.as_ref().is_none_or(|h| h > &zero);
-        if crosses {
+        if self.crosses() {
             // (a step stands unrounded: `scale`)
             let below = lo.map_or(-scale.clone(), |l| self.snap(l / Q::from(2)));
             let above = hi.map_or(scale.clone(), |h| self.snap(h / Q::from(2)));
