@@ -171,7 +171,7 @@ fn named(sys: &System, rows: &[Exact], x: &[Q]) -> Certificate {
         };
         match (row.family, row.origin) {
             (Family::Sys3(f), _) => crossing.push(f),
-            (_, Origin::PlaneOn { face, .. } | Origin::PlaneAbove { face, .. }) => faces.push(face),
+            (_, Origin::PlaneAbove { face, .. }) => faces.push(face),
             _ => {}
         }
     }
@@ -265,17 +265,25 @@ pub(crate) fn rebuild<const D: usize>(o: &Origin, p: &[[Q; D]]) -> Option<(Terms
     let one = || Q::from(1);
     Some(match *o {
         Origin::Other => return None,
-        Origin::PlaneOn { i, j, aux, .. } => {
-            let u = rel(i, j);
-            let mut t: Vec<(usize, Q)> = (0..D).map(|k| (aux + k, u[k].clone())).collect();
-            t.extend([(j as usize, one()), (i as usize, -one())]);
-            (t, norm2(&u))
-        }
-        Origin::PlaneAbove { i, m, aux, .. } => {
+        Origin::PlaneAbove { i, on, m, aux, .. } => {
+            let on: Vec<u32> = on.into_iter().filter(|&j| j != u32::MAX).collect();
+            let us: Vec<[Q; D]> = on.iter().map(|&j| rel(i, j)).collect();
             let r = rel(i, m);
-            let mut t: Vec<(usize, Q)> = (0..D).map(|k| (aux + k, -r[k].clone())).collect();
-            t.extend([(m as usize, -one()), (i as usize, one())]);
-            (t, -norm2(&r))
+            let g = gram_solve(&us, &r)?;
+            let gb: Q = g.iter().zip(&us).map(|(g, u)| g * norm2(u)).sum();
+            let mut t = vec![
+                (m as usize, -one()),
+                (i as usize, one() - g.iter().sum::<Q>()),
+            ];
+            t.extend(on.iter().zip(&g).map(|(&j, g)| (j as usize, g.clone())));
+            let normals = complement(&us);
+            t.extend(
+                normals
+                    .iter()
+                    .enumerate()
+                    .map(|(k, n)| (aux + k, -dot(n, &r))),
+            );
+            (t, gb - norm2(&r))
         }
         Origin::Apart { i, j, up } => {
             let s = if up { one() } else { -one() };
@@ -315,6 +323,52 @@ pub(crate) fn rebuild<const D: usize>(o: &Origin, p: &[[Q; D]]) -> Option<(Terms
             c.row(base, coef, &[(o, -one()), (t[0], one())])
         }
     })
+}
+
+/// g = G^-1 U^T r exactly, as `rows::plane_rows` computes it in doubles;
+/// None where G is singular.
+fn gram_solve<const D: usize>(us: &[[Q; D]], r: &[Q; D]) -> Option<Vec<Q>> {
+    match us {
+        [] => Some(vec![]),
+        [u] => {
+            let uu = norm2(u);
+            (uu != 0).then(|| vec![dot(u, r) / uu])
+        }
+        [u, v] => {
+            let (uu, uv, vv) = (norm2(u), dot(u, v), norm2(v));
+            let (ur, vr) = (dot(u, r), dot(v, r));
+            let det = &uu * &vv - &uv * &uv;
+            (det != 0).then(|| {
+                vec![
+                    (&vv * &ur - &uv * &vr) / &det,
+                    (&uu * &vr - &uv * &ur) / &det,
+                ]
+            })
+        }
+        _ => None,
+    }
+}
+
+/// The directions of `rows::complement`, exactly.
+fn complement<const D: usize>(us: &[[Q; D]]) -> Vec<[Q; D]> {
+    let from3 = |x: [Q; 3]| -> [Q; D] { std::array::from_fn(|k| x[k].clone()) };
+    let to3 = |x: &[Q; D]| -> [Q; 3] { std::array::from_fn(|k| x[k].clone()) };
+    let axis = |k: usize| -> [Q; D] { std::array::from_fn(|c| Q::from(u8::from(c == k))) };
+    match (D, us) {
+        (_, []) => (0..D).map(axis).collect(),
+        (2, [u]) => vec![std::array::from_fn(|k| {
+            if k == 0 {
+                -u[1].clone()
+            } else {
+                u[0].clone()
+            }
+        })],
+        (3, [u]) => (0..3)
+            .map(|k| from3(cross(&to3(u), &to3(&axis(k)))))
+            .collect(),
+        (3, [u, v]) => vec![from3(cross(&to3(u), &to3(v)))],
+        _ => vec![],
+    }
 }
 
 /// The power centre of a triangle t = (i, j, k) in its plane:
@@ -431,13 +485,27 @@ mod tests {
             l2: vec![1.0; 5],
             ..Default::default()
         };
+        // a triangle, a segment and a point in 3D: one, three and three
+        // slope columns
         plane_rows(&mut sys, &p, 0, 0, &[1, 2], &[3, 4], 0.7);
+        plane_rows(&mut sys, &p, 1, 3, &[1], &[0, 2, 4], 0.3);
+        plane_rows(&mut sys, &p, 2, 4, &[], &[0, 1], 0.5);
+        assert_eq!(sys.aux, 1 + 3 + 3);
         sys.rows.extend(sys3_rows(&p, 1, 0, 1, &[2, 3, 4]));
         let pq = exact(&p);
-        assert_eq!((sys.eqs.len(), sys.rows.len()), (2, 2 + 5));
-        for r in sys.eqs.iter().chain(&sys.rows) {
+        assert_eq!((sys.eqs.len(), sys.rows.len()), (0, 2 + 3 + 2 + 5));
+        for r in &sys.rows {
             assert!(agrees(r, &pq), "{r:?}");
         }
+        // and a segment in 2D: one slope column
+        let flat = [[0.1, 0.2], [0.9, 0.3], [0.4, 0.8]];
+        let mut sys2 = System {
+            n: 3,
+            ..Default::default()
+        };
+        plane_rows(&mut sys2, &flat, 0, 0, &[1], &[2], 0.9);
+        assert_eq!(sys2.aux, 1);
+        assert!(agrees(&sys2.rows[0], &exact(&flat)));
         // A row whose right-hand side is off is caught.
         let mut off = sys.rows[0].clone();
         off.rhs += 1e-3;

@@ -16,22 +16,18 @@ pub(crate) enum Family {
 
 /// Where a row comes from, so that `proof` can rebuild it exactly. Points
 /// are the LP's (`Units`), p_x is point x, and `aux` the first of a face's
-/// D slope columns.
+/// free slope columns.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Origin {
     /// Not rebuilt: a certificate that needs it is not attempted.
     Other,
-    /// The lift of j on face's plane through the lift of i.
-    PlaneOn {
-        face: u32,
-        i: u32,
-        j: u32,
-        aux: usize,
-    },
-    /// The lift of m above face's plane through the lift of i.
+    /// The lift of m above face's hyperplane through the lifts of i and
+    /// `on` (u32::MAX where absent), its slopes relative to p_i written
+    /// with the free columns from `aux` on (`plane_rows`).
     PlaneAbove {
         face: u32,
         i: u32,
+        on: [u32; 2],
         m: u32,
         aux: usize,
     },
@@ -170,9 +166,14 @@ pub(crate) fn sys3_rows<const D: usize>(
 }
 
 /// The supporting-plane rows of a face with first vertex i and the
-/// vertices `on` (none for an isolated vertex): the plane through their
-/// lifts, relative to p_i, has free slopes in D auxiliary columns; every m
-/// lies above it.
+/// vertices `on` (at most two; none for an isolated vertex): every m lies
+/// above a hyperplane through their lifts. Its slopes a (relative to p_i)
+/// meet a.u_j + w_j - w_i = |u_j|^2 for u_j = p_j - p_i, so a = U G^-1 (b -
+/// dw) + N t with G = U^T U, b_j = |u_j|^2, dw_j = w_j - w_i and N spanning
+/// the directions normal to every u_j (`complement`): only t is left to
+/// the LP, in auxiliary columns, and the equalities are met by
+/// construction (measured on TetGen's example: equality rows with free
+/// slopes took half of the simplex's iterations).
 pub(crate) fn plane_rows<const D: usize>(
     sys: &mut System,
     p: &[[f64; D]],
@@ -182,39 +183,86 @@ pub(crate) fn plane_rows<const D: usize>(
     others: &[u32],
     scale2: f64,
 ) -> usize {
+    let us: Vec<SVector<f64, D>> = on.iter().map(|&j| rel(p, i, j)).collect();
+    let normals = complement(&us);
     let a0 = sys.n + sys.aux;
-    sys.aux += D;
-    let slopes =
-        |r: SVector<f64, D>, sign: f64| (0..D).map(move |k| (a0 + k, sign * r[k] / scale2));
-    for &j in on {
-        // a.u + w_j - w_i = |u|^2, scaled by 1/L.
-        let u = rel(p, i, j);
-        let mut terms: Vec<(usize, f64)> = slopes(u, 1.0).collect();
-        terms.extend([(j as usize, 1.0 / scale2), (i as usize, -1.0 / scale2)]);
-        let mut row = Row::sys1(terms, u.norm_squared() / scale2);
-        row.origin = Origin::PlaneOn {
-            face,
-            i,
-            j,
-            aux: a0,
-        };
-        sys.eqs.push(row);
-    }
+    sys.aux += normals.len();
+    let mut at = [u32::MAX; 2];
+    at[..on.len()].copy_from_slice(on);
     for &m in others {
         let r = rel(p, i, m);
-        // |r|^2 - w_m + w_i - a.r >= delta * scale2
-        let mut terms = vec![(m as usize, -1.0 / scale2), (i as usize, 1.0 / scale2)];
-        terms.extend(slopes(r, -1.0));
-        let mut row = Row::sys1(terms, -r.norm_squared() / scale2);
+        let g = gram_solve(&us, &r);
+        // |r|^2 - g.b - w_m + w_i + sum_j g_j (w_j - w_i) - (N^T r).t >= delta L
+        let gb: f64 = g.iter().zip(&us).map(|(g, u)| g * u.norm_squared()).sum();
+        let mut terms = vec![
+            (m as usize, -1.0 / scale2),
+            (i as usize, (1.0 - g.iter().sum::<f64>()) / scale2),
+        ];
+        terms.extend(on.iter().zip(&g).map(|(&j, g)| (j as usize, g / scale2)));
+        terms.extend(
+            normals
+                .iter()
+                .enumerate()
+                .map(|(k, n)| (a0 + k, -n.dot(&r) / scale2)),
+        );
+        let mut row = Row::sys1(terms, -(r.norm_squared() - gb) / scale2);
         row.origin = Origin::PlaneAbove {
             face,
             i,
+            on: at,
             m,
             aux: a0,
         };
         sys.rows.push(row);
     }
     a0
+}
+
+/// g = G^-1 U^T r for the Gram matrix G of `us` (at most two vectors); NaN
+/// where G is singular (the rows are then left out as not finite).
+fn gram_solve<const D: usize>(us: &[SVector<f64, D>], r: &SVector<f64, D>) -> Vec<f64> {
+    match us {
+        [] => vec![],
+        [u] => vec![u.dot(r) / u.norm_squared()],
+        [u, v] => {
+            let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+            let (ur, vr) = (u.dot(r), v.dot(r));
+            let det = uu * vv - uv * uv;
+            let det = if det == 0.0 { f64::NAN } else { det };
+            vec![(vv * ur - uv * vr) / det, (uu * vr - uv * ur) / det]
+        }
+        _ => unreachable!("a face has at most three vertices on its plane"),
+    }
+}
+
+/// Directions normal to every vector of `us`, spanning all of them: the
+/// axes for none, the normal of a segment in 2D or of a triangle in 3D,
+/// and u x e_k for a segment in 3D (three, of rank two: no axis to choose,
+/// and the exact rebuild repeats it).
+fn complement<const D: usize>(us: &[SVector<f64, D>]) -> Vec<SVector<f64, D>> {
+    let from3 = |x: [f64; 3]| SVector::<f64, D>::from_fn(|k, _| x[k]);
+    let to3 = |x: &SVector<f64, D>| std::array::from_fn(|k| x[k]);
+    match (D, us) {
+        (_, []) => (0..D)
+            .map(|k| SVector::<f64, D>::from_fn(|c, _| f64::from(u8::from(c == k))))
+            .collect(),
+        (2, [u]) => vec![SVector::<f64, D>::from_fn(|k, _| {
+            if k == 0 {
+                -u[1]
+            } else {
+                u[0]
+            }
+        })],
+        (3, [u]) => (0..3)
+            .map(|k| {
+                let mut e = [0.0; 3];
+                e[k] = 1.0;
+                from3(crate::geom::cross_f(to3(u), e))
+            })
+            .collect(),
+        (3, [u, v]) => vec![from3(crate::geom::cross_f(to3(u), to3(v)))],
+        _ => unreachable!("a face spans fewer dimensions than its space"),
+    }
 }
 
 /// The input in LP units.
@@ -289,8 +337,10 @@ mod tests {
 
     #[test]
     fn plane_rows_by_hand() {
-        // Segment (0,0)-(2,0) and a point (1,1): the plane through the lifts
-        // of the segment's ends has slopes a (two auxiliary columns).
+        // Segment (0,0)-(2,0) and a point (1,1): the planes through the
+        // lifts of the segment's ends have slopes a = (2 - dw/2, t) with
+        // dw = w_1 - w_0, written with one slope column t (along (0, 2), the
+        // segment's normal, so a_y = 2 t).
         let p = [[0.0, 0.0], [2.0, 0.0], [1.0, 1.0]];
         let mut sys = System {
             n: 3,
@@ -298,20 +348,18 @@ mod tests {
             ..Default::default()
         };
         let a0 = plane_rows(&mut sys, &p, 0, 0, &[1], &[2], 4.0);
-        assert_eq!((a0, sys.aux), (3, 2));
-        // a.u + w_1 - w_0 = |u|^2, over L = 4
-        let eq = &sys.eqs[0];
-        assert_eq!(eq.terms, vec![(3, 0.5), (4, 0.0), (1, 0.25), (0, -0.25)]);
-        assert_eq!(eq.rhs, 1.0);
-        // |r|^2 - w_2 + w_0 - a.r >= delta L: with zero weights and
-        // a = (2, -1) the row value is (2 - (2 - 1)) / 4 = 1/4.
+        assert_eq!((a0, sys.aux, sys.eqs.len()), (3, 1, 0));
+        // |r|^2 - w_2 + w_0 - a.r >= delta L with r = (1, 1):
+        // 2 - 2 + dw/2 - 2t - w_2 + w_0, over L = 4
         let row = &sys.rows[0];
-        assert_eq!(row.rhs, -0.5);
-        let x = [0.0, 0.0, 0.0, 2.0, -1.0];
+        assert_eq!(
+            row.terms,
+            vec![(2, -0.25), (0, 0.125), (1, 0.125), (3, -0.5)]
+        );
+        assert_eq!(row.rhs, 0.0);
+        // a = (2, -1), zero weights: t = -1/2, row value (2 - 1) / 4
+        let x = [0.0, 0.0, 0.0, -0.5];
         let value: f64 = row.terms.iter().map(|&(c, k)| k * x[c]).sum::<f64>() - row.rhs;
         assert_eq!(value, 0.25);
-        // and the equality holds for those slopes
-        let lhs: f64 = eq.terms.iter().map(|&(c, k)| k * x[c]).sum();
-        assert_eq!(lhs, eq.rhs);
     }
 }
