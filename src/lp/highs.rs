@@ -22,6 +22,7 @@ pub(crate) enum Mode {
     },
 }
 
+#[derive(Clone)]
 pub(crate) struct Solution {
     pub(crate) delta: f64,
     pub(crate) w: Vec<f64>,
@@ -422,6 +423,21 @@ impl Lp {
         let lower = vec![0.0; cols.len()];
         let model = self.model.as_mut().expect("model");
         change_columns(model, &cols, Change::Bounds(&lower, &upper))
+    }
+
+    /// New costs of an elastic model's slack columns (by segment, 1 where
+    /// absent); the primal simplex goes on from the basis.
+    pub(crate) fn recost(&mut self, costs: &HashMap<u32, f64>) -> Result<()> {
+        self.simplex(false);
+        let mut by_col: Vec<(highs::Col, f64)> = self
+            .slack
+            .iter()
+            .map(|(s, &c)| (c, costs.get(s).copied().unwrap_or(1.0)))
+            .collect();
+        by_col.sort_unstable_by_key(|c| c.0.index());
+        let (cols, cost): (Vec<highs::Col>, Vec<f64>) = by_col.into_iter().unzip();
+        let model = self.model.as_mut().expect("model");
+        change_columns(model, &cols, Change::Costs(&cost))
     }
 
     /// Turns a solved Margin model into phase 2: delta >= delta_min,
