@@ -351,23 +351,20 @@ fn collinear_sites_do_not_place_a_power_vertex() {
     }
 }
 
-/// Known defect (issue 21), found by the zig-zag property test at 300
-/// cases: on the pure backend the weights leave vertex 20's power cell too
-/// thin for its extra sites in doubles, and the run stops with that named
-/// limit (CGAL's weights differ and mesh it). Run with `--ignored`.
+/// Found by the zig-zag property test at 300 cases: the pure backend's
+/// weights left vertex 20's power cell too thin for its extra sites in
+/// doubles (a named limit until the margin LP's failing rungs stopped at
+/// their objective bound, issue 23).
 #[test]
-#[ignore = "known defect: a sliver power cell on the pure backend (issue 21)"]
 fn lattice_sliver_cell_is_meshed() {
     zigzag_input_is_certified("lattice-sliver.poly");
 }
 
-/// Known defect (issue 23), found by the zig-zag property test at 600
-/// cases (seed 2026) and present before that session's LP changes: on both
-/// backends the weights leave vertex 19's power cell too thin in doubles
-/// for its extra site, and the run stops with that named limit. Run with
-/// `--ignored`.
+/// Found by the zig-zag property test at 600 cases (seed 2026): on both
+/// backends the weights left vertex 19's power cell too thin in doubles for
+/// its extra site (a named limit until the LP's supporting planes lost
+/// their equality rows, issue 23).
 #[test]
-#[ignore = "known defect: a sliver vertex cell on both backends (issue 23)"]
 fn thin_vertex_cell_is_meshed() {
     zigzag_input_is_certified("zigzag-thin-vertex-cell.poly");
 }

@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use std::ops::Bound;
 
 pub(crate) enum Mode {
-    /// Maximise delta.
+    /// Maximise delta (as minimise -delta).
     Margin,
     /// System 1 with delta >= min; system 3 rows elastic, minimise the
     /// violation, segment s weighted by costs[s] (1 where absent).
@@ -275,9 +275,11 @@ impl Lp {
             Mode::Elastic { .. } => Bound::Unbounded,
         };
         let (delta, sense) = match mode {
+            // Minimise -delta: HiGHS' dual simplex stops at an objective
+            // bound on minimisations only (`solve_once`).
             Mode::Margin => (
-                pb.add_column(1.0, (floor, Bound::Included(1.0))),
-                Sense::Maximise,
+                pb.add_column(-1.0, (floor, Bound::Included(1.0))),
+                Sense::Minimise,
             ),
             Mode::Elastic { delta_min, .. } => (
                 pb.add_column(0.0, *delta_min..=1.0f64.max(*delta_min)),
@@ -513,7 +515,7 @@ impl Lp {
         enough: f64,
     ) -> Result<Solution> {
         loop {
-            let (solution, cols) = self.solve_once(sys, report)?;
+            let (solution, cols) = self.solve_once(sys, report, enough)?;
             if solution.delta <= enough {
                 return Ok(solution);
             }
@@ -529,6 +531,7 @@ impl Lp {
         &mut self,
         sys: &System,
         report: &mut WeightsReport,
+        enough: f64,
     ) -> Result<(Solution, Option<Vec<f64>>)> {
         let left = report.deadline.map_or(LP_BUDGET, |d| {
             d.saturating_duration_since(std::time::Instant::now())
@@ -544,6 +547,18 @@ impl Lp {
         report.lp_cols = report.lp_cols.max(model.num_cols());
         report.lp_solves += 1;
         model.set_option("time_limit", left.as_secs_f64());
+        // A rung whose margin only matters above `enough` stops once the
+        // dual simplex proves it cannot get there (its dual objective passes
+        // -enough). Measured on TetGen's example: the failing k = 1 rung of
+        // settling takes 54 iterations instead of 160; on the shared inputs
+        // the counts of sites outside move by one or two either way, and
+        // lattice-sliver.poly now meshes on the pure backend.
+        let bound = if enough.is_finite() {
+            -enough
+        } else {
+            f64::INFINITY
+        };
+        model.set_option("objective_bound", bound);
         let ran = {
             let _running = HIGHS.read().unwrap_or_else(|e| e.into_inner());
             run_model(model)
@@ -576,7 +591,7 @@ impl Lp {
                 };
                 Ok((solution, Some(cols)))
             }
-            HighsModelStatus::Infeasible => Ok((
+            HighsModelStatus::Infeasible | HighsModelStatus::ObjectiveBound => Ok((
                 Solution {
                     delta: f64::NEG_INFINITY,
                     w: vec![],
