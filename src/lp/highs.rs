@@ -10,6 +10,8 @@ use crate::error::{Error, Result};
 use highs::{HighsModelStatus, RowProblem, Sense};
 use std::collections::HashMap;
 use std::ops::Bound;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 pub(crate) enum Mode {
     /// Maximise delta (as minimise -delta).
@@ -173,6 +175,46 @@ pub(crate) fn rejected(e: highs::HighsStatus) -> Error {
     ))
 }
 
+thread_local! {
+    /// Set while this thread runs work that another may make moot
+    /// (`cancellable`): HiGHS runs then stop as soon as it is raised.
+    static CANCEL: std::cell::RefCell<Option<Arc<AtomicBool>>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Runs `f` so that raising `stop` interrupts its HiGHS runs (and makes
+/// every later one fail at once) with an error that the caller discards.
+/// Run speculatively beside the work that decides whether it is needed.
+pub(crate) fn cancellable<T>(stop: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
+    let before = CANCEL.with_borrow_mut(|c| c.replace(stop.clone()));
+    let out = f();
+    CANCEL.with_borrow_mut(|c| *c = before);
+    out
+}
+
+/// The error of a cancelled run (never shown: the caller discards it).
+fn cancelled() -> Error {
+    Error::Internal("an LP run was cancelled but its result was used".into())
+}
+
+/// HiGHS' simplex interrupt: asks to stop once the flag is raised.
+#[allow(unsafe_code)]
+unsafe extern "C" fn interrupt(
+    _kind: std::os::raw::c_int,
+    _message: *const std::os::raw::c_char,
+    _out: *const highs_sys::HighsCallbackDataOut,
+    data_in: *mut highs_sys::HighsCallbackDataIn,
+    flag: *mut std::os::raw::c_void,
+) {
+    // SAFETY: `flag` is the AtomicBool that `run_model` registered, alive
+    // for the run (its Arc is held by the thread's CANCEL); `data_in` is
+    // HiGHS' own, non-null for interrupt callbacks.
+    unsafe {
+        if (*(flag as *const AtomicBool)).load(Ordering::Relaxed) && !data_in.is_null() {
+            (*data_in).user_interrupt = 1;
+        }
+    }
+}
+
 /// Runs HiGHS on the model in place: its status, and its columns when
 /// optimal. Where HiGHS fails (a singular basis in a badly scaled warm
 /// start, say), it runs once more from scratch with its own defaults
@@ -181,8 +223,23 @@ pub(crate) fn rejected(e: highs::HighsStatus) -> Error {
 #[allow(unsafe_code)]
 fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f64>>)> {
     let ptr = model.as_mut_ptr();
+    let stop = CANCEL.with_borrow(|c| c.clone());
+    if let Some(stop) = &stop {
+        if stop.load(Ordering::Relaxed) {
+            return Err(cancelled());
+        }
+        // SAFETY: `ptr` is live; the flag outlives the run (`stop` holds it).
+        unsafe {
+            let data = Arc::as_ptr(stop) as *mut std::os::raw::c_void;
+            highs_sys::Highs_setCallback(ptr, Some(interrupt), data);
+            highs_sys::Highs_startCallback(ptr, highs_sys::kHighsCallbackSimplexInterrupt);
+        }
+    }
     // SAFETY: `ptr` is the model's live HiGHS instance.
     let mut ran = unsafe { highs_sys::Highs_run(ptr) };
+    if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+        return Err(cancelled());
+    }
     if ran == highs_sys::STATUS_ERROR {
         // SAFETY: as above; clearing the solver keeps the model.
         unsafe { highs_sys::Highs_clearSolver(ptr) };
@@ -607,5 +664,38 @@ impl Lp {
             ))),
             s => Err(Error::SolverLimit(format!("HiGHS ended with status {s:?}"))),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lp::{plane_rows, sys3_rows};
+
+    /// A raised flag stops a run before it starts (the error is the one
+    /// callers discard); a lowered one changes nothing.
+    #[test]
+    fn a_raised_flag_cancels_runs() {
+        let p = [[0.0, 0.0], [1.0, 0.0], [0.5, 0.9], [0.4, -0.8], [2.0, 0.1]];
+        let mut sys = System {
+            n: 5,
+            free: vec![true; 5],
+            verdict: true,
+            unit2: 1.0,
+            l2: vec![1.0; 5],
+            ..Default::default()
+        };
+        plane_rows(&mut sys, &p, 0, 0, &[1], &[2, 3, 4], 1.0);
+        sys.rows.extend(sys3_rows(&p, 0, 0, 1, &[2, 3, 4]));
+        let run = |sys: &System| {
+            let mut report = WeightsReport::started("test");
+            Lp::build(sys, true, None, &Mode::Margin)?.solve(sys, &mut report, f64::NEG_INFINITY)
+        };
+        let free = run(&sys).unwrap().delta;
+        let lowered = Arc::new(AtomicBool::new(false));
+        assert_eq!(cancellable(&lowered, || run(&sys)).unwrap().delta, free);
+        let raised = Arc::new(AtomicBool::new(true));
+        let err = cancellable(&raised, || run(&sys)).err().expect("cancelled");
+        assert!(matches!(err, Error::Internal(m) if m.contains("cancelled")));
     }
 }

@@ -31,7 +31,7 @@ mod pieces;
 mod proof;
 mod rows;
 
-pub(crate) use highs::destroy_finished;
+pub(crate) use highs::{cancellable, destroy_finished};
 use highs::{Lp, Mode, Solution};
 pub(crate) use pieces::solve_pieces;
 #[cfg(test)]

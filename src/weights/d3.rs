@@ -29,8 +29,8 @@ use crate::backend::{Backend, Tetrahedralisation};
 use crate::error::{Error, Result};
 use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
 use crate::lp::{
-    destroy_finished, prove, solve_rows, Answer, Certificate, Duals, Units, WeightsReport,
-    GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
+    cancellable, destroy_finished, prove, solve_rows, Answer, Certificate, Duals, Units,
+    WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
 };
 use crate::{
     complex::Complex3,
@@ -38,6 +38,8 @@ use crate::{
     geom::{drop_axis, plane_axis},
 };
 use std::collections::{BTreeSet, HashSet};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// Polygons with more vertices than this are triangulated (the exact check
 /// of a whole polygon looks at every triple of its vertices).
@@ -118,9 +120,36 @@ fn solve_kept<B: Backend + ?Sized>(
     all: &[bool],
     way: Keep,
 ) -> Result<Weights3> {
-    let mut out = global(backend, cx, dt, faces(cx, sc, all), way);
-    let mut whole = all.to_vec();
-    for retry in [untouched(cx, sc, all), vec![false; all.len()]] {
+    let first = untouched(cx, sc, all);
+    let (mut out, mut whole) = if first != all {
+        // The retry runs beside the first attempt, cancelled when that
+        // succeeds: the same results, and on TetGen's example (the first
+        // attempt is infeasible) its time is saved.
+        let stop = Arc::new(AtomicBool::new(false));
+        let (a, b) = rayon::join(
+            || {
+                let a = global(backend, cx, dt, faces(cx, sc, all), way);
+                stop.store(!mended(&a), Ordering::Relaxed);
+                a
+            },
+            || {
+                cancellable(&stop, || {
+                    (!stop.load(Ordering::Relaxed))
+                        .then(|| global(backend, cx, dt, faces(cx, sc, &first), way))
+                })
+            },
+        );
+        match b {
+            Some(b) if mended(&a) => (b, first.clone()),
+            _ => (a, all.to_vec()),
+        }
+    } else {
+        (
+            global(backend, cx, dt, faces(cx, sc, all), way),
+            all.to_vec(),
+        )
+    };
+    for retry in [first, vec![false; all.len()]] {
         if !matches!(
             out,
             Err(Error::NoRegularConstrainedTetrahedralisation { .. })
@@ -133,6 +162,14 @@ fn solve_kept<B: Backend + ?Sized>(
         }
     }
     out
+}
+
+/// Whether an attempt with fewer polygons whole may mend this one.
+fn mended(out: &Result<Weights3>) -> bool {
+    matches!(
+        out,
+        Err(Error::NoRegularConstrainedTetrahedralisation { .. })
+    )
 }
 
 /// Whether an attempt ended without weights in a way another may mend.
