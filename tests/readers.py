@@ -79,14 +79,19 @@ def sliver(grid, c, rel=1e-6):
         return False
     ids = cell.GetPointIds()
     pts = np.array([grid.GetPoint(ids.GetId(k)) for k in range(ids.GetNumberOfIds())])
-    o = pts[0]
-    vol = 0.0
+    diag = np.linalg.norm(pts.max(0) - pts.min(0))
+    return abs(face_volume(grid, cell)) < rel * diag**3
+
+def face_volume(grid, cell):
+    """A polyhedron's volume from its faces as vtk reads them (divergence
+    theorem about its first point)."""
+    total = 0.0
+    o = np.array(grid.GetPoint(cell.GetFace(0).GetPointId(0)))
     for f in range(cell.GetNumberOfFaces()):
         face = cell.GetFace(f)
         p = np.array([grid.GetPoint(face.GetPointId(k)) for k in range(face.GetNumberOfPoints())]) - o
-        vol += sum(np.dot(p[0], np.cross(p[k], p[k + 1])) for k in range(1, len(p) - 1)) / 6.0
-    diag = np.linalg.norm(pts.max(0) - pts.min(0))
-    return abs(vol) < rel * diag**3
+        total += sum(np.dot(p[0], np.cross(p[k], p[k + 1])) for k in range(1, len(p) - 1)) / 6.0
+    return total
 
 def check_layers(path):
     """2.5D meshes: polyhedra (type 42) that vtk validates, no unused points,
@@ -161,13 +166,7 @@ def check_polyhedra(path):
     flagged = valid_reframed(path, grid, rotate, "a rotated frame")
     volume = vtk_to_numpy(grid.GetCellData().GetArray("volume"))
     for c in range(n):
-        cell = grid.GetCell(c)
-        total = 0.0
-        o = np.array(grid.GetPoint(cell.GetFace(0).GetPointId(0)))
-        for f in range(cell.GetNumberOfFaces()):
-            face = cell.GetFace(f)
-            p = np.array([grid.GetPoint(face.GetPointId(k)) for k in range(face.GetNumberOfPoints())]) - o
-            total += sum(np.dot(p[0], np.cross(p[k], p[k + 1])) for k in range(1, len(p) - 1)) / 6.0
+        total = face_volume(grid, grid.GetCell(c))
         assert abs(total - volume[c]) <= 1e-9 * max(volume[c], 1e-300), f"{path}: cell {c}: volume from the faces vtk reads {total}, ours {volume[c]}"
     m = pv.read(path)
     assert m.n_cells == n, f"{path}: pyvista reads {m.n_cells} cells, vtk {n}"

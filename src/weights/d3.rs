@@ -150,10 +150,7 @@ fn solve_kept<B: Backend + ?Sized>(
         )
     };
     for retry in [first, vec![false; all.len()]] {
-        if !matches!(
-            out,
-            Err(Error::NoRegularConstrainedTetrahedralisation { .. })
-        ) {
+        if !mended(&out) {
             break;
         }
         if retry != whole {
