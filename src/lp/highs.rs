@@ -24,6 +24,9 @@ pub(crate) enum Mode {
     },
 }
 
+/// A basis: column statuses, row statuses (HiGHS' constants).
+pub(crate) type Basis = (Vec<highs_sys::HighsInt>, Vec<highs_sys::HighsInt>);
+
 #[derive(Clone)]
 pub(crate) struct Solution {
     pub(crate) delta: f64,
@@ -454,6 +457,31 @@ impl Lp {
             self.simplex(true);
         }
         Ok(!enter.is_empty())
+    }
+
+    /// The model's basis (column and row statuses).
+    #[allow(unsafe_code)]
+    pub(crate) fn basis(&mut self) -> Basis {
+        let model = self.model.as_mut().expect("model");
+        let mut cols = vec![0; model.num_cols()];
+        let mut rows = vec![0; model.num_rows()];
+        // SAFETY: live instance; arrays of its column and row counts.
+        unsafe {
+            highs_sys::Highs_getBasis(model.as_mut_ptr(), cols.as_mut_ptr(), rows.as_mut_ptr())
+        };
+        (cols, rows)
+    }
+
+    /// Goes back to `basis`: columns added since are nonbasic at their
+    /// lower bound, rows added since basic. Where HiGHS refuses it, the
+    /// current basis stays (only the speed of the next solve depends on it).
+    #[allow(unsafe_code)]
+    pub(crate) fn set_basis(&mut self, (mut cols, mut rows): Basis) {
+        let model = self.model.as_mut().expect("model");
+        cols.resize(model.num_cols(), highs_sys::kHighsBasisStatusLower as _);
+        rows.resize(model.num_rows(), highs_sys::kHighsBasisStatusBasic as _);
+        // SAFETY: live instance; arrays of its column and row counts.
+        unsafe { highs_sys::Highs_setBasis(model.as_mut_ptr(), cols.as_ptr(), rows.as_ptr()) };
     }
 
     /// Which simplex goes on from the current basis: the dual after rows

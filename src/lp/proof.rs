@@ -521,7 +521,7 @@ mod tests {
         plane_rows(&mut sys, &p, 0, 0, &[1], &[2, 3, 4], 1.0);
         sys.rows.extend(sys3_rows(&p, 0, 0, 1, &[2, 3, 4]));
         let mut report = WeightsReport::started("test");
-        let (m, _, mut lp) = margin(&sys, true, &mut report).unwrap();
+        let (m, _, mut lp) = margin(&sys, true, false, &mut report).unwrap();
         assert!(m > 1e-3, "{m}");
         let same = |t: Terms| t;
         let pq = exact(&p);
@@ -543,7 +543,7 @@ mod tests {
         plane_rows(&mut sys, &p, 0, 0, &[1], &[2, 3], 1.0);
         plane_rows(&mut sys, &p, 1, 2, &[3], &[0, 1], 1.0);
         let mut report = WeightsReport::started("test");
-        let (m, _, mut lp) = margin(&sys, false, &mut report).unwrap();
+        let (m, _, mut lp) = margin(&sys, false, false, &mut report).unwrap();
         assert!(m <= crate::lp::TRUST, "{m}");
         let duals = lp.duals(&sys, &mut report).unwrap();
         let proof = prove(&sys, &duals, &exact(&p), &|t| t).expect("a certificate");
