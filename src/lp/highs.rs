@@ -62,6 +62,8 @@ pub(crate) struct Lp {
     pub(crate) refs: Vec<RowRef>,
     /// Whether delta starts bounded below (`margin_floor`).
     pub(crate) floor: bool,
+    /// The columns of the last optimal solve (empty before one).
+    pub(crate) cols: Vec<f64>,
 }
 
 thread_local! {
@@ -425,6 +427,7 @@ impl Lp {
             dual,
             refs,
             floor: floor != Bound::Unbounded,
+            cols: vec![],
         })
     }
 
@@ -457,6 +460,16 @@ impl Lp {
             self.simplex(true);
         }
         Ok(!enter.is_empty())
+    }
+
+    /// Whether the columns `cols` of this model meet |w_i| <= k l_i^2.
+    pub(crate) fn fits(&self, sys: &System, cols: &[f64], k: Option<f64>) -> bool {
+        self.w.iter().enumerate().all(|(i, pq)| {
+            pq.is_none_or(|(p, q)| {
+                let up = part_upper(sys, i, k);
+                cols[p.index()] <= up && cols[q.index()] <= up
+            })
+        })
     }
 
     /// The model's basis (column and row statuses).
@@ -674,6 +687,7 @@ impl Lp {
                     delta: cols[self.delta.index()],
                     w,
                 };
+                self.cols.clone_from(&cols);
                 Ok((solution, Some(cols)))
             }
             HighsModelStatus::Infeasible | HighsModelStatus::ObjectiveBound => Ok((

@@ -32,7 +32,7 @@ mod proof;
 mod rows;
 
 pub(crate) use highs::{cancellable, destroy_finished};
-use highs::{Lp, Mode, Solution};
+use highs::{Basis, Lp, Mode, Solution};
 pub(crate) use pieces::solve_pieces;
 #[cfg(test)]
 pub(crate) use proof::agrees as proof_agrees;
@@ -206,17 +206,23 @@ pub(crate) fn margin(
     };
     let mut lp = Lp::build(sys, with3, order[0], &Mode::Margin)?;
     let mut best = (f64::NEG_INFINITY, None);
-    let mut free = None;
+    let mut free: Option<(Basis, Vec<f64>, f64)> = None;
     for (step, &k) in order.iter().enumerate() {
         if step > 0 {
             lp.bound(sys, k)?;
         }
-        if let Some(b) = free.clone().filter(|_| step > 1) {
+        if let Some((b, cols, delta)) = &free {
             // From the free rung's optimum, not the failed rung's last
             // basis: where the free weights meet the bound it is this
             // rung's optimum too (measured on TetGen's example: settling's
-            // k = 16 rung takes 0 iterations instead of 55).
-            lp.set_basis(b);
+            // k = 16 rung took 0 iterations instead of 55), and its solve
+            // is skipped.
+            if step > 1 {
+                lp.set_basis(b.clone());
+            }
+            if lp.fits(sys, cols, k) {
+                return Ok((*delta, k, lp));
+            }
         }
         // A rung whose margin is not returned fails as soon as its rows so
         // far leave none (lazy rows cannot raise it).
@@ -224,7 +230,7 @@ pub(crate) fn margin(
         let enough = if returned { f64::NEG_INFINITY } else { TRUST };
         let delta = lp.solve(sys, report, enough)?.delta;
         if restart && step == 0 && k.is_none() && order.len() > 2 {
-            free = Some(lp.basis());
+            free = Some((lp.basis(), lp.cols.clone(), delta));
         }
         if sys.verdict && step == 0 {
             if delta <= TRUST {
