@@ -62,8 +62,6 @@ pub(crate) struct Lp {
     pub(crate) refs: Vec<RowRef>,
     /// Whether delta starts bounded below (`margin_floor`).
     pub(crate) floor: bool,
-    /// The columns of the last optimal solve (empty before one).
-    pub(crate) cols: Vec<f64>,
 }
 
 thread_local! {
@@ -270,14 +268,20 @@ fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f
     if status != HighsModelStatus::Optimal {
         return Ok((status, None));
     }
+    Ok((status, Some(columns(model))))
+}
+
+/// The column values of a model's last solution.
+#[allow(unsafe_code)]
+pub(crate) fn columns(model: &mut highs::Model) -> Vec<f64> {
     let mut cols = vec![0.0; model.num_cols()];
     let none = std::ptr::null_mut();
-    // SAFETY: as above; `cols` has the model's column count, which HiGHS
-    // fills; it skips the arrays given as null (duals and row values).
+    // SAFETY: the model's live instance; `cols` has its column count, which
+    // HiGHS fills; it skips the arrays given as null (duals and row values).
     unsafe {
         highs_sys::Highs_getSolution(model.as_mut_ptr(), cols.as_mut_ptr(), none, none, none)
     };
-    Ok((status, Some(cols)))
+    cols
 }
 
 /// A lower bound of a simplex model's margin: the margin that zero
@@ -427,7 +431,6 @@ impl Lp {
             dual,
             refs,
             floor: floor != Bound::Unbounded,
-            cols: vec![],
         })
     }
 
@@ -687,7 +690,6 @@ impl Lp {
                     delta: cols[self.delta.index()],
                     w,
                 };
-                self.cols.clone_from(&cols);
                 Ok((solution, Some(cols)))
             }
             HighsModelStatus::Infeasible | HighsModelStatus::ObjectiveBound => Ok((

@@ -190,8 +190,8 @@ pub(crate) fn run(
 /// costs one solve. The local form's failures are no verdict: its ladder
 /// starts small and the unbounded try comes last. The smallest k with a
 /// trusted margin keeps the weights small.
-/// With `restart`, each bounded rung after the first starts from the free
-/// rung's optimum (the verdict order).
+/// With `restart` (settling), each bounded rung after the first starts
+/// from the free rung's optimum (the verdict order).
 pub(crate) fn margin(
     sys: &System,
     with3: bool,
@@ -230,7 +230,8 @@ pub(crate) fn margin(
         let enough = if returned { f64::NEG_INFINITY } else { TRUST };
         let delta = lp.solve(sys, report, enough)?.delta;
         if restart && step == 0 && k.is_none() && order.len() > 2 {
-            free = Some((lp.basis(), lp.cols.clone(), delta));
+            let cols = highs::columns(lp.model.as_mut().expect("model"));
+            free = Some((lp.basis(), cols, delta));
         }
         if sys.verdict && step == 0 {
             if delta <= TRUST {
