@@ -56,6 +56,32 @@ impl Tetrahedralisation {
         })
     }
 
+    /// Per point of n, the tetrahedra around it; None for a point on the
+    /// hull (its power cell is unbounded) or hidden.
+    pub fn bounded_stars(&self, n: usize) -> Vec<Option<Vec<u32>>> {
+        let mut star: Vec<Option<Vec<u32>>> = vec![Some(vec![]); n];
+        for (t, tet) in self.tets.iter().enumerate() {
+            for &v in tet {
+                if let Some(s) = &mut star[v as usize] {
+                    s.push(t as u32);
+                }
+            }
+        }
+        for (t, tet) in self.tets.iter().enumerate() {
+            for k in (0..4).filter(|&k| self.across(t as u32, k).is_none()) {
+                for j in (0..4).filter(|&j| j != k) {
+                    star[tet[j] as usize] = None;
+                }
+            }
+        }
+        for s in &mut star {
+            if s.as_ref().is_some_and(|s| s.is_empty()) {
+                *s = None;
+            }
+        }
+        star
+    }
+
     /// Each of n points' neighbours along edges (empty for hidden points).
     pub fn neighbours(&self, n: usize) -> Vec<Vec<u32>> {
         // (per vertex, every tetrahedron's three, then sorted and deduped:

@@ -61,6 +61,14 @@ pub fn along<const N: usize>(a: &[Q; N], t: &Q, d: &[Q; N]) -> [Q; N] {
     std::array::from_fn(|k| &a[k] + t * &d[k])
 }
 
+/// Whether x lies strictly nearer, in power, to weighted point (a, wa) than
+/// to (b, wb): |x - a|^2 - wa < |x - b|^2 - wb, exactly (as 2 x.(b - a) <
+/// |b|^2 - |a|^2 - wb + wa, one product per coordinate).
+pub fn power_nearer(x: &[Q; 3], (a, wa): (&[Q; 3], &Q), (b, wb): (&[Q; 3], &Q)) -> bool {
+    let lhs = Q::from(2) * dot(x, &sub(b, a));
+    lhs < norm2(b) - norm2(a) - wb + wa
+}
+
 /// Exact orientation of double points (Shewchuk's adaptive predicate).
 pub fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
     let d = robust::orient2d(

@@ -9,7 +9,7 @@
 //! exact rationals, so each site lies exactly on its dual and its weight
 //! is exactly that power.
 
-use super::track3::Track;
+use super::track3::{Roam, Track};
 use crate::complex::Complex3;
 use crate::error::{Error, Result};
 use crate::geom::{
@@ -36,10 +36,10 @@ pub struct Sites3 {
     /// Per site of a face that crosses its dual: the line it may move on
     /// towards the face (relocation).
     pub line: Vec<Option<Line>>,
-    /// Per extra site: the dual edge it may move on (`wander`); boxed, as
+    /// Per extra site: where it may move (`wander`); boxed, as
     /// most sites have none (unboxed, field3 16 x 16 x 8's peak grew by 0.7
     /// KB a triangle).
-    pub track: Vec<Option<Box<Track>>>,
+    pub track: Vec<Option<Box<Roam>>>,
     /// The planes the diagram is cut at (`clipped`), and per site the
     /// site and plane it mirrors (empty: no mirrors).
     pub clips: Vec<Clip>,
@@ -275,7 +275,8 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
             // It moves anywhere on its dual edge, not towards a face.
             s.line[x as usize] = None;
             let ends = (&dual.lo, &dual.hi);
-            s.track[x as usize] = Some(Box::new(Track::new((&dual.c, &dual.n), ends, &scale, &tt)));
+            let track = Track::new((&dual.c, &dual.n), ends, &scale, &tt);
+            s.track[x as usize] = Some(Box::new(Roam::Edge(track)));
             Some(x)
         })
     };
@@ -317,12 +318,7 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
                 return Err(short(cx, "edge", e));
             };
             if let Some(x) = extra_site(&mut s, t) {
-                for v in t {
-                    let list = index.entry(v).or_default();
-                    if !list.contains(&x) {
-                        list.push(x);
-                    }
-                }
+                register(&mut index, t, x);
             }
         }
     }
@@ -339,8 +335,16 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         .collect();
     // the candidates ordered by the sites placed so far, when first needed
     let served = served(&s);
-    let mut around = None;
+    let (mut around, mut cells) = (None, None);
     for (v, _) in vertices.into_iter().zip(spanned).filter(|(_, ok)| !ok) {
+        // sites of its own first: they move anywhere in its cell (the loop
+        // below checks their span: rounding may collapse them)
+        let n = cx.points.len();
+        let cells = cells.get_or_insert_with(|| (wt.rt.neighbours(n), wt.rt.bounded_stars(n)));
+        let have = index.get(&v).cloned().unwrap_or_default();
+        if let Some(added) = s.own_sites(cx, wt, v, &have, cells) {
+            index.entry(v).or_default().extend(added);
+        }
         let around = around.get_or_insert_with(|| candidates(&tris, &served));
         let mut candidates = around.get(&v).cloned().unwrap_or_default().into_iter();
         loop {
@@ -352,12 +356,7 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
                 return Err(short(cx, "vertex", &[v]));
             };
             if let Some(x) = extra_site(&mut s, t) {
-                for u in t {
-                    let list = index.entry(u).or_default();
-                    if !list.contains(&x) {
-                        list.push(x);
-                    }
-                }
+                register(&mut index, t, x);
             }
         }
     }
@@ -448,6 +447,16 @@ fn short(cx: &Complex3, what: &str, vs: &[u32]) -> Error {
     ))
 }
 
+/// Adds site x to the sites serving each vertex of t.
+fn register(index: &mut HashMap<u32, Vec<u32>>, t: [u32; 3], x: u32) {
+    for v in t {
+        let list = index.entry(v).or_default();
+        if !list.contains(&x) {
+            list.push(x);
+        }
+    }
+}
+
 /// Per input vertex, the sites serving it.
 fn by_vertex(s: &Sites3) -> HashMap<u32, Vec<u32>> {
     let mut out: HashMap<u32, Vec<u32>> = HashMap::new();
@@ -463,7 +472,7 @@ fn by_vertex(s: &Sites3) -> HashMap<u32, Vec<u32>> {
 /// exactly: r + 1 of them chosen in doubles (each farthest from the span
 /// of those before) and their cross product or volume proved nonzero in
 /// intervals, else the rank in rationals.
-fn spans(s: &Sites3, ids: &[u32], r: usize) -> bool {
+pub(super) fn spans(s: &Sites3, ids: &[u32], r: usize) -> bool {
     if ids.len() <= r {
         return false;
     }

@@ -3,6 +3,7 @@
 //! exactly by doubles (`d2`), in 3D exact rationals with clipping by
 //! mirrored sites (`d3`).
 
+mod cell3;
 mod d2;
 mod d3;
 mod track3;

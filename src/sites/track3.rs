@@ -7,6 +7,7 @@
 //! heuristic: the next site diagram decides exactly), as a 2D vertex site
 //! does.
 
+use super::cell3::Spot;
 use super::d3::Sites3;
 use crate::complex::Complex3;
 use crate::geom::{along, f, q, Q};
@@ -18,7 +19,30 @@ const SAMPLES: usize = 64;
 /// Moves an extra site makes at most: moving changes its neighbours, and
 /// sites crowding one another can trade places forever (measured: twelve
 /// points inside a box, one site went back and forth for 20 rounds).
-const MAX_MOVES: u8 = 3;
+pub(super) const MAX_MOVES: u8 = 3;
+
+/// Where an extra site may go: along the dual edge of an RT triangle
+/// (serving its three vertices), or anywhere in one vertex's power cell
+/// (`Spot`, serving that vertex alone).
+#[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)] // (boxed where stored: `Sites3::track`)
+pub enum Roam {
+    Edge(Track),
+    Cell(Spot),
+}
+
+/// The smallest distance, over `others` (doubles and weights), from a
+/// site at p with weight wx to the plane of its face with one (negative
+/// beyond it).
+pub(super) fn depth(p: [f64; 3], wx: f64, others: &[[f64; 4]]) -> f64 {
+    others
+        .iter()
+        .map(|o| {
+            let d2 = (0..3).map(|k| (p[k] - o[k]).powi(2)).sum::<f64>();
+            (d2 + wx - o[3]) / (2.0 * d2.sqrt())
+        })
+        .fold(f64::INFINITY, f64::min)
+}
 
 /// Where an extra site may lie: c + t n for t strictly inside (lo, hi)
 /// (None: unbounded), sampled over `span` (a missing end stood in for by
@@ -75,17 +99,15 @@ impl Track {
 }
 
 impl Sites3 {
-    /// Moves extra site x, outside its cell, to the sampled position of its
-    /// track farthest inside its faces with `neighbours` (the sites next
-    /// to it in the site triangulation), when that is farther than where it
-    /// is; false, and it stays, when none is.
+    /// Moves extra site x, outside its cell, to a place where it is
+    /// farther inside its faces with `neighbours` (the sites next to it in
+    /// the site triangulation) than where it is: sampled along its dual
+    /// edge, or around its vertex (`wander_cell`). False, and it stays,
+    /// when none is.
     pub fn wander(&mut self, x: usize, cx: &Complex3, w: &[Q], neighbours: &[u32]) -> bool {
-        let Some(track) = self.track[x].as_ref().filter(|t| t.moves < MAX_MOVES) else {
+        let Some(roam) = self.track[x].clone() else {
             return false;
         };
-        let v0 = self.serves[x][0] as usize;
-        let pv = cx.points[v0];
-        let wv = f(&w[v0]);
         let others: Vec<[f64; 4]> = neighbours
             .iter()
             .map(|&y| {
@@ -93,32 +115,45 @@ impl Sites3 {
                 [f(&p[0]), f(&p[1]), f(&p[2]), f(wy)]
             })
             .collect();
-        // The smallest distance, over the neighbours, from site x at t to
-        // the plane of its face with them (negative beyond one).
-        let depth = |t: f64| {
+        match &*roam {
+            Roam::Edge(track) => self.wander_edge(x, cx, w, track, &others),
+            Roam::Cell(spot) => self.wander_cell(x, cx, w, spot, &others),
+        }
+    }
+
+    /// `wander` along a dual edge: to the sampled position farthest inside.
+    fn wander_edge(
+        &mut self,
+        x: usize,
+        cx: &Complex3,
+        w: &[Q],
+        track: &Track,
+        others: &[[f64; 4]],
+    ) -> bool {
+        if track.moves >= MAX_MOVES {
+            return false;
+        }
+        let v0 = self.serves[x][0] as usize;
+        let pv = cx.points[v0];
+        let wv = f(&w[v0]);
+        let at = |t: f64| {
             let p = track.at(t);
             let wx = (0..3).map(|k| (p[k] - pv[k]).powi(2)).sum::<f64>() - wv;
-            others
-                .iter()
-                .map(|o| {
-                    let d2 = (0..3).map(|k| (p[k] - o[k]).powi(2)).sum::<f64>();
-                    (d2 + wx - o[3]) / (2.0 * d2.sqrt())
-                })
-                .fold(f64::INFINITY, f64::min)
+            depth(p, wx, others)
         };
-        let now = depth(track.t);
+        let now = at(track.t);
         let [a, b] = track.span;
         let best = (1..SAMPLES)
             .map(|k| a + (b - a) * k as f64 / SAMPLES as f64)
             .filter(|&t| track.holds(&q(t)))
-            .map(|t| (depth(t), t))
+            .map(|t| (at(t), t))
             .filter(|&(d, _)| d > now)
             .max_by(|p, r| p.0.total_cmp(&r.0));
         let Some((_, t)) = best else {
             return false;
         };
         self.p[x] = along(&track.c, &q(t), &track.n);
-        if let Some(track) = &mut self.track[x] {
+        if let Some(Roam::Edge(track)) = self.track[x].as_deref_mut() {
             track.t = t;
             track.moves += 1;
         }
@@ -157,7 +192,7 @@ mod tests {
             s.w.push(q(wt));
             s.serves.push(vec![0]);
             s.line.push(None);
-            s.track.push(tr.map(Box::new));
+            s.track.push(tr.map(|t| Box::new(Roam::Edge(t))));
         }
         s.reweigh(0, &cx, &w);
         let inside = |s: &Sites3| norm2(&sub(&s.p[0], &s.p[1])) + &s.w[0] - &s.w[1] > 0;
