@@ -12,7 +12,7 @@
 use super::d3::{spans, Sites3};
 use super::track3::{depth, Roam, MAX_MOVES};
 use crate::complex::Complex3;
-use crate::geom::{f, power_nearer, q, Q};
+use crate::geom::{cross_f, dot_f, f, power_nearer, q, Q};
 use crate::weights::Weights3;
 use std::sync::Arc;
 
@@ -142,8 +142,8 @@ fn four(pv: [f64; 3], o: [f64; 3], r: f64, worst: &dyn Fn(&[f64; 3]) -> f64) -> 
             .unwrap_or(0);
         let mut axis = [0.0; 3];
         axis[m] = 1.0;
-        let a = unit(cross(e, axis));
-        let b = cross(e, a);
+        let a = unit(cross_f(e, axis));
+        let b = cross_f(e, a);
         let theta = (r / 2.0 / dist).min(0.5).asin();
         let mut out = vec![o];
         for k in 0..3 {
@@ -160,14 +160,6 @@ fn four(pv: [f64; 3], o: [f64; 3], r: f64, worst: &dyn Fn(&[f64; 3]) -> f64) -> 
         worst(&d(a)).total_cmp(&worst(&d(b)))
     });
     places
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 impl Sites3 {
@@ -224,10 +216,7 @@ impl Sites3 {
         // the direction's largest cosine with a site serving v
         let worst = |d: &[f64; 3]| {
             let d = unit(*d);
-            towards
-                .iter()
-                .map(|t| (0..3).map(|k| d[k] * t[k]).sum::<f64>())
-                .fold(-1.0, f64::max)
+            towards.iter().map(|t| dot_f(d, *t)).fold(-1.0, f64::max)
         };
         let walls: Arc<[u32]> = walls.into();
         let mut r = 2f64.powi((room / 4.0).log2().floor() as i32);
@@ -311,11 +300,7 @@ impl Sites3 {
             return false;
         }
         let pv = cx.points[spot.v as usize];
-        let wv = f(&w[spot.v as usize]);
-        let at = |p: [f64; 3]| {
-            let wx = (0..3).map(|k| (p[k] - pv[k]).powi(2)).sum::<f64>() - wv;
-            depth(p, wx, others)
-        };
+        let at = |p: [f64; 3]| depth(p, (pv, f(&w[spot.v as usize])), others);
         let now = at(self.p[x].each_ref().map(f));
         // (around o; on the sphere about v through o when o is not v)
         let dist = (0..3)

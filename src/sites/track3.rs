@@ -32,9 +32,10 @@ pub enum Roam {
 }
 
 /// The smallest distance, over `others` (doubles and weights), from a
-/// site at p with weight wx to the plane of its face with one (negative
-/// beyond it).
-pub(super) fn depth(p: [f64; 3], wx: f64, others: &[[f64; 4]]) -> f64 {
+/// site at p serving vertex pv (of weight wv: the site's weight gives it
+/// power wv there) to the plane of its face with one (negative beyond it).
+pub(super) fn depth(p: [f64; 3], (pv, wv): ([f64; 3], f64), others: &[[f64; 4]]) -> f64 {
+    let wx = (0..3).map(|k| (p[k] - pv[k]).powi(2)).sum::<f64>() - wv;
     others
         .iter()
         .map(|o| {
@@ -134,13 +135,8 @@ impl Sites3 {
             return false;
         }
         let v0 = self.serves[x][0] as usize;
-        let pv = cx.points[v0];
-        let wv = f(&w[v0]);
-        let at = |t: f64| {
-            let p = track.at(t);
-            let wx = (0..3).map(|k| (p[k] - pv[k]).powi(2)).sum::<f64>() - wv;
-            depth(p, wx, others)
-        };
+        let vertex = (cx.points[v0], f(&w[v0]));
+        let at = |t: f64| depth(track.at(t), vertex, others);
         let now = at(track.t);
         let [a, b] = track.span;
         let best = (1..SAMPLES)
