@@ -148,19 +148,17 @@ pub struct Stage {
 }
 
 /// Peak resident memory since the last call (MiB), then the peak is reset
-/// (Linux: VmHWM in /proc/self/status, reset through /proc/self/clear_refs).
-/// None where the system does not tell.
+/// (Linux: getrusage's maximum resident set, which follows the reset
+/// through /proc/self/clear_refs). None where the system does not tell.
+#[allow(unsafe_code)]
 pub fn peak_mib_since_last() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let kib: f64 = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmHWM:"))?
-        .trim()
-        .trim_end_matches("kB")
-        .trim()
-        .parse()
-        .ok()?;
+    // SAFETY: getrusage fills the struct it is given, all integers.
+    let usage = unsafe {
+        let mut usage: libc::rusage = std::mem::zeroed();
+        (libc::getrusage(libc::RUSAGE_SELF, &mut usage) == 0).then_some(usage)
+    }?;
     // Best effort: without the reset, peaks only grow.
     let _ = std::fs::write("/proc/self/clear_refs", "5");
-    Some(kib / 1024.0)
+    // (kilobytes on Linux)
+    Some(usage.ru_maxrss as f64 / 1024.0)
 }

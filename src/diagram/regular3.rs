@@ -57,13 +57,22 @@ pub(super) struct PowerVertices {
 
 impl PowerVertices {
     /// Rounds the rough power vertices `used` picks from their exact value.
-    pub fn refine(&mut self, k: &Weighted3, rt: &Tetrahedralisation, used: impl Fn(u32) -> bool) {
-        for &(v, t) in &self.rough {
-            if used(v) {
-                if let Some(c) = k.orthocentre(rt.tets[t as usize]) {
-                    self.points[v as usize] = Weighted3::round(&c);
-                }
-            }
+    /// (In parallel: rationals, independent per vertex.)
+    pub fn refine(
+        &mut self,
+        k: &Weighted3,
+        rt: &Tetrahedralisation,
+        used: impl Fn(u32) -> bool + Sync,
+    ) {
+        use rayon::prelude::*;
+        let exact: Vec<(u32, [f64; 3])> = self
+            .rough
+            .par_iter()
+            .filter(|&&(v, _)| used(v))
+            .filter_map(|&(v, t)| Some((v, Weighted3::round(&k.orthocentre(rt.tets[t as usize])?))))
+            .collect();
+        for (v, c) in exact {
+            self.points[v as usize] = c;
         }
     }
 }

@@ -93,15 +93,21 @@ impl Drop for Lp {
 }
 
 /// Destroys the finished models that wait, on this thread and on every
-/// thread of rayon's pool (at the end of a weights step).
+/// thread of rayon's pool (at the end of a weights step); the pool's as
+/// soon as its threads are free, off the caller's path (measured: 0.2 ms
+/// of TetGen's example).
 pub(crate) fn destroy_finished() {
-    let flush = || {
+    fn flush() {
         let batch = FINISHED.with_borrow_mut(std::mem::take);
-        let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
-        drop(batch);
-    };
+        if !batch.is_empty() {
+            let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
+            drop(batch);
+        }
+    }
     flush();
-    rayon::broadcast(|_| flush());
+    rayon::spawn(|| {
+        rayon::broadcast(|_| flush());
+    });
 }
 
 /// v w_c as terms of the model: v p_c - v q_c, nothing for a fixed weight.
@@ -111,6 +117,24 @@ pub(crate) fn weight_terms(
     v: f64,
 ) -> Vec<(highs::Col, f64)> {
     w[c].map_or(vec![], |(p, q)| vec![(p, v), (q, -v)])
+}
+
+/// A row as model terms: weights (columns below `n`) as p - q, auxiliary
+/// columns as they are. Without allocations: a model has thousands of rows.
+fn model_terms<'a>(
+    r: &'a Row,
+    n: usize,
+    w: &'a [Option<(highs::Col, highs::Col)>],
+    aux: &'a [highs::Col],
+) -> impl Iterator<Item = (highs::Col, f64)> + 'a {
+    r.terms.iter().flat_map(move |&(c, v)| {
+        let pair = match (c.checked_sub(n), w.get(c).copied().flatten()) {
+            (Some(a), _) => [Some((aux[a], v)), None],
+            (None, Some((p, q))) => [Some((p, v)), Some((q, -v))],
+            (None, None) => [None, None],
+        };
+        pair.into_iter().flatten()
+    })
 }
 
 /// A row over weights alone (no auxiliary columns) as model terms.
@@ -179,19 +203,106 @@ pub(crate) fn rejected(e: highs::HighsStatus) -> Error {
 }
 
 thread_local! {
-    /// Set while this thread runs work that another may make moot
-    /// (`cancellable`): HiGHS runs then stop as soon as it is raised.
-    static CANCEL: std::cell::RefCell<Option<Arc<AtomicBool>>> = const { std::cell::RefCell::new(None) };
+    /// The flags of the work this thread runs that another may make moot
+    /// (`cancellable`, innermost last): HiGHS runs stop as soon as one is
+    /// raised.
+    static CANCEL: std::cell::RefCell<Vec<Arc<AtomicBool>>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// Runs `f` so that raising `stop` interrupts its HiGHS runs (and makes
 /// every later one fail at once) with an error that the caller discards.
 /// Run speculatively beside the work that decides whether it is needed.
 pub(crate) fn cancellable<T>(stop: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
-    let before = CANCEL.with_borrow_mut(|c| c.replace(stop.clone()));
+    CANCEL.with_borrow_mut(|c| c.push(stop.clone()));
+    let out = f();
+    CANCEL.with_borrow_mut(|c| c.pop());
+    out
+}
+
+/// Runs `f` with `flags` as this thread's cancellation flags.
+fn carried<T>(flags: &[Arc<AtomicBool>], f: impl FnOnce() -> T) -> T {
+    let before = CANCEL.with_borrow_mut(|c| std::mem::replace(c, flags.to_vec()));
     let out = f();
     CANCEL.with_borrow_mut(|c| *c = before);
     out
+}
+
+/// Runs `main` and `aside` in parallel where rayon finds a free thread,
+/// both cancelled where the caller is, each given the flag that makes the
+/// other moot: raised, it cancels the other's HiGHS runs, or keeps it from
+/// starting (None). With one thread in the pool, `aside` runs first.
+pub(crate) fn beside<A: Send, B: Send>(
+    main: impl FnOnce(&AtomicBool) -> A + Send,
+    aside: impl FnOnce(&AtomicBool) -> B + Send,
+) -> (Option<A>, Option<B>) {
+    let outer = CANCEL.with_borrow(|c| c.clone());
+    let (moot_main, moot_aside) = (
+        Arc::new(AtomicBool::new(false)),
+        Arc::new(AtomicBool::new(false)),
+    );
+    let unless = |moot: &Arc<AtomicBool>, f: &mut dyn FnMut()| {
+        if !moot.load(Ordering::Relaxed) {
+            let flags: Vec<_> = outer.iter().chain([moot]).cloned().collect();
+            carried(&flags, f);
+        }
+    };
+    let (mut a, mut b) = (None, None);
+    let mut run_main = Some(|| main(&moot_aside));
+    let mut run_aside = Some(|| aside(&moot_main));
+    if rayon::current_num_threads() < 2 {
+        unless(&moot_aside, &mut || b = run_aside.take().map(|f| f()));
+        unless(&moot_main, &mut || a = run_main.take().map(|f| f()));
+    } else {
+        rayon::join(
+            || unless(&moot_main, &mut || a = run_main.take().map(|f| f())),
+            || unless(&moot_aside, &mut || b = run_aside.take().map(|f| f())),
+        );
+    }
+    (a, b)
+}
+
+/// A model moved to another thread (built beside the work that needs it).
+pub(crate) struct Moved(pub(crate) Lp);
+
+// SAFETY: a HiGHS instance keeps no state tied to the thread that made it
+// (its scheduler's per-thread state belongs to the threads that run), and
+// a `Moved` model is used by one thread at a time.
+#[allow(unsafe_code)]
+unsafe impl Send for Moved {}
+
+/// A closure or value that stays on its thread (`beside_here`).
+struct Here<T>(T);
+
+// SAFETY: only `beside_here` makes these, for the first closure of a
+// `rayon::join` called on one of rayon's threads and for its result:
+// rayon runs that closure on the calling thread, so neither leaves it.
+#[allow(unsafe_code)]
+unsafe impl<T> Send for Here<T> {}
+
+impl<T> Here<T> {
+    fn run<A>(self) -> A
+    where
+        T: FnOnce() -> A,
+    {
+        (self.0)()
+    }
+}
+
+/// Runs `main`, which holds a model and so stays on this thread, and
+/// `aside` in parallel where rayon finds a free thread (cancelled where
+/// the caller is). Off rayon's threads, or with one, `aside` runs first.
+pub(crate) fn beside_here<A, B: Send>(
+    main: impl FnOnce() -> A,
+    aside: impl FnOnce() -> B + Send,
+) -> (A, B) {
+    if rayon::current_thread_index().is_none() || rayon::current_num_threads() < 2 {
+        let b = aside();
+        return (main(), b);
+    }
+    let outer = CANCEL.with_borrow(|c| c.clone());
+    let main = Here(main);
+    let (a, b) = rayon::join(move || Here(main.run()), || carried(&outer, aside));
+    (a.0, b)
 }
 
 /// The error of a cancelled run (never shown: the caller discards it).
@@ -208,11 +319,12 @@ unsafe extern "C" fn interrupt(
     data_in: *mut highs_sys::HighsCallbackDataIn,
     flag: *mut std::os::raw::c_void,
 ) {
-    // SAFETY: `flag` is the AtomicBool that `run_model` registered, alive
-    // for the run (its Arc is held by the thread's CANCEL); `data_in` is
-    // HiGHS' own, non-null for interrupt callbacks.
+    // SAFETY: `flag` is the flags that `run_model` registered, alive and
+    // unchanged for the run; `data_in` is HiGHS' own, non-null for
+    // interrupt callbacks.
     unsafe {
-        if (*(flag as *const AtomicBool)).load(Ordering::Relaxed) && !data_in.is_null() {
+        let flags = &*(flag as *const Vec<Arc<AtomicBool>>);
+        if flags.iter().any(|f| f.load(Ordering::Relaxed)) && !data_in.is_null() {
             (*data_in).user_interrupt = 1;
         }
     }
@@ -227,20 +339,28 @@ unsafe extern "C" fn interrupt(
 fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f64>>)> {
     let ptr = model.as_mut_ptr();
     let stop = CANCEL.with_borrow(|c| c.clone());
-    if let Some(stop) = &stop {
-        if stop.load(Ordering::Relaxed) {
+    let raised = || stop.iter().any(|s| s.load(Ordering::Relaxed));
+    if !stop.is_empty() {
+        if raised() {
             return Err(cancelled());
         }
-        // SAFETY: `ptr` is live; the flag outlives the run (`stop` holds it).
+        // SAFETY: `ptr` is live; the flags outlive the run (`stop` holds
+        // them and is not touched until the run ends).
         unsafe {
-            let data = Arc::as_ptr(stop) as *mut std::os::raw::c_void;
+            let data = &stop as *const Vec<Arc<AtomicBool>> as *mut std::os::raw::c_void;
             highs_sys::Highs_setCallback(ptr, Some(interrupt), data);
             highs_sys::Highs_startCallback(ptr, highs_sys::kHighsCallbackSimplexInterrupt);
         }
     }
     // SAFETY: `ptr` is the model's live HiGHS instance.
     let mut ran = unsafe { highs_sys::Highs_run(ptr) };
-    if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+    if !stop.is_empty() {
+        // SAFETY: as above; the callback's data dies with this frame.
+        unsafe {
+            highs_sys::Highs_stopCallback(ptr, highs_sys::kHighsCallbackSimplexInterrupt);
+        }
+    }
+    if raised() {
         return Err(cancelled());
     }
     if ran == highs_sys::STATUS_ERROR {
@@ -352,15 +472,7 @@ impl Lp {
                 Sense::Minimise,
             ),
         };
-        let terms = |r: &Row| -> Vec<(highs::Col, f64)> {
-            r.terms
-                .iter()
-                .flat_map(|&(c, v)| match c.checked_sub(sys.n) {
-                    Some(a) => vec![(aux[a], v)],
-                    None => weight_terms(&w, c, v),
-                })
-                .collect()
-        };
+        let terms = |r| model_terms(r, sys.n, &w, &aux);
         let mut slack = HashMap::new();
         let mut refs = vec![];
         for (at, r) in sys.eqs.iter().enumerate().filter(|(_, r)| finite(r)) {
@@ -380,15 +492,11 @@ impl Lp {
                     // sum(terms) + slack_s >= rhs + small positive margin
                     let cost = costs.get(&s).copied().unwrap_or(1.0);
                     let sl = *slack.entry(s).or_insert_with(|| pb.add_column(cost, 0.0..));
-                    let mut terms = terms(r);
-                    terms.push((sl, 1.0));
-                    pb.add_row((r.rhs + ELASTIC_ROW_MARGIN).., terms);
+                    pb.add_row((r.rhs + ELASTIC_ROW_MARGIN).., terms(r).chain([(sl, 1.0)]));
                     refs.push(RowRef::Row(at));
                 }
                 _ => {
-                    let mut terms = terms(r);
-                    terms.push((delta, -r.share));
-                    pb.add_row(r.rhs.., terms);
+                    pb.add_row(r.rhs.., terms(r).chain([(delta, -r.share)]));
                     refs.push(RowRef::Row(at));
                 }
             }
@@ -432,6 +540,54 @@ impl Lp {
             refs,
             floor: floor != Bound::Unbounded,
         })
+    }
+
+    /// This unsolved Margin model of `was` made the model `build` would
+    /// give for `sys`, which differs from it only in margin rows'
+    /// right-hand sides (settling's): those rows' bounds and delta's floor
+    /// set again. False, the model unchanged, where that cannot be told so
+    /// (lazy rows, interior point, rows no longer finite).
+    #[allow(unsafe_code)]
+    pub(crate) fn restate(&mut self, was: &System, sys: &System, with3: bool) -> Result<bool> {
+        let big = sys.eqs.len() + sys.rows.len() > BIG_MODEL;
+        if sys.aux == 0 || big || !self.slack.is_empty() || was.rows.len() != sys.rows.len() {
+            return Ok(false);
+        }
+        let (mut set, mut lower) = (vec![], vec![]);
+        for (i, rf) in self.refs.iter().enumerate() {
+            if let RowRef::Row(at) = *rf {
+                let r = &sys.rows[at];
+                if !finite(&r) {
+                    return Ok(false);
+                }
+                if r.rhs != was.rows[at].rhs {
+                    set.push(i as highs_sys::HighsInt);
+                    lower.push(r.rhs);
+                }
+            }
+        }
+        let upper = vec![f64::INFINITY; set.len()];
+        let model = self.model.as_mut().expect("model");
+        // SAFETY: live instance; `set` holds its rows, and the bounds have
+        // one entry each.
+        let status = unsafe {
+            highs_sys::Highs_changeRowsBoundsBySet(
+                model.as_mut_ptr(),
+                set.len() as _,
+                set.as_ptr(),
+                lower.as_ptr(),
+                upper.as_ptr(),
+            )
+        };
+        if status == highs_sys::STATUS_ERROR {
+            return Err(Error::SolverLimit(
+                "HiGHS refused to change the LP's rows".into(),
+            ));
+        }
+        let floor = margin_floor(sys, with3, false);
+        model.change_column_bounds(self.delta, (floor, Bound::Included(1.0)));
+        self.floor = floor != Bound::Unbounded;
+        Ok(true)
     }
 
     /// The lazy rows that the solution `cols` violates, now in the model.
@@ -491,13 +647,22 @@ impl Lp {
     /// Goes back to `basis`: columns added since are nonbasic at their
     /// lower bound, rows added since basic. Where HiGHS refuses it, the
     /// current basis stays (only the speed of the next solve depends on it).
+    /// The solver starts afresh from it: what runs since that basis left in
+    /// HiGHS (its factors, perturbations, edge weights) would steer the
+    /// next solve to another optimal vertex (measured: phase 2 after a
+    /// failed rung and phase 2 with that rung skipped ended at different
+    /// weights on TetGen's example).
     #[allow(unsafe_code)]
     pub(crate) fn set_basis(&mut self, (mut cols, mut rows): Basis) {
         let model = self.model.as_mut().expect("model");
         cols.resize(model.num_cols(), highs_sys::kHighsBasisStatusLower as _);
         rows.resize(model.num_rows(), highs_sys::kHighsBasisStatusBasic as _);
-        // SAFETY: live instance; arrays of its column and row counts.
-        unsafe { highs_sys::Highs_setBasis(model.as_mut_ptr(), cols.as_ptr(), rows.as_ptr()) };
+        // SAFETY: live instance; clearing its solver keeps the model, and
+        // the arrays have its column and row counts.
+        unsafe {
+            highs_sys::Highs_clearSolver(model.as_mut_ptr());
+            highs_sys::Highs_setBasis(model.as_mut_ptr(), cols.as_ptr(), rows.as_ptr())
+        };
     }
 
     /// Which simplex goes on from the current basis: the dual after rows

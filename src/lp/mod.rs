@@ -43,6 +43,7 @@ pub(crate) use rows::{plane_rows, rel, sys3_rows, Family, Origin, Row, System, U
 use crate::error::Result;
 use serde::Serialize;
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Margins below this are inside HiGHS' tolerances: not trusted.
 pub(crate) const TRUST: f64 = 1e-6;
@@ -198,15 +199,31 @@ pub(crate) fn margin(
     restart: bool,
     report: &mut WeightsReport,
 ) -> Result<(f64, Option<f64>, Lp)> {
+    margin_on(None, sys, with3, restart, report)
+}
+
+/// `margin` on `built` where given: a model of this system's first rung,
+/// not solved yet.
+fn margin_on(
+    built: Option<Lp>,
+    sys: &System,
+    with3: bool,
+    restart: bool,
+    report: &mut WeightsReport,
+) -> Result<(f64, Option<f64>, Lp)> {
     let ladder: Vec<Option<f64>> = K_LADDER.iter().map(|&k| Some(k)).collect();
     let order: Vec<Option<f64>> = if sys.verdict {
         [None].into_iter().chain(ladder).collect()
     } else {
         ladder.into_iter().chain([None]).collect()
     };
-    let mut lp = Lp::build(sys, with3, order[0], &Mode::Margin)?;
+    let mut lp = match built {
+        Some(lp) => lp,
+        None => Lp::build(sys, with3, order[0], &Mode::Margin)?,
+    };
     let mut best = (f64::NEG_INFINITY, None);
     let mut free: Option<(Basis, Vec<f64>, f64)> = None;
+    let mut skip = None;
     for (step, &k) in order.iter().enumerate() {
         if step > 0 {
             lp.bound(sys, k)?;
@@ -224,15 +241,32 @@ pub(crate) fn margin(
                 return Ok((*delta, k, lp));
             }
         }
+        if skip == Some(step) {
+            continue;
+        }
         // A rung whose margin is not returned fails as soon as its rows so
         // far leave none (lazy rows cannot raise it).
         let returned = step + 1 == order.len() || (sys.verdict && step == 0);
         let enough = if returned { f64::NEG_INFINITY } else { TRUST };
-        let delta = lp.solve(sys, report, enough)?.delta;
-        if restart && step == 0 && k.is_none() && order.len() > 2 {
+        let delta = if restart && step == 0 && k.is_none() && order.len() > 2 {
+            // The next rung is solved beside this one, from scratch on a
+            // model of its own, and skipped where it fails (measured on
+            // TetGen's example: 1.5 ms off the critical path). Skipped or
+            // solved, the rung after it restarts from this one's optimum.
+            let deadline = report.deadline;
+            let (solved, fails) = highs::beside_here(
+                || lp.solve(sys, report, enough),
+                || fails(sys, with3, order[1], deadline),
+            );
+            report.lp_solves += 1;
+            skip = (fails == Some(true)).then_some(1);
+            let delta = solved?.delta;
             let cols = highs::columns(lp.model.as_mut().expect("model"));
             free = Some((lp.basis(), cols, delta));
-        }
+            delta
+        } else {
+            lp.solve(sys, report, enough)?.delta
+        };
         if sys.verdict && step == 0 {
             if delta <= TRUST {
                 return Ok((delta, None, lp));
@@ -248,6 +282,23 @@ pub(crate) fn margin(
     Ok((best.0, best.1, lp))
 }
 
+/// Whether the margin rung at `k` fails (no trusted margin), solved from
+/// scratch on a model of its own; None where it could not be told.
+fn fails(
+    sys: &System,
+    with3: bool,
+    k: Option<f64>,
+    deadline: Option<std::time::Instant>,
+) -> Option<bool> {
+    let mut report = WeightsReport {
+        deadline,
+        ..Default::default()
+    };
+    let mut lp = Lp::build(sys, with3, k, &Mode::Margin).ok()?;
+    let delta = lp.solve(sys, &mut report, TRUST).ok()?.delta;
+    Some(delta <= TRUST)
+}
+
 /// The weights of an elastic optimum made regular. The elastic optimum
 /// leaves the weights at a vertex of its polytope, often where power cells
 /// are slivers (measured: weights of -44 on a domain of size 10, cells too
@@ -255,7 +306,13 @@ pub(crate) fn margin(
 /// `ELASTIC_ALLOWANCE` times the optimum's, the system is solved as on the
 /// feasible path (largest margin, then smallest weights); `best`'s own
 /// weights where that finds no trusted margin.
-fn settle(sys: &System, best: &Solution, report: &mut WeightsReport) -> Result<Vec<f64>> {
+/// `built`, where given, is an unsolved free Margin model of `sys`.
+fn settle(
+    sys: &System,
+    best: &Solution,
+    built: Option<Lp>,
+    report: &mut WeightsReport,
+) -> Result<Vec<f64>> {
     let mut rest = sys.clone();
     for r in &mut rest.rows {
         if let Family::Sys3(s) = r.family {
@@ -269,7 +326,11 @@ fn settle(sys: &System, best: &Solution, report: &mut WeightsReport) -> Result<V
     // with free weights at once (two solves fewer on TetGen's example) a
     // fuzzed input's vertex cell became a sliver no extra site fits in
     // (tests/zigzag/fuzz-starved-vertex.poly).
-    let (m, _, mut lp) = margin(&rest, true, true, report)?;
+    let built = match built {
+        Some(mut lp) => lp.restate(sys, &rest, true)?.then_some(lp),
+        None => None,
+    };
+    let (m, _, mut lp) = margin_on(built, &rest, true, true, report)?;
     if m <= TRUST {
         return Ok(best.w.clone());
     }
@@ -292,95 +353,201 @@ pub(crate) enum Answer {
     Sys3Infeasible,
 }
 
+/// What the verdict's ladder found: phase 2's weights where systems 1 and
+/// 3 have a trusted margin, else the duals of its free rung (a verdict's,
+/// for `prove`, when asked for).
+struct Verdict {
+    margin: f64,
+    k: Option<f64>,
+    w: Option<Vec<f64>>,
+    duals: Duals,
+    /// Where the margin is not trusted: a fresh model of the first rung
+    /// for settling (built here, beside the elastic solves).
+    next: Option<highs::Moved>,
+}
+
+/// Systems 1 and 3 together: their margin up the ladder, then phase 2
+/// where it is trusted (`found` raised as soon as it is).
+fn verdict(
+    sys: &System,
+    with_duals: bool,
+    found: &AtomicBool,
+    report: &mut WeightsReport,
+) -> Result<Verdict> {
+    let (margin, k, mut lp) = self::margin(sys, true, false, report)?;
+    if margin > TRUST {
+        found.store(true, Ordering::Relaxed);
+        lp.regularise(sys, margin / 2.0)?;
+        let w = Some(lp.solve(sys, report, f64::NEG_INFINITY)?.w);
+        return Ok(Verdict {
+            margin,
+            k,
+            w,
+            duals: vec![],
+            next: None,
+        });
+    }
+    // A verdict's first rung is free: its duals may prove the margin's sign.
+    let duals = if with_duals && sys.verdict {
+        lp.duals(sys, report)?
+    } else {
+        vec![]
+    };
+    let next = if with_duals && sys.verdict {
+        Some(highs::Moved(Lp::build(sys, true, None, &Mode::Margin)?))
+    } else {
+        None
+    };
+    Ok(Verdict {
+        margin,
+        k,
+        w: None,
+        duals,
+        next,
+    })
+}
+
+/// The elastic solve at a fixed system 1 margin, reweighted: its best
+/// solution, None where system 1 has no margin `ELASTIC_MARGIN`.
+fn elastic(sys: &System, report: &mut WeightsReport) -> Result<Option<Solution>> {
+    let mode = |costs| Mode::Elastic {
+        delta_min: ELASTIC_MARGIN,
+        costs,
+    };
+    let mut lp = Lp::build(sys, true, None, &mode(HashMap::new()))?;
+    let quick = lp.solve(sys, report, f64::NEG_INFINITY)?;
+    if quick.delta < ELASTIC_MARGIN {
+        return Ok(None);
+    }
+    // Reweighted (cost 1 / (violation + eps)), `REWEIGHTS` times: the total
+    // violation is spread over fewer segments, so fewer miss their duals
+    // and fewer sites end outside. Warm: only the slack columns' costs
+    // change, so the last optimum stays primal feasible and the primal
+    // simplex goes on from it (measured on TetGen's example: 23 and 9
+    // iterations, against 158 for one reweighting from scratch).
+    let mut sparse = quick.clone();
+    for _ in 0..REWEIGHTS {
+        if sparse.delta < ELASTIC_MARGIN {
+            break;
+        }
+        let costs: HashMap<u32, f64> = sparse
+            .slack
+            .iter()
+            .map(|(&s, &v)| (s, 1.0 / (v.max(0.0) + 1e-3)))
+            .collect();
+        lp.recost(&costs)?;
+        sparse = lp.solve(sys, report, f64::NEG_INFINITY)?;
+    }
+    Ok(Some(if sparse.delta >= ELASTIC_MARGIN {
+        sparse
+    } else {
+        quick
+    }))
+}
+
+/// What the elastic side of `solve_rows` found.
+enum Elastic {
+    /// The elastic optimum (system 1 at margin `ELASTIC_MARGIN`).
+    Best(Solution),
+    /// System 1 has no margin `ELASTIC_MARGIN`, but a trusted one (and k).
+    Sys1(f64, Option<f64>),
+    /// Nor a trusted one: its margin, k and the duals of its free rung
+    /// (a verdict's, for `prove`).
+    NoSys1(f64, Option<f64>, Duals),
+}
+
+/// The elastic solves; where system 1 has no margin `ELASTIC_MARGIN`, its
+/// own ladder, whose failure makes the verdict of systems 1 and 3 moot
+/// (theirs is no larger).
+fn elastic_side(sys: &System, moot: &AtomicBool, report: &mut WeightsReport) -> Result<Elastic> {
+    if let Some(best) = elastic(sys, report)? {
+        return Ok(Elastic::Best(best));
+    }
+    let (m1, k1, mut lp1) = margin(sys, false, false, report)?;
+    if m1 > TRUST {
+        return Ok(Elastic::Sys1(m1, k1));
+    }
+    let duals = if sys.verdict {
+        lp1.duals(sys, report)?
+    } else {
+        vec![]
+    };
+    moot.store(true, Ordering::Relaxed);
+    Ok(Elastic::NoSys1(m1, k1, duals))
+}
+
+/// Adds what another part's solves did to `report` (counts, sizes, the
+/// last status).
+fn merge(report: &mut WeightsReport, part: &WeightsReport) {
+    report.lp_solves += part.lp_solves;
+    report.lp_rows = report.lp_rows.max(part.lp_rows);
+    report.lp_cols = report.lp_cols.max(part.lp_cols);
+    if part.lp_solves > 0 {
+        report.lp_status = part.lp_status.clone();
+    }
+}
+
 /// The LP on one row system: system 1 + 3; else system 1 with system 3
 /// elastic (as few segments as possible missing their duals).
+/// Where it may go elastic, the elastic solves run beside the verdict
+/// (each cancels the other where it decides alone): same results, and
+/// where the verdict has no margin (TetGen's example) its time is saved.
+/// Each side counts its solves apart, so the report does not depend on
+/// how far a cancelled side got.
 pub(crate) fn solve_rows(
     sys: &System,
     elastic: bool,
     report: &mut WeightsReport,
 ) -> Result<Answer> {
-    let (m3, k3, mut lp) = margin(sys, true, false, report)?;
-    if m3 <= TRUST && !elastic {
-        return Ok(Answer::Sys3Infeasible);
+    if !elastic {
+        let found = AtomicBool::new(false);
+        let v = verdict(sys, false, &found, report)?;
+        report.margin = Some(v.margin);
+        report.bound_k = v.k;
+        return Ok(match v.w {
+            Some(w) => Answer::Weights(w, true, v.duals),
+            None => Answer::Sys3Infeasible,
+        });
     }
-    // A verdict's first rung is free: its duals may prove the margin's sign.
-    let mut duals = vec![];
-    if m3 <= TRUST && sys.verdict {
-        duals = lp.duals(sys, report)?;
+    let part = || WeightsReport {
+        lp_solves: 0,
+        ..report.clone()
+    };
+    let (mut by_elastic, mut by_verdict) = (part(), part());
+    let (side, v) = highs::beside(
+        |moot| elastic_side(sys, moot, &mut by_elastic),
+        |found| verdict(sys, true, found, &mut by_verdict),
+    );
+    if let Some(Ok(Elastic::NoSys1(m1, k1, duals))) = side {
+        merge(report, &by_elastic);
+        report.margin = Some(m1);
+        report.bound_k = k1;
+        return Ok(Answer::Sys1Infeasible(duals));
     }
-    let (w, lp_sys3) = if m3 > TRUST {
-        report.margin = Some(m3);
-        report.bound_k = k3;
-        lp.regularise(sys, m3 / 2.0)?;
-        (lp.solve(sys, report, f64::NEG_INFINITY)?.w, true)
-    } else {
-        drop(lp);
-        // Usually system 1 alone has a comfortable margin: one elastic solve
-        // at a fixed margin settles it; only when that fails is the margin of
-        // system 1 searched (and its absence a verdict).
-        let elastic = |costs| Mode::Elastic {
-            delta_min: ELASTIC_MARGIN,
-            costs,
-        };
-        let mut lp = Lp::build(sys, true, None, &elastic(HashMap::new()))?;
-        let quick = lp.solve(sys, report, f64::NEG_INFINITY)?;
-        if quick.delta >= ELASTIC_MARGIN {
-            // Reweighted (cost 1 / (violation + eps)), `REWEIGHTS` times:
-            // the total violation is spread over fewer segments, so fewer
-            // miss their duals and fewer sites end outside. Warm: only the
-            // slack columns' costs change, so the last optimum stays primal
-            // feasible and the primal simplex goes on from it (measured on
-            // TetGen's example: 23 and 9 iterations, against 158 for one
-            // reweighting from scratch).
-            let mut sparse = quick.clone();
-            for _ in 0..REWEIGHTS {
-                if sparse.delta < ELASTIC_MARGIN {
-                    break;
-                }
-                let costs: HashMap<u32, f64> = sparse
-                    .slack
-                    .iter()
-                    .map(|(&s, &v)| (s, 1.0 / (v.max(0.0) + 1e-3)))
-                    .collect();
-                lp.recost(&costs)?;
-                sparse = lp.solve(sys, report, f64::NEG_INFINITY)?;
-            }
-            let best = if sparse.delta >= ELASTIC_MARGIN {
-                sparse
-            } else {
-                quick
-            };
-            drop(lp);
+    let v = v.expect("the verdict is moot only where system 1 fails")?;
+    merge(report, &by_verdict);
+    report.margin = Some(v.margin);
+    report.bound_k = v.k;
+    if let Some(w) = v.w {
+        return Ok(Answer::Weights(w, true, v.duals));
+    }
+    merge(report, &by_elastic);
+    let w = match side.expect("the elastic side runs unless the verdict succeeds")? {
+        Elastic::Best(best) => {
             report.margin = Some(best.delta);
             report.bound_k = None;
-            (settle(sys, &best, report)?, false)
-        } else {
-            let (m1, k1, mut lp1) = margin(sys, false, false, report)?;
+            settle(sys, &best, v.next.map(|m| m.0), report)?
+        }
+        Elastic::Sys1(m1, k1) => {
             report.margin = Some(m1);
             report.bound_k = k1;
-            if m1 <= TRUST {
-                let duals = if sys.verdict {
-                    lp1.duals(sys, report)?
-                } else {
-                    vec![]
-                };
-                return Ok(Answer::Sys1Infeasible(duals));
-            }
-            (
-                run(
-                    sys,
-                    true,
-                    k1,
-                    &Mode::Elastic {
-                        delta_min: m1 / 2.0,
-                        costs: HashMap::new(),
-                    },
-                    report,
-                )?
-                .w,
-                false,
-            )
+            let mode = Mode::Elastic {
+                delta_min: m1 / 2.0,
+                costs: HashMap::new(),
+            };
+            run(sys, true, k1, &mode, report)?.w
         }
+        Elastic::NoSys1(..) => unreachable!("answered above"),
     };
-    Ok(Answer::Weights(w, lp_sys3, duals))
+    Ok(Answer::Weights(w, false, v.duals))
 }
