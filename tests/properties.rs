@@ -368,3 +368,19 @@ fn lattice_sliver_cell_is_meshed() {
 fn thin_vertex_cell_is_meshed() {
     zigzag_input_is_certified("zigzag-thin-vertex-cell.poly");
 }
+
+/// Found by the zig-zag property test at 300 cases (issue 23's session
+/// eleven, and on the code before it): CGAL's weights leave vertex 20's
+/// power cell a sliver no extra site fits in, in doubles. A named solver
+/// limit until the LP asks for vertex cells wide enough for their sites.
+#[test]
+fn a_sliver_vertex_cell_is_a_named_limit() {
+    let file = "zigzag-sliver-vertex.poly";
+    for (name, run) in zigzag_runs(file) {
+        match run {
+            Ok(out) => assert_certified(&out, file),
+            Err(orthomesh::Error::SolverLimit(m)) => assert!(m.contains("sliver"), "{file}: {m}"),
+            Err(e) => panic!("{file}, {name} backend: {e}"),
+        }
+    }
+}
