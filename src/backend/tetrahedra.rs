@@ -67,11 +67,9 @@ impl Tetrahedralisation {
                 }
             }
         }
-        for (t, tet) in self.tets.iter().enumerate() {
-            for k in (0..4).filter(|&k| self.across(t as u32, k).is_none()) {
-                for j in (0..4).filter(|&j| j != k) {
-                    star[tet[j] as usize] = None;
-                }
+        for face in self.hull_faces() {
+            for v in face {
+                star[v as usize] = None;
             }
         }
         for s in &mut star {

@@ -57,7 +57,7 @@ pub(super) struct PowerVertices {
 
 impl PowerVertices {
     /// Rounds the rough power vertices `used` picks from their exact value.
-    /// (In parallel: rationals, independent per vertex.)
+    /// (In parallel: exact, independent per vertex.)
     pub fn refine(
         &mut self,
         k: &Weighted3,

@@ -435,14 +435,7 @@ mod tests {
     /// points whose rationals have unlike denominators; None when flat.
     #[test]
     fn the_orthocentre_has_equal_powers() {
-        // (a small generator: geom sits below generate)
-        let mut state = 17u64;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::geom::uniform(17);
         for _ in 0..50 {
             let p: Vec<[Q; 3]> = (0..4)
                 .map(|_| [0; 3].map(|_| q(next()) / Q::from(1 + (next() * 7.0) as u32)))

@@ -110,17 +110,9 @@ pub(crate) fn destroy_finished() {
     });
 }
 
-/// v w_c as terms of the model: v p_c - v q_c, nothing for a fixed weight.
-pub(crate) fn weight_terms(
-    w: &[Option<(highs::Col, highs::Col)>],
-    c: usize,
-    v: f64,
-) -> Vec<(highs::Col, f64)> {
-    w[c].map_or(vec![], |(p, q)| vec![(p, v), (q, -v)])
-}
-
-/// A row as model terms: weights (columns below `n`) as p - q, auxiliary
-/// columns as they are. Without allocations: a model has thousands of rows.
+/// A row as model terms: weights (columns below `n`) as p - q (v w_c is
+/// v p_c - v q_c, nothing for a fixed weight), auxiliary columns as they
+/// are. Without allocations: a model has thousands of rows.
 fn model_terms<'a>(
     r: &'a Row,
     n: usize,
@@ -142,10 +134,7 @@ pub(crate) fn weight_row(
     w: &[Option<(highs::Col, highs::Col)>],
     r: &Row,
 ) -> Vec<(highs::Col, f64)> {
-    r.terms
-        .iter()
-        .flat_map(|&(c, v)| weight_terms(w, c, v))
-        .collect()
+    model_terms(r, w.len(), w, &[]).collect()
 }
 
 /// New values for columns: bounds (lower, upper) or costs, one per column.

@@ -388,15 +388,12 @@ fn verdict(
         });
     }
     // A verdict's first rung is free: its duals may prove the margin's sign.
-    let duals = if with_duals && sys.verdict {
-        lp.duals(sys, report)?
+    let (duals, next) = if with_duals && sys.verdict {
+        let duals = lp.duals(sys, report)?;
+        let next = highs::Moved(Lp::build(sys, true, None, &Mode::Margin)?);
+        (duals, Some(next))
     } else {
-        vec![]
-    };
-    let next = if with_duals && sys.verdict {
-        Some(highs::Moved(Lp::build(sys, true, None, &Mode::Margin)?))
-    } else {
-        None
+        (vec![], None)
     };
     Ok(Verdict {
         margin,

@@ -10,7 +10,7 @@
 //! directions away from the sites already serving it.
 
 use super::d3::{spans, Sites3};
-use super::track3::{depth, Roam, MAX_MOVES};
+use super::track3::{depth, Roam};
 use crate::complex::Complex3;
 use crate::geom::{cross_f, dot_f, f, power_nearer, q, Q};
 use crate::weights::Weights3;
@@ -46,7 +46,8 @@ pub struct Spot {
     peers: Arc<[u32]>,
     /// A power of two about a quarter of o's distance to v's walls.
     r: f64,
-    moves: u8,
+    /// Moves made so far (`wander` stops at its limit).
+    pub(super) moves: u8,
 }
 
 /// Whether p is strictly inside the power cell of v, exactly.
@@ -296,9 +297,6 @@ impl Sites3 {
         spot: &Spot,
         others: &[[f64; 4]],
     ) -> bool {
-        if spot.moves >= MAX_MOVES {
-            return false;
-        }
         let pv = cx.points[spot.v as usize];
         let at = |p: [f64; 3]| depth(p, (pv, f(&w[spot.v as usize])), others);
         let now = at(self.p[x].each_ref().map(f));

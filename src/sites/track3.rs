@@ -19,7 +19,7 @@ const SAMPLES: usize = 64;
 /// Moves an extra site makes at most: moving changes its neighbours, and
 /// sites crowding one another can trade places forever (measured: twelve
 /// points inside a box, one site went back and forth for 20 rounds).
-pub(super) const MAX_MOVES: u8 = 3;
+const MAX_MOVES: u8 = 3;
 
 /// Where an extra site may go: along the dual edge of an RT triangle
 /// (serving its three vertices), or anywhere in one vertex's power cell
@@ -29,6 +29,16 @@ pub(super) const MAX_MOVES: u8 = 3;
 pub enum Roam {
     Edge(Track),
     Cell(Spot),
+}
+
+impl Roam {
+    /// Moves made so far (at most `MAX_MOVES`).
+    fn moves(&self) -> u8 {
+        match self {
+            Roam::Edge(track) => track.moves,
+            Roam::Cell(spot) => spot.moves,
+        }
+    }
 }
 
 /// The smallest distance, over `others` (doubles and weights), from a
@@ -106,9 +116,10 @@ impl Sites3 {
     /// edge, or around its vertex (`wander_cell`). False, and it stays,
     /// when none is.
     pub fn wander(&mut self, x: usize, cx: &Complex3, w: &[Q], neighbours: &[u32]) -> bool {
-        let Some(roam) = self.track[x].clone() else {
+        let Some(roam) = self.track[x].as_ref().filter(|r| r.moves() < MAX_MOVES) else {
             return false;
         };
+        let roam = roam.clone();
         let others: Vec<[f64; 4]> = neighbours
             .iter()
             .map(|&y| {
@@ -131,9 +142,6 @@ impl Sites3 {
         track: &Track,
         others: &[[f64; 4]],
     ) -> bool {
-        if track.moves >= MAX_MOVES {
-            return false;
-        }
         let v0 = self.serves[x][0] as usize;
         let vertex = (cx.points[v0], f(&w[v0]));
         let at = |t: f64| depth(track.at(t), vertex, others);
