@@ -314,6 +314,16 @@ fn no_regular_triangulation_is_an_error_naming_facets() {
     }
 }
 
+/// A unit box with six points inside, along a rough diagonal.
+fn six_points_in_a_box() -> Complex3 {
+    let (mut points, faces) = common::cube();
+    for k in 0..6 {
+        let x = 0.2 + 0.1 * k as f64;
+        points.push([x, 0.75 - 0.08 * k as f64, 0.3 + 0.07 * (k % 3) as f64]);
+    }
+    common::with(points, &faces)
+}
+
 /// Points inside a box need extra sites (four affinely independent ones
 /// each): each gets four of its own in its power cell, which move there
 /// when outside their cells. The mesh is certified, relocation ran, and two
@@ -321,12 +331,7 @@ fn no_regular_triangulation_is_an_error_naming_facets() {
 /// once chosen in hash-map order).
 #[test]
 fn isolated_points_in_a_box_get_extra_sites_that_move() {
-    let (mut points, faces) = common::cube();
-    for k in 0..6 {
-        let x = 0.2 + 0.1 * k as f64;
-        points.push([x, 0.75 - 0.08 * k as f64, 0.3 + 0.07 * (k % 3) as f64]);
-    }
-    let cx = common::with(points, &faces);
+    let cx = six_points_in_a_box();
     for b in compiled() {
         let opts = Options {
             allow_sites_outside: true,
@@ -348,6 +353,32 @@ fn isolated_points_in_a_box_get_extra_sites_that_move() {
         assert!(r.sites.relocation_rounds > 0, "{r:?}");
         assert_eq!(one.mesh.cells.len(), two.mesh.cells.len());
         assert_eq!(one.mesh.points, two.mesh.points);
+    }
+}
+
+/// The same six points with the box cut at its sides (`--clip-hull`).
+/// Clipping renumbers the sites: the sites of one point once named their
+/// peers by the old numbers, moved onto one another, and the run ended in
+/// "nothing to mesh".
+#[test]
+fn isolated_points_in_a_box_cut_at_its_sides() {
+    let cx = six_points_in_a_box();
+    for b in compiled() {
+        let opts = Options {
+            allow_sites_outside: true,
+            clip: orthomesh::hull_facets(&cx),
+            ..Default::default()
+        };
+        let out = Mesher::new(&*b).options(opts).conform(&cx).unwrap();
+        let (r, c) = (&out.report, &out.report.certificate);
+        println!(
+            "{}: 6 points in a box cut at its sides: {} of {} sites inside",
+            b.name(),
+            c.sites_inside,
+            c.domain_sites
+        );
+        assert!(c.conforms(), "{c:?}");
+        assert_eq!(r.sites.extra_sites, 24, "{r:?}");
     }
 }
 

@@ -188,8 +188,8 @@ struct Tests<'a> {
     /// Per site, sorted, the points where its power is w_v (numbered
     /// v * clips + 0 for v itself, + c + 1 for its mirror image across clip
     /// c): the vertices it serves, and for the mirror of a site across
-    /// clip c the images of that site's vertices, and those vertices
-    /// themselves where they lie on the plane.
+    /// clip c the images of that site's vertices (a vertex on the plane
+    /// being its own image).
     at: Vec<Vec<u64>>,
     /// One more than the number of clip planes.
     clips: u64,
@@ -208,10 +208,12 @@ impl<'a> Tests<'a> {
                         let on = |v: u32| {
                             dot(&sub(&cx.points[v as usize].map(q), &plane.o), &plane.n) == 0
                         };
-                        let vs = &s.serves[y as usize];
-                        vs.iter()
-                            .map(|&v| witness(v, Some(c)))
-                            .chain(vs.iter().filter(|&&v| on(v)).map(|&v| witness(v, None)))
+                        // (a vertex on the plane is its own image: one
+                        // point, one witness, or four sites serving it
+                        // alone would look coplanar)
+                        s.serves[y as usize]
+                            .iter()
+                            .map(|&v| witness(v, (!on(v)).then_some(c)))
                             .collect()
                     }
                 };

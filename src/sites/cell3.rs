@@ -50,6 +50,23 @@ pub struct Spot {
     pub(super) moves: u8,
 }
 
+impl Spot {
+    /// The same spot with its peers renumbered by `id`, dropped ones
+    /// (u32::MAX) left out.
+    pub(super) fn renumbered(&self, id: &[u32]) -> Spot {
+        let peers: Vec<u32> = self
+            .peers
+            .iter()
+            .map(|&x| id[x as usize])
+            .filter(|&x| x != u32::MAX)
+            .collect();
+        Spot {
+            peers: peers.into(),
+            ..self.clone()
+        }
+    }
+}
+
 /// Whether p is strictly inside the power cell of v, exactly.
 fn inside_cell(cx: &Complex3, w: &[Q], v: u32, walls: &[u32], p: &[Q; 3]) -> bool {
     let at = |u: u32| cx.points[u as usize].map(q);

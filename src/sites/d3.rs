@@ -588,9 +588,13 @@ impl Sites3 {
             out.w.push(this.w[x].clone());
             out.serves.push(this.serves[x].clone());
             out.line.push(this.line[x].clone());
-            out.track.push(this.track[x].clone());
             out.mirror_of.push(None);
         }
+        // (a site of one vertex names the others serving it: renumbered)
+        out.track = (0..this.p.len())
+            .filter(|&x| keep[x])
+            .map(|x| this.track[x].as_ref().map(|r| Box::new(r.renumbered(&id))))
+            .collect();
         out.of_face = self
             .of_face
             .iter()

@@ -39,6 +39,15 @@ impl Roam {
             Roam::Cell(spot) => spot.moves,
         }
     }
+
+    /// The same roam with the sites it names renumbered by `id` (u32::MAX:
+    /// dropped), as `Sites3::clipped` renumbers sites.
+    pub(super) fn renumbered(&self, id: &[u32]) -> Roam {
+        match self {
+            Roam::Edge(track) => Roam::Edge(track.clone()),
+            Roam::Cell(spot) => Roam::Cell(spot.renumbered(id)),
+        }
+    }
 }
 
 /// The smallest distance, over `others` (doubles and weights), from a
