@@ -253,8 +253,9 @@ fn tetgen_example_clipped_at_its_hull() {
         let volume = 20.0 - 1.5 * 1.25 * 0.5 - 1.5 * 1.5 * 0.5;
         assert!((c.domain_volume - volume).abs() < 1e-12, "{c:?}");
         assert!((c.cells_volume - volume).abs() < 1e-12, "{c:?}");
-        // measured with CGAL: 15 of 20 (29 of 46 with the hull as faces)
-        assert!(c.sites_inside >= 12, "{c:?}");
+        // every one (15 of 20 while the LP asked the hull's triangles to
+        // cross their duals; 29 of 46 with the hull as faces)
+        assert_eq!(c.sites_inside, c.domain_sites, "{c:?}");
         write("cliphull", &out);
     }
 }
@@ -356,29 +357,44 @@ fn isolated_points_in_a_box_get_extra_sites_that_move() {
     }
 }
 
-/// The same six points with the box cut at its sides (`--clip-hull`).
+/// Points in a box cut at its sides (`--clip-hull`): its faces need not
+/// cross their duals, zero weights serve, and every site is inside (with
+/// the sides as faces, their heavy corners squeeze the points' cells: 4 of
+/// 30 sites outside for the six points, 124 of 166 for the forty).
 /// Clipping renumbers the sites: the sites of one point once named their
 /// peers by the old numbers, moved onto one another, and the run ended in
 /// "nothing to mesh".
 #[test]
 fn isolated_points_in_a_box_cut_at_its_sides() {
-    let cx = six_points_in_a_box();
-    for b in compiled() {
-        let opts = Options {
-            allow_sites_outside: true,
-            clip: orthomesh::hull_facets(&cx),
-            ..Default::default()
-        };
-        let out = Mesher::new(&*b).options(opts).conform(&cx).unwrap();
-        let (r, c) = (&out.report, &out.report.certificate);
-        println!(
-            "{}: 6 points in a box cut at its sides: {} of {} sites inside",
-            b.name(),
-            c.sites_inside,
-            c.domain_sites
-        );
-        assert!(c.conforms(), "{c:?}");
-        assert_eq!(r.sites.extra_sites, 24, "{r:?}");
+    let (mut points, faces) = common::cube();
+    // forty points of the R3 sequence (evenly spread, no two close)
+    let a = [
+        0.819_172_513_396_164,
+        0.671_043_606_703_789,
+        0.549_700_477_901_970,
+    ];
+    points.extend((1..=40).map(|k| a.map(|x| 0.05 + 0.9 * (0.5 + k as f64 * x).fract())));
+    let forty = common::with(points, &faces);
+    for (name, cx, extra) in [("6", six_points_in_a_box(), 24), ("40", forty, 160)] {
+        for b in compiled() {
+            let opts = Options {
+                allow_sites_outside: true,
+                clip: orthomesh::hull_facets(&cx),
+                ..Default::default()
+            };
+            let out = Mesher::new(&*b).options(opts).conform(&cx).unwrap();
+            let (r, c) = (&out.report, &out.report.certificate);
+            println!(
+                "{}: {name} points in a box cut at its sides: {} of {} sites inside",
+                b.name(),
+                c.sites_inside,
+                c.domain_sites
+            );
+            assert!(c.conforms(), "{c:?}");
+            assert_eq!(r.weights.method, "zero", "{r:?}");
+            assert_eq!(r.sites.extra_sites, extra, "{r:?}");
+            assert_eq!(c.sites_inside, c.domain_sites, "{c:?}");
+        }
     }
 }
 

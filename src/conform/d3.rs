@@ -211,7 +211,8 @@ impl Attempt {
         };
         let sc = cx.triangulate(backend)?;
         lap("facets");
-        let wt = weights::solve3(backend, &cx, &sc, keep)?;
+        let cut: Vec<u32> = clips.iter().map(|c| c.facet).collect();
+        let wt = weights::solve3(backend, &cx, &sc, keep, &cut)?;
         lap("weights");
         let mut s = sites::place3(&cx, &wt)?;
         if !clips.is_empty() {

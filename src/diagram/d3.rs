@@ -522,7 +522,7 @@ mod tests {
     fn pipeline(cx: &Complex3) -> (Weights3, Sites3, Diagram3, Certificate3) {
         let b = &compiled()[0];
         let sc = cx.triangulate(b.as_ref()).unwrap();
-        let wt = crate::weights::solve3(b.as_ref(), cx, &sc, Default::default()).unwrap();
+        let wt = crate::weights::solve3(b.as_ref(), cx, &sc, Default::default(), &[]).unwrap();
         let s = crate::sites::place3(cx, &wt).unwrap();
         let d = Diagram3::build(b.as_ref(), cx, &s, false).unwrap();
         let c = d.certify(cx, &wt, &s);

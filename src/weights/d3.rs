@@ -55,6 +55,9 @@ pub struct Face {
     /// Its facet (index into `Complex3::facets`); None for a point on no
     /// facet.
     pub facet: Option<u32>,
+    /// On a facet the mesh is cut at (a clip facet): it need not cross its
+    /// dual, so it has no system 3 rows.
+    pub cut: bool,
 }
 
 impl Face {
@@ -89,17 +92,18 @@ pub fn solve<B: Backend + ?Sized>(
     cx: &Complex3,
     sc: &Simplices3,
     keep: Keep,
+    cut: &[u32],
 ) -> Result<Weights3> {
     let n = cx.points.len();
     let dt = backend.regular3(&cx.points, &vec![0.0; n])?;
     let all = kept_whole(cx);
     // Zero weights are shared weights, and make every lift coplanar.
-    if let Some(w) = super::zero3::zero(cx, &faces(cx, sc, &all), &dt, keep.ways()[0]) {
+    if let Some(w) = super::zero3::zero(cx, &faces(cx, sc, &all, cut), &dt, keep.ways()[0]) {
         return Ok(w);
     }
     let mut out = Err(Error::Internal("the 3D weights made no attempt".into()));
     for &way in keep.ways() {
-        out = solve_kept(backend, cx, sc, &dt, &all, way);
+        out = solve_kept(backend, cx, sc, &dt, (&all, cut), way);
         if !no_solution(&out) {
             break;
         }
@@ -117,7 +121,7 @@ fn solve_kept<B: Backend + ?Sized>(
     cx: &Complex3,
     sc: &Simplices3,
     dt: &Tetrahedralisation,
-    all: &[bool],
+    (all, cut): (&[bool], &[u32]),
     way: Keep,
 ) -> Result<Weights3> {
     let first = untouched(cx, sc, all);
@@ -128,14 +132,14 @@ fn solve_kept<B: Backend + ?Sized>(
         let stop = Arc::new(AtomicBool::new(false));
         let (a, b) = rayon::join(
             || {
-                let a = global(backend, cx, dt, faces(cx, sc, all), way);
+                let a = global(backend, cx, dt, faces(cx, sc, all, cut), way);
                 stop.store(!mended(&a), Ordering::Relaxed);
                 a
             },
             || {
                 cancellable(&stop, || {
                     (!stop.load(Ordering::Relaxed))
-                        .then(|| global(backend, cx, dt, faces(cx, sc, &first), way))
+                        .then(|| global(backend, cx, dt, faces(cx, sc, &first, cut), way))
                 })
             },
         );
@@ -145,7 +149,7 @@ fn solve_kept<B: Backend + ?Sized>(
         }
     } else {
         (
-            global(backend, cx, dt, faces(cx, sc, all), way),
+            global(backend, cx, dt, faces(cx, sc, all, cut), way),
             all.to_vec(),
         )
     };
@@ -155,7 +159,7 @@ fn solve_kept<B: Backend + ?Sized>(
         }
         if retry != whole {
             whole = retry;
-            out = global(backend, cx, dt, faces(cx, sc, &whole), way);
+            out = global(backend, cx, dt, faces(cx, sc, &whole, cut), way);
         }
     }
     out
@@ -180,7 +184,7 @@ fn no_solution(out: &Result<Weights3>) -> bool {
 /// The whole polygons whose shared-weight class (polygons joined through
 /// common vertices) has no vertex on a triangle or segment.
 fn untouched(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<bool> {
-    let fs = faces(cx, sc, whole);
+    let fs = faces(cx, sc, whole, &[]);
     let tie = ties(cx.points.len(), &fs);
     let mut touched = vec![false; cx.points.len()];
     for f in fs.iter().filter(|f| (2..=3).contains(&f.vertices.len())) {
@@ -260,12 +264,15 @@ pub(super) fn cocircular(cx: &Complex3, axis: usize, a: u32, b: u32, c: u32, d: 
 
 /// The maximal faces: whole polygons, the triangles of the other facets,
 /// dangling segments, then points on no triangle or segment.
-fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<Face> {
+/// The maximal faces: polygons kept whole (`whole`, by facet), triangles,
+/// segments and points; those of the facets `cut` need not cross their duals.
+fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool], cut: &[u32]) -> Vec<Face> {
     let mut out: Vec<Face> = vec![];
     for (f, _) in whole.iter().enumerate().filter(|w| *w.1) {
         out.push(Face {
             vertices: cx.facets[f].polygons[0].clone(),
             facet: Some(f as u32),
+            cut: false,
         });
     }
     for (t, &f) in sc.triangles.iter().zip(&sc.triangle_facet) {
@@ -273,6 +280,7 @@ fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<Face> {
             out.push(Face {
                 vertices: t.to_vec(),
                 facet: Some(f),
+                cut: false,
             });
         }
     }
@@ -280,6 +288,7 @@ fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<Face> {
         out.push(Face {
             vertices: s.to_vec(),
             facet: Some(f),
+            cut: false,
         });
     }
     let mut used = vec![false; cx.points.len()];
@@ -291,6 +300,7 @@ fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<Face> {
             out.push(Face {
                 vertices: vec![v],
                 facet: Some(f),
+                cut: false,
             });
         }
     }
@@ -299,8 +309,12 @@ fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<Face> {
             out.push(Face {
                 vertices: vec![v],
                 facet: None,
+                cut: false,
             });
         }
+    }
+    for face in &mut out {
+        face.cut = face.facet.is_some_and(|f| cut.contains(&f));
     }
     out
 }
@@ -725,7 +739,7 @@ pub fn sys3_failures(cx: &Complex3, faces: &[Face], w: &[Q], rt: &Tetrahedralisa
     faces
         .par_iter()
         .enumerate()
-        .filter(|(_, f)| f.dim() > 0 && !crosses(f))
+        .filter(|(_, f)| f.dim() > 0 && !f.cut && !crosses(f))
         .map(|(i, _)| i as u32)
         .collect()
 }
@@ -773,7 +787,7 @@ mod tests {
     fn run_kept(cx: &Complex3, keep: Keep) -> Result<Weights3> {
         let b = &compiled()[0];
         let sc = cx.triangulate(b.as_ref())?;
-        solve(b.as_ref(), cx, &sc, keep)
+        solve(b.as_ref(), cx, &sc, keep, &[])
     }
 
     fn run(cx: &Complex3) -> Result<Weights3> {

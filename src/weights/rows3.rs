@@ -33,7 +33,7 @@ pub(super) fn system(
             .map(|&j| rel(p, vs[0], j).norm_squared())
             .fold(units.l2[vs[0] as usize], f64::max);
         plane_rows(&mut sys, p, fi as u32, vs[0], on, &others, scale2);
-        match face.dim() {
+        match if face.cut { 0 } else { face.dim() } {
             1 => sys
                 .rows
                 .extend(sys3_rows(p, fi as u32, vs[0], vs[1], &others)),

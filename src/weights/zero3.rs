@@ -126,10 +126,12 @@ mod tests {
         let rectangle = [Face {
             vertices: vec![0, 1, 2, 3],
             facet: Some(0),
+            cut: false,
         }];
         let triangle = [Face {
             vertices: vec![0, 1, 2],
             facet: Some(0),
+            cut: false,
         }];
         assert!(on_circles(&cx([1.5, 1.5, 0.0]), &rectangle));
         assert!(on_circles(&cx([1.5, 1.5, 0.0]), &triangle));
