@@ -354,6 +354,11 @@ fn isolated_points_in_a_box_get_extra_sites_that_move() {
         assert!(r.sites.relocation_rounds > 0, "{r:?}");
         assert_eq!(one.mesh.cells.len(), two.mesh.cells.len());
         assert_eq!(one.mesh.points, two.mesh.points);
+        // Without --allow-sites-outside: an error that says why (the
+        // geometric limit of docs/limitations.md) and what else to try.
+        let err = Mesher::new(&*b).conform(&cx).unwrap_err().to_string();
+        assert!(err.contains("--clip-hull cuts the cells"), "{err}");
+        assert!(err.contains("of vertex 10: it lies in the ball"), "{err}");
     }
 }
 

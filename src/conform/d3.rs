@@ -383,6 +383,9 @@ fn facet_ids(wt: &weights::Weights3, faces: &[u32]) -> Vec<i64> {
 
 /// The error naming the sites left outside their cells.
 fn sites_outside(cx: &Complex3, wt: &weights::Weights3, s: &Sites3, d: &Diagram3) -> Error {
+    let id = |v: u32| cx.vertex_ids[v as usize];
+    let mut centres: Option<Vec<Centre>> = None;
+    let mut own: std::collections::BTreeMap<u32, Vec<usize>> = Default::default();
     let mut sites = vec![];
     let mut faces = vec![];
     for x in (0..s.p.len()).filter(|&x| d.in_domain[x] && !d.site_inside[x]) {
@@ -407,8 +410,40 @@ fn sites_outside(cx: &Complex3, wt: &weights::Weights3, s: &Sites3, d: &Diagram3
                     wt.faces[f].facet.map_or(0, |f| f + 1)
                 )
             }
-            None => format!("extra site {x} (vertices {ids:?})"),
+            None => match s.serves[x][..] {
+                [v] => {
+                    own.entry(v).or_default().push(x);
+                    continue;
+                }
+                _ => format!("extra site {x} (vertices {ids:?})"),
+            },
         });
+    }
+    for (k, (&v, xs)) in own.iter().enumerate() {
+        let why = (k < 20)
+            .then(|| obtuse(cx, wt, &mut centres, v))
+            .flatten()
+            .map(|(f, a)| {
+                let face: Vec<i64> = wt.faces[f].vertices.iter().map(|&u| id(u)).collect();
+                format!(
+                    ": it lies in the ball on the segment from the power centre of face {face:?} \
+                     to its corner {}, so no sites close to it fit in their cells",
+                    id(a)
+                )
+            })
+            .unwrap_or_default();
+        sites.push(format!("extra sites {xs:?} of vertex {}{why}", id(v)));
+    }
+    let hull = hull_facets(cx);
+    if s.clips.is_empty() && !hull.is_empty() {
+        sites.insert(
+            0,
+            format!(
+                "facets {} lie on the hull: where nothing lies beyond them, --clip-hull cuts the \
+                 cells at their planes, and their faces need not cross their duals",
+                crate::error::list(&hull.iter().map(|f| f + 1).collect::<Vec<_>>())
+            ),
+        );
     }
     if let Some(p) = &wt.report.system3_proof {
         // First: `list` shows only the first sites.
@@ -425,6 +460,59 @@ fn sites_outside(cx: &Complex3, wt: &weights::Weights3, s: &Sites3, d: &Diagram3
         sites,
         crowding: facet_ids(wt, &faces),
     }
+}
+
+/// A face's power centre, exact and rounded (None: a segment, a point, or
+/// a face that is cut).
+type Centre = Option<([Q; 3], [f64; 3])>;
+
+/// A face (of dimension 2, not cut) and a corner a of it such that vertex
+/// v lies in the closed ball on the segment from the face's power centre c
+/// to a, (c - v).(a - v) <= 0, exactly. Sites close to v then cannot all be
+/// inside their cells: they share a power p at v, which the face's site on
+/// v's side must exceed there (at most |v - c|^2 - |a - c|^2 + w_a, its
+/// value as it nears c), while their power at a must exceed w_a (about
+/// |v - a|^2 + p): both need |v - c|^2 + |v - a|^2 > |a - c|^2.
+/// `centres` holds the faces' power centres once computed.
+fn obtuse(
+    cx: &Complex3,
+    wt: &weights::Weights3,
+    centres: &mut Option<Vec<Centre>>,
+    v: u32,
+) -> Option<(usize, u32)> {
+    use rayon::prelude::*;
+    let centres = centres.get_or_insert_with(|| {
+        wt.faces
+            .par_iter()
+            .map(|f| {
+                let (c, _) = (f.dim() == 2 && !f.cut)
+                    .then(|| weights::face_centre(cx, &wt.w, &f.vertices))??;
+                let rounded = c.each_ref().map(crate::geom::f);
+                Some((c, rounded))
+            })
+            .collect()
+    });
+    let pv = cx.points[v as usize];
+    centres.iter().enumerate().find_map(|(f, c)| {
+        let (c, rounded) = c.as_ref()?;
+        let at = |x: [f64; 3]| [0, 1, 2].map(|k| x[k] - pv[k]);
+        let cv = at(*rounded);
+        wt.faces[f]
+            .vertices
+            .iter()
+            .find(|&&a| {
+                // doubles first, far from a tie; exact near one
+                let av = at(cx.points[a as usize]);
+                let d = crate::geom::dot_f(cv, av);
+                let tie = 1e-9 * crate::geom::dot_f(cv, cv).max(crate::geom::dot_f(av, av));
+                d < -tie
+                    || (d <= tie && {
+                        let pq = pv.map(q);
+                        dot(&sub(c, &pq), &sub(&cx.points[a as usize].map(q), &pq)) <= 0
+                    })
+            })
+            .map(|&a| (f, a))
+    })
 }
 
 /// The domain's cells as a mesh, with the faces between them.
