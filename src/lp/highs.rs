@@ -51,6 +51,8 @@ pub(crate) struct Lp {
     /// Per weight, its columns (p, q); None for fixed weights, which are
     /// zero and left out of the rows.
     pub(crate) w: Vec<Option<(highs::Col, highs::Col)>>,
+    /// The auxiliary columns (supporting planes' free slopes).
+    pub(crate) aux: Vec<highs::Col>,
     pub(crate) delta: highs::Col,
     /// Elastic mode: the violation column of each segment.
     pub(crate) slack: HashMap<u32, highs::Col>,
@@ -468,7 +470,9 @@ impl Lp {
             pb.add_row(r.rhs..=r.rhs, terms(r));
             refs.push(RowRef::Eq(at));
         }
-        let lazy_ok = matches!(mode, Mode::Margin) && sys.aux == 0 && !big;
+        let elastic3 =
+            |r: &Row| matches!((r.family, mode), (Family::Sys3(_), Mode::Elastic { .. }));
+        let lazy_ok = !big && (matches!(mode, Mode::Margin) && sys.aux == 0 || sys.lazy_aux);
         let mut lazy = vec![];
         for (at, r) in sys.rows.iter().enumerate().filter(|(_, r)| finite(r)) {
             match (r.family, mode) {
@@ -476,7 +480,8 @@ impl Lp {
                 // system 3 unless asked for.
                 _ if !margin_row(r, with3) => continue,
                 // A margin row; its slack at zero weights and margin is -rhs.
-                _ if lazy_ok && -r.rhs > LAZY_SLACK => lazy.push(at),
+                // (an elastic model's system 3 rows have their slacks)
+                _ if lazy_ok && -r.rhs > LAZY_SLACK && !elastic3(r) => lazy.push(at),
                 (Family::Sys3(s), Mode::Elastic { costs, .. }) => {
                     // sum(terms) + slack_s >= rhs + small positive margin
                     let cost = costs.get(&s).copied().unwrap_or(1.0);
@@ -522,6 +527,7 @@ impl Lp {
         Ok(Lp {
             model: Some(model),
             w,
+            aux,
             delta,
             slack,
             lazy,
@@ -534,8 +540,10 @@ impl Lp {
     /// This unsolved Margin model of `was` made the model `build` would
     /// give for `sys`, which differs from it only in margin rows'
     /// right-hand sides (settling's): those rows' bounds and delta's floor
-    /// set again. False, the model unchanged, where that cannot be told so
-    /// (lazy rows, interior point, rows no longer finite).
+    /// set again (lazy rows keep the partition `was` gave them: they still
+    /// enter where violated). False, the model unchanged, where that cannot
+    /// be told so (no auxiliary columns, interior point, rows no longer
+    /// finite).
     #[allow(unsafe_code)]
     pub(crate) fn restate(&mut self, was: &System, sys: &System, with3: bool) -> Result<bool> {
         let big = sys.eqs.len() + sys.rows.len() > BIG_MODEL;
@@ -581,11 +589,13 @@ impl Lp {
 
     /// The lazy rows that the solution `cols` violates, now in the model.
     pub(crate) fn enter_violated(&mut self, sys: &System, cols: &[f64]) -> Result<bool> {
+        let n = self.w.len();
         let value = |r: &Row| {
             r.terms
                 .iter()
-                .filter_map(|&(c, v)| {
-                    self.w[c].map(|(p, q)| v * (cols[p.index()] - cols[q.index()]))
+                .filter_map(|&(c, v)| match c.checked_sub(n) {
+                    Some(a) => Some(v * cols[self.aux[a].index()]),
+                    None => self.w[c].map(|(p, q)| v * (cols[p.index()] - cols[q.index()])),
                 })
                 .sum::<f64>()
                 - r.share * cols[self.delta.index()]
@@ -597,7 +607,7 @@ impl Lp {
             .partition(|&&at| value(&sys.rows[at]) < 0.0);
         for &at in &enter {
             let r = &sys.rows[at];
-            let mut terms = weight_row(&self.w, r);
+            let mut terms: Vec<_> = model_terms(r, n, &self.w, &self.aux).collect();
             terms.push((self.delta, -r.share));
             let model = self.model.as_mut().expect("model");
             model.try_add_row(r.rhs.., terms).map_err(rejected)?;

@@ -84,8 +84,9 @@ pub(crate) const GLOBAL_ROUNDS: usize = 40;
 /// cost sum |w_i| / l_i^2, which it outweighs).
 pub(crate) const ANCHOR_COST: f64 = 1e3;
 
-/// A margin row of a simplex model whose slack at zero weights exceeds
-/// this enters the model only once a solution violates it (measured on the
+/// A margin row of a simplex model whose slack at zero weights (and zero
+/// auxiliary columns) exceeds this enters the model only once a solution
+/// violates it (measured on the
 /// local form's pieces: 80% of the rows, of which 1 in 200 ever enters;
 /// HiGHS' cost per iteration grows with the rows). The optimum is the same:
 /// a solution of fewer rows that meets all rows is optimal for all.

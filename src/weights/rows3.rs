@@ -21,6 +21,7 @@ pub(super) fn system(
         free,
         verdict: true,
         unit2: units.unit2,
+        lazy_aux: true,
         l2: units.l2.clone(),
         ..Default::default()
     };
