@@ -588,6 +588,7 @@ impl Lp {
     }
 
     /// The lazy rows that the solution `cols` violates, now in the model.
+    #[allow(unsafe_code)]
     pub(crate) fn enter_violated(&mut self, sys: &System, cols: &[f64]) -> Result<bool> {
         let n = self.w.len();
         let value = |r: &Row| {
@@ -605,13 +606,41 @@ impl Lp {
             .lazy
             .iter()
             .partition(|&&at| value(&sys.rows[at]) < 0.0);
+        // (in one HiGHS call: one at a time, each rebuilt the row-wise
+        // copy of the matrix)
+        let (mut lower, mut starts, mut index, mut value) = (vec![], vec![], vec![], vec![]);
         for &at in &enter {
             let r = &sys.rows[at];
-            let mut terms: Vec<_> = model_terms(r, n, &self.w, &self.aux).collect();
-            terms.push((self.delta, -r.share));
-            let model = self.model.as_mut().expect("model");
-            model.try_add_row(r.rhs.., terms).map_err(rejected)?;
+            starts.push(index.len() as highs_sys::HighsInt);
+            for (c, v) in model_terms(r, n, &self.w, &self.aux).chain([(self.delta, -r.share)]) {
+                index.push(c.index() as highs_sys::HighsInt);
+                value.push(v);
+            }
+            lower.push(r.rhs);
             self.refs.push(RowRef::Row(at));
+        }
+        if !enter.is_empty() {
+            let upper = vec![f64::INFINITY; enter.len()];
+            let model = self.model.as_mut().expect("model");
+            // SAFETY: live instance; one bound pair and one start per row,
+            // `index` and `value` of one length, columns of this model.
+            let status = unsafe {
+                highs_sys::Highs_addRows(
+                    model.as_mut_ptr(),
+                    enter.len() as _,
+                    lower.as_ptr(),
+                    upper.as_ptr(),
+                    index.len() as _,
+                    starts.as_ptr(),
+                    index.as_ptr(),
+                    value.as_ptr(),
+                )
+            };
+            if status == highs_sys::STATUS_ERROR {
+                return Err(Error::SolverLimit(
+                    "HiGHS refused the LP's lazy rows".into(),
+                ));
+            }
         }
         self.lazy = keep;
         if !enter.is_empty() {
