@@ -637,9 +637,7 @@ impl Lp {
                 )
             };
             if status == highs_sys::STATUS_ERROR {
-                return Err(Error::SolverLimit(
-                    "HiGHS refused the LP's lazy rows".into(),
-                ));
+                return Err(rejected(highs::HighsStatus::Error));
             }
         }
         self.lazy = keep;
