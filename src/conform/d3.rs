@@ -105,7 +105,8 @@ pub fn conform3<B: Backend + ?Sized>(
     }
     // what the mesh does not need goes first (peak memory: the field
     // 16 x 16 x 4 peaked here, 251 MiB, now 231 in relocation)
-    (d.rt, d.faces, d.vertex_of, wt.rt) = Default::default();
+    // (the faces' numbers go; their cycles stay for the cells)
+    (d.rt, d.faces.index, d.vertex_of, wt.rt) = Default::default();
     // (and the sites' rationals: the mesh reads their doubles; field3 16 x
     // 16 x 8's peak went from 419 to 390 MiB without the relocation lines)
     let placed = s.p.len();
@@ -531,7 +532,7 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
             d.cells[x]
                 .iter()
                 .flatten()
-                .flat_map(|(f, _)| f.iter().copied())
+                .flat_map(|side| d.faces.side(side))
         })
         .collect();
     used.sort_unstable();
@@ -555,8 +556,9 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
             continue;
         };
         let mut out = vec![];
-        for (face, other) in faces {
-            let mut f: Vec<u32> = face.iter().map(|&v| id[v as usize]).collect();
+        for side in faces {
+            let other = &side.other;
+            let mut f: Vec<u32> = d.faces.side(side).map(|v| id[v as usize]).collect();
             f.dedup();
             while f.len() > 1 && f.first() == f.last() {
                 f.pop();

@@ -5,6 +5,7 @@
 //! Positions are rounded only for output, and input vertices are written
 //! as the input's own doubles.
 
+use super::faces3::{Faces, Side};
 use super::regular3::{regular3, PowerVertices, Regular3, CHUNK};
 use crate::backend::{Backend, Tetrahedralisation};
 use crate::complex::Complex3;
@@ -16,9 +17,9 @@ use crate::{FastMap as HashMap, FastSet as HashSet};
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// A cell: its faces, each a cycle of power vertices counter-clockwise
-/// seen from outside, with the site across it.
-pub type Cell = Vec<(Vec<u32>, u32)>;
+/// A cell: its faces (`Faces::side` reads each as a cycle of power
+/// vertices counter-clockwise seen from outside), with the site across.
+pub type Cell = Vec<Side>;
 
 /// Power diagram of the sites.
 #[derive(Debug, Clone, Default)]
@@ -33,12 +34,11 @@ pub struct Diagram3 {
     pub input_vertex: Vec<Option<u32>>,
     /// Per site: whether its cell lies in the domain.
     pub in_domain: Vec<bool>,
-    /// Per site in the domain: its cell's faces, each a cycle of power
-    /// vertices counter-clockwise seen from outside, with the site across.
+    /// Per site in the domain: its cell's faces, with the site across.
     pub cells: Vec<Option<Cell>>,
     /// Per edge of `rt`: its dual face, the cycle of power vertices around
     /// it with repeats merged (None: unbounded).
-    pub faces: HashMap<[u32; 2], Option<Vec<u32>>>,
+    pub faces: Faces,
     /// Per site, whether it lies strictly inside its own cell (exact).
     pub site_inside: Vec<bool>,
     /// The sites and weights as doubles.
@@ -182,9 +182,12 @@ impl Diagram3 {
         let in_domain = domain(cx, s, &k, &rt, &faces)?;
         // the power vertices of the domain's cells well rounded
         let mut used = vec![false; pv.points.len()];
-        for ([a, b], face) in &faces {
+        for ([a, b], face) in faces.iter() {
             if in_domain[*a as usize] || in_domain[*b as usize] {
-                face.iter().flatten().for_each(|&v| used[v as usize] = true);
+                face.iter()
+                    .copied()
+                    .flatten()
+                    .for_each(|&v| used[v as usize] = true);
             }
         }
         pv.refine(&k, &rt, |v| used[v as usize]);
@@ -196,7 +199,7 @@ impl Diagram3 {
         } = pv;
         let sp = s.approx();
         // in key order: the same input gives the same cells' face order
-        let mut keys: Vec<[u32; 2]> = faces.keys().copied().collect();
+        let mut keys: Vec<[u32; 2]> = faces.index.keys().copied().collect();
         keys.par_sort_unstable();
         let site_inside = sites_inside(&k, s.p.len(), &keys);
         // each side's face oriented outward (its normal towards the other
@@ -204,41 +207,39 @@ impl Diagram3 {
         // domain cell
         let mut cells: Vec<Option<Cell>> = vec![None; s.p.len()];
         for chunk in keys.chunks(CHUNK) {
-            let sides: Vec<(u32, u32, Option<Vec<u32>>)> = chunk
+            let (sp, points) = (&sp, &points);
+            let sides: Vec<(u32, Option<Side>)> = chunk
                 .par_iter()
                 .flat_map_iter(|&[a, b]| {
-                    let face = &faces[&[a, b]];
+                    let (k, face) = faces.numbered(&[a, b]).expect("an edge's face");
                     [(a, b), (b, a)]
                         .into_iter()
                         .filter(|&(me, _)| in_domain[me as usize])
-                        .filter(|_| face.as_ref().is_none_or(|f| f.len() >= 3))
-                        .map(|(me, other)| {
-                            let oriented = face.as_ref().map(|face| {
-                                let mut face = face.clone();
+                        .filter(move |_| face.is_none_or(|f| f.len() >= 3))
+                        .map(move |(me, other)| {
+                            let side = face.map(|face| {
                                 let d: [f64; 3] = std::array::from_fn(|k| {
                                     sp[other as usize][k] - sp[me as usize][k]
                                 });
                                 let pts: Vec<[f64; 3]> =
                                     face.iter().map(|&v| points[v as usize]).collect();
-                                if dot_f(newell(&pts), d) < 0.0 {
-                                    face.reverse();
+                                Side {
+                                    face: k,
+                                    reversed: dot_f(newell(&pts), d) < 0.0,
+                                    other,
                                 }
-                                face
                             });
-                            (me, other, oriented)
+                            (me, side)
                         })
-                        .collect::<Vec<_>>()
                 })
                 .collect();
-            for (me, other, face) in sides {
-                let Some(face) = face else {
+            for (me, side) in sides {
+                let Some(side) = side else {
                     return Err(Error::Certificate(format!(
                         "a domain cell (site {me}) is unbounded"
                     )));
                 };
-                cells[me as usize]
-                    .get_or_insert_with(Vec::new)
-                    .push((face, other));
+                cells[me as usize].get_or_insert_with(Vec::new).push(side);
             }
         }
         // A site whose cell has no face of positive area (a vertex of the
@@ -267,7 +268,7 @@ impl Diagram3 {
     pub fn certify(&self, cx: &Complex3, wt: &Weights3, s: &Sites3) -> Certificate3 {
         let mut c = Certificate3::default();
         let vertex_set = |a: u32, b: u32| -> Option<HashSet<u32>> {
-            let face = self.faces.get(&[a.min(b), a.max(b)])?.as_ref()?;
+            let face = self.faces.get(&[a.min(b), a.max(b)])??;
             Some(face.iter().copied().collect())
         };
         // power vertex of each input vertex
@@ -335,15 +336,23 @@ impl Diagram3 {
         let Some(faces) = &self.cells[site] else {
             return 0.0;
         };
-        let o = self.points[faces[0].0[0] as usize];
+        let first = self
+            .faces
+            .side(&faces[0])
+            .next()
+            .expect("a face of 3 vertices");
+        let o = self.points[first as usize];
         faces
             .iter()
-            .map(|(face, _)| {
+            .map(|side| {
+                let face = self.faces.polygon(side.face);
+                let n = face.len();
                 let p = |k: usize| -> [f64; 3] {
+                    let k = if side.reversed { n - 1 - k } else { k };
                     let x = self.points[face[k] as usize];
                     std::array::from_fn(|i| x[i] - o[i])
                 };
-                (1..face.len() - 1)
+                (1..n - 1)
                     .map(|k| det3_f(p(0), p(k), p(k + 1)) / 6.0)
                     .sum::<f64>()
             })
@@ -355,7 +364,7 @@ impl Diagram3 {
 /// repeats merged (None: unbounded), from its first tetrahedron. (The faces
 /// in parallel, a chunk at a time: whole intermediate vectors raised the
 /// peak by a KB a facet triangle.)
-fn edge_faces(rt: &Tetrahedralisation, vertex_of: &[u32]) -> HashMap<[u32; 2], Option<Vec<u32>>> {
+fn edge_faces(rt: &Tetrahedralisation, vertex_of: &[u32]) -> Faces {
     let mut first: HashMap<[u32; 2], u32> = HashMap::default();
     for (t, v) in rt.tets.iter().enumerate() {
         for a in 0..4 {
@@ -367,8 +376,8 @@ fn edge_faces(rt: &Tetrahedralisation, vertex_of: &[u32]) -> HashMap<[u32; 2], O
         }
     }
     let first: Vec<([u32; 2], u32)> = first.into_iter().collect();
-    let mut faces: HashMap<[u32; 2], Option<Vec<u32>>> = HashMap::default();
-    faces.reserve(first.len());
+    let mut faces = Faces::new(vec![]);
+    faces.index.reserve(first.len());
     for chunk in first.chunks(CHUNK) {
         let made: Vec<Option<Vec<u32>>> = chunk
             .par_iter()
@@ -383,7 +392,9 @@ fn edge_faces(rt: &Tetrahedralisation, vertex_of: &[u32]) -> HashMap<[u32; 2], O
                 })
             })
             .collect();
-        faces.extend(chunk.iter().map(|x| x.0).zip(made));
+        for (x, face) in chunk.iter().zip(made) {
+            faces.push(x.0, face.as_deref());
+        }
     }
     faces
 }
@@ -410,7 +421,7 @@ fn domain(
     s: &Sites3,
     k: &Weighted3,
     rt: &Tetrahedralisation,
-    faces: &HashMap<[u32; 2], Option<Vec<u32>>>,
+    faces: &Faces,
 ) -> Result<Vec<bool>> {
     let n = s.p.len();
     let mut cut: HashSet<[u32; 2]> = HashSet::default();
@@ -419,7 +430,7 @@ fn domain(
     }
     // mirrors are outside, and the faces they share with sites are on the
     // clip planes
-    for e in faces.keys() {
+    for e in faces.index.keys() {
         if s.is_mirror(e[0] as usize) != s.is_mirror(e[1] as usize) {
             cut.insert(*e);
         }
@@ -434,8 +445,8 @@ fn domain(
     }
     // Faces of no area (sites meeting at a power vertex or edge only) join
     // nothing: they may cross a constraint face's boundary.
-    for (e, face) in faces {
-        if !cut.contains(e) && face.as_ref().is_none_or(|f| f.len() >= 3) {
+    for (e, face) in faces.iter() {
+        if !cut.contains(e) && face.is_none_or(|f| f.len() >= 3) {
             let (a, b) = (find(&mut parent, e[0]), find(&mut parent, e[1]));
             parent[a.max(b) as usize] = a.min(b);
         }

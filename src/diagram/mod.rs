@@ -4,6 +4,7 @@
 
 mod d2;
 mod d3;
+mod faces3;
 mod regular3;
 
 pub use d2::{repair_around, star_ccw, Diagram, EdgeTests};
