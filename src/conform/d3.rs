@@ -337,8 +337,12 @@ fn plane_sides(cx: &Complex3, f: usize) -> Option<([Q; 3], [Q; 3], bool, bool)> 
 }
 
 /// The facets with every input point on one side of their plane (on the
-/// hull), to be clipped at (`Options::clip`).
+/// hull), to be clipped at (`Options::clip`). None where a point is not
+/// finite: the pipeline's validation then names it.
 pub fn hull_facets(cx: &Complex3) -> Vec<u32> {
+    if !cx.points.iter().flatten().all(|x| x.is_finite()) {
+        return vec![];
+    }
     (0..cx.facets.len())
         .filter(|&f| plane_sides(cx, f).is_some_and(|(_, _, above, below)| !(above && below)))
         .map(|f| f as u32)
