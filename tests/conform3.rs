@@ -116,6 +116,20 @@ fn stacked_boxes_clipped_at_bottom_and_top() {
             .unwrap_err()
             .to_string();
         assert!(err.contains("clip facet 1000 of"), "{err}");
+        // A point that is not finite is named, not computed with.
+        let (mut points, faces) = common::cube();
+        points.push([0.5, f64::NAN, 0.5]);
+        let nan = common::with(points, &faces);
+        let opts = Options {
+            clip: vec![0],
+            ..Default::default()
+        };
+        let err = Mesher::new(&*b)
+            .options(opts)
+            .conform(&nan)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("NaN or infinite coordinate: 9"), "{err}");
         // A box cut at all its sides keeps nothing to conform to.
         let one = orthomesh::generate::stacked_boxes(1);
         let opts = Options {

@@ -336,11 +336,17 @@ fn plane_sides(cx: &Complex3, f: usize) -> Option<([Q; 3], [Q; 3], bool, bool)> 
     Some((o, n, sides.contains(&Greater), sides.contains(&Less)))
 }
 
+/// Whether every point is finite (exact geometry needs it; validation
+/// names the others).
+fn finite(cx: &Complex3) -> bool {
+    cx.points.iter().flatten().all(|x| x.is_finite())
+}
+
 /// The facets with every input point on one side of their plane (on the
 /// hull), to be clipped at (`Options::clip`). None where a point is not
 /// finite: the pipeline's validation then names it.
 pub fn hull_facets(cx: &Complex3) -> Vec<u32> {
-    if !cx.points.iter().flatten().all(|x| x.is_finite()) {
+    if !finite(cx) {
         return vec![];
     }
     (0..cx.facets.len())
@@ -351,6 +357,10 @@ pub fn hull_facets(cx: &Complex3) -> Vec<u32> {
 
 /// The clip planes of these facets, their normals away from the points.
 fn clips(cx: &Complex3, facets: &[u32]) -> Result<Vec<Clip>> {
+    if !finite(cx) {
+        // (the facets' validation names the point first)
+        return Ok(vec![]);
+    }
     facets
         .iter()
         .map(|&f| {
