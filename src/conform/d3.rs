@@ -571,7 +571,6 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
         };
         let mut out = vec![];
         for side in faces {
-            let other = &side.other;
             let mut f: Vec<u32> = d.faces.side(side).map(|v| id[v as usize]).collect();
             f.dedup();
             while f.len() > 1 && f.first() == f.last() {
@@ -580,7 +579,7 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
             if f.len() < 3 {
                 continue;
             }
-            let o = *other as usize;
+            let o = side.other as usize;
             if d.in_domain[o] && x < o {
                 let pts: Vec<[f64; 3]> = f.iter().map(|&v| points[v as usize]).collect();
                 let plane = Plane::of(&pts);

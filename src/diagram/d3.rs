@@ -376,7 +376,7 @@ fn edge_faces(rt: &Tetrahedralisation, vertex_of: &[u32]) -> Faces {
         }
     }
     let first: Vec<([u32; 2], u32)> = first.into_iter().collect();
-    let mut faces = Faces::new(vec![]);
+    let mut faces = Faces::default();
     faces.index.reserve(first.len());
     for chunk in first.chunks(CHUNK) {
         let made: Vec<Option<Vec<u32>>> = chunk

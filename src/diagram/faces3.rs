@@ -11,7 +11,7 @@ use crate::FastMap as HashMap;
 const UNBOUNDED: u32 = u32::MAX;
 
 /// The dual faces of a triangulation's edges.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct Faces {
     /// Per edge (sorted pair of sites), its face's number.
     pub index: HashMap<[u32; 2], u32>,
@@ -30,21 +30,17 @@ pub struct Side {
     pub other: u32,
 }
 
-impl Faces {
-    /// The faces of these edges, in order (None: unbounded).
-    pub fn new(edges: Vec<([u32; 2], Option<Vec<u32>>)>) -> Faces {
-        let mut out = Faces {
+impl Default for Faces {
+    fn default() -> Faces {
+        Faces {
             index: HashMap::default(),
             at: vec![0],
             verts: vec![],
-        };
-        out.index.reserve(edges.len());
-        for (e, face) in edges {
-            out.push(e, face.as_deref());
         }
-        out
     }
+}
 
+impl Faces {
     /// Adds the face of edge e (None: unbounded).
     pub fn push(&mut self, e: [u32; 2], face: Option<&[u32]>) {
         let k = match face {
@@ -63,24 +59,25 @@ impl Faces {
         &self.verts[self.at[k as usize] as usize..self.at[k as usize + 1] as usize]
     }
 
+    /// Face k's cycle, None where it is unbounded.
+    fn cycle(&self, k: u32) -> Option<&[u32]> {
+        (k != UNBOUNDED).then(|| self.polygon(k))
+    }
+
     /// The face of edge e: None where e is no edge, Some(None) where its
     /// face is unbounded.
     pub fn get(&self, e: &[u32; 2]) -> Option<Option<&[u32]>> {
-        let &k = self.index.get(e)?;
-        Some((k != UNBOUNDED).then(|| self.polygon(k)))
+        self.index.get(e).map(|&k| self.cycle(k))
     }
 
     /// The face's number of edge e (UNBOUNDED where none), and its cycle.
     pub fn numbered(&self, e: &[u32; 2]) -> Option<(u32, Option<&[u32]>)> {
-        let &k = self.index.get(e)?;
-        Some((k, (k != UNBOUNDED).then(|| self.polygon(k))))
+        self.index.get(e).map(|&k| (k, self.cycle(k)))
     }
 
     /// Every edge with its face, in the map's order.
     pub fn iter(&self) -> impl Iterator<Item = (&[u32; 2], Option<&[u32]>)> {
-        self.index
-            .iter()
-            .map(|(e, &k)| (e, (k != UNBOUNDED).then(|| self.polygon(k))))
+        self.index.iter().map(|(e, &k)| (e, self.cycle(k)))
     }
 
     /// A side's cycle as the cell sees it.
@@ -97,11 +94,10 @@ mod tests {
 
     #[test]
     fn faces_are_stored_once_and_read_either_way() {
-        let f = Faces::new(vec![
-            ([0, 1], Some(vec![4, 5, 6])),
-            ([0, 2], None),
-            ([1, 2], Some(vec![7, 8, 9, 10])),
-        ]);
+        let mut f = Faces::default();
+        f.push([0, 1], Some(&[4, 5, 6]));
+        f.push([0, 2], None);
+        f.push([1, 2], Some(&[7, 8, 9, 10]));
         assert_eq!(f.get(&[0, 1]), Some(Some(&[4, 5, 6][..])));
         assert_eq!(f.get(&[0, 2]), Some(None));
         assert_eq!(f.get(&[0, 3]), None);

@@ -472,7 +472,7 @@ impl Lp {
         }
         let elastic3 =
             |r: &Row| matches!((r.family, mode), (Family::Sys3(_), Mode::Elastic { .. }));
-        let lazy_ok = !big && (matches!(mode, Mode::Margin) && sys.aux == 0 || sys.lazy_aux);
+        let lazy_ok = !big && ((matches!(mode, Mode::Margin) && sys.aux == 0) || sys.lazy_aux);
         let mut lazy = vec![];
         for (at, r) in sys.rows.iter().enumerate().filter(|(_, r)| finite(r)) {
             match (r.family, mode) {
@@ -608,13 +608,13 @@ impl Lp {
             .partition(|&&at| value(&sys.rows[at]) < 0.0);
         // (in one HiGHS call: one at a time, each rebuilt the row-wise
         // copy of the matrix)
-        let (mut lower, mut starts, mut index, mut value) = (vec![], vec![], vec![], vec![]);
+        let (mut lower, mut starts, mut index, mut values) = (vec![], vec![], vec![], vec![]);
         for &at in &enter {
             let r = &sys.rows[at];
             starts.push(index.len() as highs_sys::HighsInt);
             for (c, v) in model_terms(r, n, &self.w, &self.aux).chain([(self.delta, -r.share)]) {
                 index.push(c.index() as highs_sys::HighsInt);
-                value.push(v);
+                values.push(v);
             }
             lower.push(r.rhs);
             self.refs.push(RowRef::Row(at));
@@ -623,7 +623,7 @@ impl Lp {
             let upper = vec![f64::INFINITY; enter.len()];
             let model = self.model.as_mut().expect("model");
             // SAFETY: live instance; one bound pair and one start per row,
-            // `index` and `value` of one length, columns of this model.
+            // `index` and `values` of one length, columns of this model.
             let status = unsafe {
                 highs_sys::Highs_addRows(
                     model.as_mut_ptr(),
@@ -633,7 +633,7 @@ impl Lp {
                     index.len() as _,
                     starts.as_ptr(),
                     index.as_ptr(),
-                    value.as_ptr(),
+                    values.as_ptr(),
                 )
             };
             if status == highs_sys::STATUS_ERROR {
