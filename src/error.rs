@@ -131,6 +131,13 @@ pub enum Error {
     },
     /// Each way a build was tried (how, and why it failed).
     Tried(Vec<(String, Error)>),
+    /// An error in one part of a larger build (which part, and the error).
+    Within {
+        /// The part, e.g. the cavity of some wells.
+        part: String,
+        /// What went wrong there.
+        error: Box<Error>,
+    },
 }
 
 /// How a system 1 verdict is known.
@@ -264,6 +271,7 @@ impl fmt::Display for Error {
                 let v: Vec<String> = ways.iter().map(|(how, e)| format!("{how}: {e}")).collect();
                 write!(f, "every way failed: {}", v.join("; "))
             }
+            Error::Within { part, error } => write!(f, "{part}: {error}"),
         }
     }
 }

@@ -527,17 +527,21 @@ fn hybrid_3d_from_options() {
         std::fs::remove_file(f).unwrap();
     }
     // Bad requests: exit 1, a message, nothing written.
-    let spe9 = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids/SPE9.GRDECL");
     for (grid, wells, says) in [
-        (g, vec!["W:4:4:0.1", "V:3:3:0.1"], "exactly one --well"),
-        (g, vec!["W:1:4:0.1"], "column on every side"),
-        (g, vec!["W:4:4:0.1:80:0"], "needs a thicker grid"),
-        (g, vec!["W:4:4"], ""),
         (
-            spe9.to_str().unwrap(),
-            vec!["W:4:4:0.1"],
-            "Cartesian block grid",
+            g,
+            vec!["W:4:4:0.1", "V:4:4:0.1"],
+            "their radial meshes would overlap",
         ),
+        (g, vec!["W:9:4:0.1"], "W: column (9, 4) is not in the grid"),
+        (g, vec!["W:4:4:0.1:80:0"], "W: its axis leaves the grid"),
+        (
+            g,
+            vec!["W:4:4:2-9:0.1"],
+            "completed layers 2..9 are not in the grid's 1..2",
+        ),
+        (g, vec!["W:4:4:0-1"], "whole numbers from 1"),
+        (g, vec!["W:4:4"], ""),
     ] {
         let (code, err) = run(grid, &wells);
         if says.is_empty() {

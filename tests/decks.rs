@@ -281,8 +281,9 @@ fn thiem_deck_in_3d() {
         radius: RW,
         dip: 0.0,
         azimuth: 30.0,
+        ..Default::default()
     };
-    let h = hybrid3::build(&default_backend(), &grid, &w, &Hybrid3Options::default()).unwrap();
+    let h = hybrid3::build(&default_backend(), &grid, &[w], &Hybrid3Options::default()).unwrap();
     let net = h.mesh.network();
     let c = (n / 2) as f64 * dx + dx / 2.0;
     let side = n as f64 * dx;
@@ -301,13 +302,10 @@ fn thiem_deck_in_3d() {
         thickness: 10.0,
         side,
     };
-    let links = [WellLinks {
-        name: "W".into(),
-        radius: RW,
-        links: h.wellbore.clone(),
-    }];
+    let links = &h.wellbore;
+    assert_eq!((links[0].name.as_str(), links[0].radius), ("W", RW));
     assert_eq!(links[0].links.len(), Hybrid3Options::default().sectors * 2);
-    t.deck("thiem-3d", &net, &links);
+    t.deck("thiem-3d", &net, links);
 }
 
 /// The demo's mesh and SPE9's top layer with its 26 wells, as the CLI

@@ -30,6 +30,7 @@ fn well(dip: f64) -> Well3 {
         radius: 0.1,
         dip,
         azimuth: 30.0,
+        ..Default::default()
     }
 }
 
@@ -45,13 +46,13 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
                 allow_sites_outside: true,
                 ..Default::default()
             };
-            let h = build(&*b, &g, &well(dip), &opts).unwrap();
+            let h = build(&*b, &g, &[well(dip)], &opts).unwrap();
             let r = &h.report;
             println!(
                 "3D hybrid, dip {dip}: cells {:?}, transition sites inside {} of {}, {} connections, {} non-orthogonal",
-                r.cells, r.transition.certificate.sites_inside, r.transition.certificate.domain_sites, r.connections, r.non_orthogonal
+                r.cells, r.cavities[0].transition.certificate.sites_inside, r.cavities[0].transition.certificate.domain_sites, r.connections, r.non_orthogonal
             );
-            let c = &r.transition.certificate;
+            let c = &r.cavities[0].transition.certificate;
             assert!(c.conforms(), "{c:?}");
             if dip == 0.0 {
                 // rectangles kept whole on both sides of the transition
@@ -76,7 +77,7 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
                 .links
                 .iter()
                 .any(|l| l.cells.iter().all(|&c| h.region[c] == Region::Well)));
-            assert_eq!(r.transition.input.clip_facets.len(), 2);
+            assert_eq!(r.cavities[0].transition.input.clip_facets.len(), 2);
             assert_eq!(r.cells[0], 7 * 7 * 3 - 9 * 3);
             assert_eq!(r.cells[2], 3 * opts.rings * opts.sectors);
             // Each cell takes the rock of its own grid cell, or of the
@@ -106,27 +107,60 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
     }
 }
 
-/// Wells the block cannot hold are errors naming why, before any meshing.
+/// Wells the grid cannot hold are errors naming the well and why, before
+/// any meshing.
 #[test]
 fn wells_that_do_not_fit_are_errors() {
     let b = &compiled()[0];
     let opts = Hybrid3Options::default();
-    for (nz, dip, says) in [
+    let mut inactive = CornerPointGrid::cartesian([7, 7, 3], [10.0, 10.0, 4.0]);
+    inactive.actnum[3 + 7 * (3 + 7)] = false; // cell (4, 4, 2)
+    let block = |nz| CornerPointGrid::cartesian([7, 7, nz], [10.0, 10.0, 4.0]);
+    let cases: Vec<(CornerPointGrid, Vec<Well3>, &str)> = vec![
         (
-            10,
-            20.0,
-            "leaves the cavity of the 3 x 3 columns around (4, 4) at layer",
+            block(2),
+            vec![well(60.0)],
+            "W: at a dip of 60 degrees, its radial mesh (outer radius 10) needs a thicker \
+             completed interval",
         ),
         (
-            2,
-            60.0,
-            "at a dip of 60 degrees, its radial mesh (outer radius 10) needs a thicker grid",
+            block(2),
+            vec![well(90.0)],
+            "W: a dip of 90 degrees is not through the layers",
         ),
-        (2, 90.0, "a dip of 90 degrees is not through the layers"),
-    ] {
-        let g = CornerPointGrid::cartesian([7, 7, nz], [10.0, 10.0, 4.0]);
-        let err = build(&**b, &g, &well(dip), &opts).unwrap_err().to_string();
-        assert!(err.contains(says), "{dip}: {err}");
+        (
+            block(3),
+            vec![Well3 {
+                k: Some([1, 3]),
+                ..well(0.0)
+            }],
+            "W: completed layers 2..4 are not in the grid's 1..3",
+        ),
+        (
+            block(3),
+            vec![Well3 { i: 7, ..well(0.0) }],
+            "W: column (8, 4) is not in the grid's 7 x 7 columns",
+        ),
+        (
+            inactive,
+            vec![well(0.0)],
+            "W: its completion in cell (4, 4, 2) is in an inactive cell",
+        ),
+        (
+            block(3),
+            vec![
+                well(0.0),
+                Well3 {
+                    name: "V".into(),
+                    ..well(0.0)
+                },
+            ],
+            "wells W and V: their axes pass within 0.000000 of each other",
+        ),
+    ];
+    for (g, wells, says) in cases {
+        let err = build(&**b, &g, &wells, &opts).unwrap_err().to_string();
+        assert!(err.contains(says), "{says}: {err}");
     }
 }
 
@@ -144,8 +178,8 @@ fn steiner_points_bring_the_annuli_sites_in() {
         clip: false,
         ..Default::default()
     };
-    let h = build(&**b, &g, &well(0.0), &opts).unwrap();
-    let t = &h.report.transition;
+    let h = build(&**b, &g, &[well(0.0)], &opts).unwrap();
+    let t = &h.report.cavities[0].transition;
     println!(
         "3D hybrid, 12 sectors: {} Steiner points, sites inside {} of {}",
         t.input.steiner_points.len(),
@@ -185,7 +219,7 @@ fn thiem_in_3d() {
         allow_sites_outside: true,
         ..Default::default()
     };
-    let hy = build(&**b, &g, &w, &opts).unwrap();
+    let hy = build(&**b, &g, &[w], &opts).unwrap();
     let m = &hy.mesh;
     let c = [(n / 2) as f64 * h + h / 2.0, (n / 2) as f64 * h + h / 2.0];
     let dist = |x: [f64; 3]| (x[0] - c[0]).hypot(x[1] - c[1]);
@@ -253,12 +287,12 @@ fn thiem_in_3d() {
         opts.rings,
         100.0 * err,
         hy.report.cells[1],
-        hy.report.transition.sites.sites_outside,
+        hy.report.cavities[0].transition.sites.sites_outside,
         hy.report.non_orthogonal
     );
     // measured: 0.13% with the cells cut at the top and bottom, all sites
     // inside (0.29% while the annuli's triangles had to cross their duals
     // in the LP; 0.16% with the annuli as faces and 16 sites outside)
-    assert_eq!(hy.report.transition.sites.sites_outside, 0);
+    assert_eq!(hy.report.cavities[0].transition.sites.sites_outside, 0);
     assert!(err < 0.005, "{err}");
 }

@@ -2,15 +2,15 @@
 //! the library, and writes every output whole or none.
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use orthomesh::reservoir::deck::{DeckChoices, WellLinks};
+use orthomesh::reservoir::deck::DeckChoices;
 use orthomesh::reservoir::{self as hybrid, HybridOptions, WellAt, WellInput};
-use orthomesh::reservoir::{hybrid3, Hybrid3Options, Well3};
 use orthomesh::Keep;
 use orthomesh::Progress;
 use orthomesh::{io, Backend, CellArray, Complex, Complex3, Mesher, Options};
 use orthomesh::{Error, Result};
 use orthomesh::{Outcome, D2, D3};
 mod deck;
+mod hybrid3d;
 
 use deck::{grid_unit, DeckArgs, DeckOut, FromInput};
 use std::io::IsTerminal;
@@ -163,22 +163,23 @@ struct HybridArgs {
     /// polyhedra (type 42) and, with --tough, vertical connections too.
     #[arg(long)]
     layers: bool,
-    /// Rings of each radial mesh.
-    #[arg(long, default_value_t = 12)]
-    rings: usize,
-    /// Sectors of each radial mesh.
-    #[arg(long, default_value_t = 32)]
-    sectors: usize,
+    /// Rings of each radial mesh (default 12; with --3d, 6).
+    #[arg(long)]
+    rings: Option<usize>,
+    /// Sectors of each radial mesh (default 32; with --3d, 16).
+    #[arg(long)]
+    sectors: Option<usize>,
     /// Outer radius of the radial meshes, in shortest sides of the well's
     /// cell (default 1.9; with --3d, 1.0).
     #[arg(long)]
     outer: Option<f64>,
-    /// True 3D: one well (--well NAME:I:J[:RADIUS[:DIP:AZIMUTH]], dip from
-    /// vertical and azimuth clockwise from +y in degrees) through a
-    /// Cartesian block grid, its radial mesh over the grid's layers, and
-    /// a 3D transition mesh (polyhedra) in the cavity of the 3 x 3
-    /// columns around it.
-    #[arg(long = "3d", conflicts_with_all = ["deck", "wells_xy", "faults", "layers", "margin", "svg"])]
+    /// True 3D: wells from the deck (WELSPECS, COMPDAT's layers and
+    /// diameter) or --well NAME:I:J[:K1-K2][:RADIUS[:DIP:AZIMUTH]] (K1-K2
+    /// the completed layers, default all; dip from vertical and azimuth
+    /// clockwise from +y in degrees), each with a radial mesh along its
+    /// completed layers, in a cavity of the cells within one cell of them,
+    /// meshed by a 3D transition (polyhedra).
+    #[arg(long = "3d", conflicts_with_all = ["wells_xy", "faults", "layers", "margin", "svg"])]
     three_d: bool,
     /// Layers of cells added to each cavity around what the radial mesh reaches.
     #[arg(long, default_value_t = 0)]
@@ -291,7 +292,7 @@ fn run(cli: Cli) -> Result<()> {
             io::Input::Plane(cx) => conform2(backend, &cx, a),
             io::Input::Space(cx) => conform3(backend, &cx, a),
         },
-        Command::Hybrid(a) if a.three_d => hybrid_3d(backend, a),
+        Command::Hybrid(a) if a.three_d => hybrid3d::run(backend, a),
         Command::Hybrid(a) => hybrid_2d(backend, a),
         Command::Generate(a) => generate(a),
         Command::Demo(a) => demo(backend, a),
@@ -399,85 +400,32 @@ fn conform3(backend: &dyn Backend, cx: &Complex3, a: ConformArgs) -> Result<()> 
     write_all3(&out, cx, &a.input, &o.output, o.report.as_deref(), deck)
 }
 
-/// `hybrid --3d`: one well through a Cartesian block.
-fn hybrid_3d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
-    let g = io::eclipse::read_grid(&a.grid)?;
-    let [spec] = a.wells.as_slice() else {
-        return Err(Error::Usage("--3d takes exactly one --well".into()));
+/// The deck's wells (WELSPECS, COMPDAT), if a deck is given; includes that
+/// do not exist are noted.
+fn deck_wells(a: &HybridArgs) -> Result<Vec<io::eclipse::Well>> {
+    let Some(deck) = &a.deck else {
+        return Ok(vec![]);
     };
-    let w = well3_spec(spec)?;
-    a.simulator.check(true)?;
-    let opts = Hybrid3Options {
-        rings: a.rings,
-        sectors: a.sectors,
-        outer: a.outer.unwrap_or(1.0),
-        allow_sites_outside: a.allow_sites_outside,
-        split_facets: a.split_facets,
-        ..Default::default()
-    };
-    let mut h = hybrid3::build(backend, &g, &w, &opts)?;
-    if a.out.reproducible {
-        h.report.transition.timing = None;
-    }
-    // The network only where a file needs it.
-    let network = (a.tough.is_some() || a.simulator.wanted()).then(|| h.mesh.network());
-    let deck = match &network {
-        Some(network) if a.simulator.wanted() => {
-            let links = [WellLinks {
-                name: w.name.clone(),
-                radius: w.radius,
-                links: h.wellbore.clone(),
-            }];
-            let title = format!("{} (3D)", a.grid.display());
-            let outer = || h.outer_cells(&g);
-            a.simulator.text(&title, network, &links, outer, || {
-                Ok(FromInput {
-                    length: grid_unit(&a)?,
-                    rock: Some(deck::grid_rock(&a, &g, &h.host)?),
-                    ..Default::default()
-                })
-            })?
-        }
-        _ => DeckOut::default(),
-    };
-    let deck = deck.tough(a.tough.as_deref(), network.as_ref())?;
-    let mut texts = vec![(a.out.output.clone(), deck.vtu(h.cells()))];
-    texts.extend(deck.files);
-    if let Some(p) = &a.out.report {
-        texts.push((p.clone(), report_text(&h.report, &a.grid)?));
-    }
-    write_texts(&texts, || {
-        let r = &h.report;
-        let c = &r.transition.certificate;
+    let (found, missing) = io::eclipse::read_wells(deck)?;
+    for m in missing {
         eprintln!(
-            "3D hybrid: {} reservoir, {} transition, {} well cells; {} connections, {} non-orthogonal; \
-             certificate: faces {}/{} vertices {}/{} volume {:.6e} of {:.6e} sites-inside {}/{}",
-            r.cells[0], r.cells[1], r.cells[2], r.connections, r.non_orthogonal,
-            c.faces_exact, c.faces, c.vertices_exact, c.vertices, c.cells_volume, c.domain_volume,
-            c.sites_inside, c.domain_sites
+            "note: {}: include {m} not found (not needed for wells)",
+            deck.display()
         );
-    })
+    }
+    Ok(found)
 }
 
 /// The wells of a 2D hybrid: the deck's, then --well and --well-xy (a
 /// name given again replaces the earlier well).
 fn wells_2d(a: &HybridArgs) -> Result<Vec<WellInput>> {
     let mut list: Vec<WellInput> = vec![];
-    if let Some(deck) = &a.deck {
-        let (found, missing) = io::eclipse::read_wells(deck)?;
-        for m in missing {
-            eprintln!(
-                "note: {}: include {m} not found (not needed for wells)",
-                deck.display()
-            );
-        }
-        for w in found {
-            list.push(WellInput {
-                name: w.name,
-                at: WellAt::Column(w.i, w.j),
-                radius: w.radius.unwrap_or(DEFAULT_WELL_RADIUS),
-            });
-        }
+    for w in deck_wells(a)? {
+        list.push(WellInput {
+            name: w.name,
+            at: WellAt::Column(w.i, w.j),
+            radius: w.radius.unwrap_or(DEFAULT_WELL_RADIUS),
+        });
     }
     for spec in &a.wells {
         let (name, x, y, r) = well_spec(spec)?;
@@ -512,8 +460,8 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     let watched = list.len() >= MANY_WELLS && std::io::stderr().is_terminal();
     let opts = HybridOptions {
         layer: a.layer - 1,
-        rings: a.rings,
-        sectors: a.sectors,
+        rings: a.rings.unwrap_or(12),
+        sectors: a.sectors.unwrap_or(32),
         outer: a.outer.unwrap_or(1.9),
         margin: a.margin,
         fault_lines: a
@@ -882,34 +830,6 @@ pub(crate) fn well_spec(spec: &str) -> Result<(String, f64, f64, f64)> {
     Ok((parts[0].to_string(), num(parts[1])?, num(parts[2])?, r))
 }
 
-/// NAME:I:J[:RADIUS[:DIP:AZIMUTH]] (I, J 1-based; degrees).
-fn well3_spec(spec: &str) -> Result<Well3> {
-    let parts: Vec<&str> = spec.split(':').collect();
-    let bad = || {
-        Error::Usage(format!(
-            "well '{spec}': expected NAME:I:J[:RADIUS[:DIP:AZIMUTH]]"
-        ))
-    };
-    if ![3, 4, 6].contains(&parts.len()) || parts[0].is_empty() {
-        return Err(bad());
-    }
-    let num = |t: &str| {
-        t.parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(bad)
-    };
-    let angle = |k: usize| parts.get(k).map_or(Ok(0.0), |t| num(t));
-    Ok(Well3 {
-        name: parts[0].to_string(),
-        i: one_based(num(parts[1])?, spec)?,
-        j: one_based(num(parts[2])?, spec)?,
-        radius: parts.get(3).map_or(Ok(DEFAULT_WELL_RADIUS), |t| num(t))?,
-        dip: angle(4)?,
-        azimuth: angle(5)?,
-    })
-}
-
 /// X1,Y1,X2,Y2[,...]
 fn polyline(spec: &str) -> Result<Vec<[f64; 2]>> {
     let v: Vec<f64> = spec
@@ -926,7 +846,7 @@ fn one_based(v: f64, spec: &str) -> Result<usize> {
         Ok(v as usize - 1)
     } else {
         Err(Error::Usage(format!(
-            "well '{spec}': I and J are whole numbers from 1"
+            "well '{spec}': I, J and K are whole numbers from 1"
         )))
     }
 }

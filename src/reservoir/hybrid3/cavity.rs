@@ -1,196 +1,305 @@
-//! The transition's complex in the 3 x 3 cavity around the well: the
-//! cavity's walls (rectangles, each facing a reservoir cell), its top and
-//! bottom with the well's outline as a window, and the well's outer
-//! surface; and its certified mesh.
+//! A cavity: the live cells within one cell of some wells' completed
+//! cells (wells whose cavities overlap or touch share one); its sides,
+//! the grid cells' faces kept whole or split in two triangles alike on
+//! both sides; the wells' radial meshes inside, sized to stay clear of
+//! its sides and of each other.
 
-use super::lattice::Level;
-use super::radial::Radial;
-use super::Hybrid3Options;
-use crate::backend::Backend;
-use crate::complex::{Complex3, Facet};
-use crate::conform::{conform3, Outcome, D3};
+use super::cpg::{one_based, pieces, Cpg, Ijk};
+use super::path::Path;
+use super::radial::{End, Radial};
+use super::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
-use crate::geom::cross_f;
-use crate::options::Options;
-use crate::reservoir::CornerPointGrid;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, BTreeSet};
 
-/// Marker of the cavity's walls, top and bottom.
-pub(super) const WALL: i64 = 1;
-/// Marker of the well's outer faces.
-pub(super) const WELL: i64 = 2;
-
-/// The transition's constraints and what each facet faces.
-pub(super) struct Cavity {
-    pub(super) cx: Complex3,
-    /// Per wall facet: the reservoir cell beyond.
-    pub(super) wall_cells: Vec<[usize; 3]>,
-    /// The first facet of the well's surface, and per such facet its
-    /// (layer, sector).
-    pub(super) first_well_facet: usize,
-    pub(super) well_facets: Vec<(usize, usize)>,
+/// A piece of the cavity's sides: its points, and the live cell across.
+pub(super) struct Side {
+    pub(super) points: Vec<[f64; 3]>,
+    pub(super) across: Option<Ijk>,
+    /// Whether it lies on the grid's flat top (4) or bottom (5) where a
+    /// well's radial mesh ends open.
+    pub(super) open: Option<usize>,
 }
 
-impl Cavity {
-    /// The cavity's complex around the well.
-    pub(super) fn new(g: &CornerPointGrid, w: &Radial) -> Cavity {
-        let (i0, j0, m, nl, zs) = (w.i0, w.j0, w.m, w.nl, &w.zs);
-        let levels = &w.levels;
-        // The transition's complex: the cavity's walls, its top and bottom with
-        // the well's outline as a window, the well's outer surface.
-        let mut cx = Complex3::default();
-        let mut index: HashMap<[u64; 3], u32> = HashMap::new();
-        let mut point = |cx: &mut Complex3, p: [f64; 3]| -> u32 {
-            *index.entry(p.map(f64::to_bits)).or_insert_with(|| {
-                cx.points.push(p);
-                cx.vertex_ids.push(cx.points.len() as i64);
-                cx.points.len() as u32 - 1
-            })
-        };
-        let (ia, ib, ja, jb) = (i0 - 1, i0 + 2, j0 - 1, j0 + 2);
-        // the cavity's boundary loop of columns' corners, counter-clockwise
-        let mut lp: Vec<(usize, usize)> = vec![];
-        lp.extend((ia..ib).map(|i| (i, ja)));
-        lp.extend((ja..jb).map(|j| (ib, j)));
-        lp.extend((ia + 1..=ib).rev().map(|i| (i, jb)));
-        lp.extend((ja + 1..=jb).rev().map(|j| (ia, j)));
-        let facet = |polygons: Vec<Vec<u32>>, holes: Vec<[f64; 3]>, marker: i64| Facet {
-            polygons,
-            holes,
-            marker,
-        };
-        let mut wall_cells: Vec<[usize; 3]> = vec![]; // per wall facet: the reservoir cell beyond
-        for k in 0..g.nz {
-            for e in 0..lp.len() {
-                let (a, b) = (lp[e], lp[(e + 1) % lp.len()]);
-                let ids = vec![
-                    point(&mut cx, w.node(a.0, a.1, k)),
-                    point(&mut cx, w.node(b.0, b.1, k)),
-                    point(&mut cx, w.node(b.0, b.1, k + 1)),
-                    point(&mut cx, w.node(a.0, a.1, k + 1)),
-                ];
-                cx.facets.push(facet(vec![ids], vec![], WALL));
-                // the cell outside: the loop runs counter-clockwise, so outside
-                // is on the right of a -> b
-                let (di, dj) = (b.0 as i64 - a.0 as i64, b.1 as i64 - a.1 as i64);
-                let cell = if dj == 0 {
-                    // along x: the cell below (dj = 0, di = 1) or above (di = -1)
-                    let i = a.0.min(b.0);
-                    if di > 0 {
-                        [i, a.1 - 1, k]
-                    } else {
-                        [i, a.1, k]
-                    }
-                } else {
-                    let j = a.1.min(b.1);
-                    if dj > 0 {
-                        [a.0, j, k]
-                    } else {
-                        [a.0 - 1, j, k]
-                    }
-                };
-                wall_cells.push(cell);
-            }
-        }
-        let outline = |cx: &mut Complex3,
-                       point: &mut dyn FnMut(&mut Complex3, [f64; 3]) -> u32,
-                       k: usize|
-         -> Vec<u32> { (0..m).map(|s| point(cx, w.surface(s, k))).collect() };
-        for k in [0, nl] {
-            let rim: Vec<u32> = lp
-                .iter()
-                .map(|&(i, j)| point(&mut cx, w.node(i, j, k)))
-                .collect();
-            let window = outline(&mut cx, &mut point, k);
-            let inside = w.at(0.0, 0.0, levels[k]);
-            cx.facets.push(facet(vec![rim, window], vec![inside], WALL));
-        }
-        let first_well_facet = cx.facets.len();
-        let mut well_facets: Vec<(usize, usize)> = vec![]; // per facet: (layer, sector)
-        for k in 0..nl {
-            let lo = outline(&mut cx, &mut point, k + 1);
-            let hi = outline(&mut cx, &mut point, k);
-            for s in 0..m {
-                let (a, b, c, d) = (hi[s], hi[(s + 1) % m], lo[(s + 1) % m], lo[s]);
-                if w.vertical || (w.exact(k) && w.exact(k + 1)) {
-                    cx.facets.push(facet(vec![vec![a, b, c, d]], vec![], WELL));
-                    well_facets.push((k, s));
-                } else {
-                    // The in-plane Delaunay diagonal. Measured against
-                    // diagonals alternating from sector to sector (which avoid
-                    // twisted prisms, Schoenhardt, Rambau) on five wells, dips
-                    // 5 to 30: fewer sites outside on three (7x7x2, dip 20: 2
-                    // of 72 against 9), as many on one, 2 more on one.
-                    let angle_at = |o: u32, x: u32, y: u32| {
-                        let [po, px, py] = [o, x, y].map(|v| cx.points[v as usize]);
-                        let e: [f64; 3] = std::array::from_fn(|i| px[i] - po[i]);
-                        let f: [f64; 3] = std::array::from_fn(|i| py[i] - po[i]);
-                        let dot: f64 = (0..3).map(|i| e[i] * f[i]).sum();
-                        let n = cross_f(e, f);
-                        n.iter().map(|x| x * x).sum::<f64>().sqrt().atan2(dot)
-                    };
-                    let ac = angle_at(b, a, c) + angle_at(d, c, a) <= std::f64::consts::PI;
-                    let halves = if ac {
-                        [vec![a, b, c], vec![a, c, d]]
-                    } else {
-                        [vec![a, b, d], vec![b, c, d]]
-                    };
-                    for t in halves {
-                        cx.facets.push(facet(vec![t], vec![], WELL));
-                        well_facets.push((k, s));
+/// The cells of a cavity and the wells (indices) it holds.
+pub(super) struct CavityCells {
+    pub(super) cells: BTreeSet<Ijk>,
+    pub(super) wells: Vec<usize>,
+}
+
+/// The live cells within one cell of a path's cells.
+fn dilate(cpg: &Cpg, path: &Path) -> BTreeSet<Ijk> {
+    let g = cpg.g;
+    let mut out = BTreeSet::new();
+    for &[i, j, k] in &path.cells {
+        for kk in k.saturating_sub(1)..=(k + 1).min(g.nz - 1) {
+            for jj in j.saturating_sub(1)..=(j + 1).min(g.ny - 1) {
+                for ii in i.saturating_sub(1)..=(i + 1).min(g.nx - 1) {
+                    if cpg.live([ii, jj, kk]) {
+                        out.insert([ii, jj, kk]);
                     }
                 }
             }
         }
-        cx.holes
-            .push(w.at(0.0, 0.0, Level::Height((zs[0] + zs[g.nz]) / 2.0)));
-        Cavity {
-            cx,
-            wall_cells,
-            first_well_facet,
-            well_facets,
+    }
+    out
+}
+
+/// The wells' cavities: dilated completed cells, merged where they share
+/// or touch a cell (through a face).
+pub(super) fn cavities(cpg: &Cpg, paths: &[Path]) -> Vec<CavityCells> {
+    let sets: Vec<BTreeSet<Ijk>> = paths.iter().map(|p| dilate(cpg, p)).collect();
+    // union-find over wells
+    let mut root: Vec<usize> = (0..paths.len()).collect();
+    fn find(root: &mut [usize], a: usize) -> usize {
+        let mut a = a;
+        while root[a] != a {
+            root[a] = root[root[a]];
+            a = root[a];
+        }
+        a
+    }
+    let mut owner: BTreeMap<Ijk, usize> = BTreeMap::new();
+    for (w, set) in sets.iter().enumerate() {
+        for &[i, j, k] in set {
+            let near = [
+                Some([i, j, k]),
+                i.checked_sub(1).map(|i| [i, j, k]),
+                Some([i + 1, j, k]),
+                j.checked_sub(1).map(|j| [i, j, k]),
+                Some([i, j + 1, k]),
+                k.checked_sub(1).map(|k| [i, j, k]),
+                Some([i, j, k + 1]),
+            ];
+            for c in near.into_iter().flatten() {
+                if let Some(&o) = owner.get(&c) {
+                    let (a, b) = (find(&mut root, o), find(&mut root, w));
+                    root[a.max(b)] = a.min(b);
+                }
+            }
+        }
+        for &c in set {
+            owner.entry(c).or_insert(w);
         }
     }
-
-    /// The certified transition mesh: cut at the grid's top and bottom
-    /// when asked, else (or when that fails) with the annuli there as faces.
-    pub(super) fn mesh<B: Backend + ?Sized>(
-        &self,
-        backend: &B,
-        opts: &Hybrid3Options,
-    ) -> Result<Outcome<D3>> {
-        let (cx, first_well_facet) = (&self.cx, self.first_well_facet);
-        let top = first_well_facet as u32 - 2;
-        let run = |clip: Vec<u32>| {
-            conform3(
-                backend,
-                cx,
-                &Options {
-                    allow_sites_outside: opts.allow_sites_outside,
-                    // The walls' and the well's rectangles face cells centred on
-                    // them: orthogonal links need their power centres at their
-                    // centres, hence equal weights.
-                    whole_polygons: crate::weights::Keep::Shared,
-                    split_facets: opts.split_facets,
-                    clip,
-                    ..Default::default()
-                },
-            )
-        };
-        // Clipping needs every wall's and well face's sites below the top and
-        // above the bottom (a deviated well's triangles may have theirs
-        // beyond); where it fails, the annuli are faces again.
-        let t = match opts.clip {
-            true => run(vec![top, top + 1]).or_else(|cut| {
-                run(vec![]).map_err(|faces| {
-                    Error::Tried(vec![
-                        ("cut at the grid's top and bottom".into(), cut),
-                        ("with the annuli there as faces".into(), faces),
-                    ])
-                })
-            })?,
-            false => run(vec![])?,
-        };
-        Ok(t)
+    let mut groups: BTreeMap<usize, CavityCells> = BTreeMap::new();
+    for (w, set) in sets.into_iter().enumerate() {
+        let r = find(&mut root, w);
+        let e = groups.entry(r).or_insert_with(|| CavityCells {
+            cells: BTreeSet::new(),
+            wells: vec![],
+        });
+        e.cells.extend(set);
+        e.wells.push(w);
     }
+    groups.into_values().collect()
+}
+
+/// The cavity's sides: each face of a cavity cell whose neighbour is not in
+/// the cavity, in pieces.
+pub(super) fn sides(cpg: &Cpg, cells: &BTreeSet<Ijk>, open: &[(usize, f64)]) -> Result<Vec<Side>> {
+    let mut out = vec![];
+    for &c in cells {
+        for f in 0..6 {
+            let across = cpg.neighbour(c, f)?;
+            if across.is_some_and(|n| cells.contains(&n)) {
+                continue;
+            }
+            let q = cpg.face(c, f);
+            for p in pieces(&q) {
+                let points: Vec<[f64; 3]> = p.iter().map(|&n| q[n]).collect();
+                let on = open
+                    .iter()
+                    .find(|&&(ff, z)| {
+                        ff == f && across.is_none() && points.iter().all(|p| p[2] == z)
+                    })
+                    .map(|&(ff, _)| ff);
+                out.push(Side {
+                    points,
+                    across,
+                    open: on,
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The squared distance from p to triangle abc.
+fn dist2_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    let sub = |x: [f64; 3], y: [f64; 3]| -> [f64; 3] { std::array::from_fn(|k| x[k] - y[k]) };
+    let dot = |x: [f64; 3], y: [f64; 3]| (0..3).map(|k| x[k] * y[k]).sum::<f64>();
+    let seg = |a: [f64; 3], b: [f64; 3]| {
+        let (ab, ap) = (sub(b, a), sub(p, a));
+        let t = (dot(ap, ab) / dot(ab, ab)).clamp(0.0, 1.0);
+        let d = sub(ap, ab.map(|x| x * t));
+        dot(d, d)
+    };
+    let n = crate::geom::cross_f(sub(b, a), sub(c, a));
+    let nn = dot(n, n);
+    if nn > 0.0 {
+        let h = dot(sub(p, a), n);
+        let q: [f64; 3] = std::array::from_fn(|k| p[k] - h / nn * n[k]);
+        // q inside abc: the same side of every edge
+        let s = |x: [f64; 3], y: [f64; 3]| dot(crate::geom::cross_f(sub(y, x), sub(q, x)), n);
+        if s(a, b) >= 0.0 && s(b, c) >= 0.0 && s(c, a) >= 0.0 {
+            return h * h / nn;
+        }
+    }
+    seg(a, b).min(seg(b, c)).min(seg(c, a))
+}
+
+/// The distance from p to the nearest side that is not an open end.
+fn clearance(p: [f64; 3], sides: &[Side]) -> f64 {
+    sides
+        .iter()
+        .filter(|s| s.open.is_none())
+        .flat_map(|s| (1..s.points.len() - 1).map(move |k| (s, k)))
+        .map(|(s, k)| dist2_triangle(p, s.points[0], s.points[k], s.points[k + 1]))
+        .fold(f64::INFINITY, f64::min)
+        .sqrt()
+}
+
+/// The shortest distance between two segments (sampled finely enough for
+/// a bound on radial meshes).
+fn axes_apart(a: &Path, b: &Path) -> f64 {
+    let n = 64;
+    let at = |p: &Path, t: f64| -> [f64; 3] {
+        std::array::from_fn(|k| p.head[k] + t * p.length * p.u[k])
+    };
+    let mut best = f64::INFINITY;
+    for x in 0..=n {
+        let pa = at(a, x as f64 / n as f64);
+        for y in 0..=n {
+            let pb = at(b, y as f64 / n as f64);
+            let d = (0..3).map(|k| (pa[k] - pb[k]).powi(2)).sum::<f64>().sqrt();
+            best = best.min(d);
+        }
+    }
+    best
+}
+
+/// Each well's ends: open on the grid's flat top or bottom, else a cap at
+/// the completed interval's end where the cavity has a layer beyond it,
+/// else a cap at the mid-level of the end layer.
+pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
+    let first = path
+        .cells
+        .iter()
+        .min_by_key(|c| c[2])
+        .copied()
+        .unwrap_or([0; 3]);
+    let last = path
+        .cells
+        .iter()
+        .max_by_key(|c| c[2])
+        .copied()
+        .unwrap_or([0; 3]);
+    let beyond = |c: Ijk, up: bool| {
+        let k = if up {
+            c[2].checked_sub(1)
+        } else {
+            Some(c[2] + 1)
+        };
+        k.is_some_and(|k| cells.contains(&[c[0], c[1], k]))
+    };
+    let first_layer = path.cuts.first().copied().unwrap_or(path.length);
+    let last_layer = path.length - path.cuts.last().copied().unwrap_or(0.0);
+    let _ = cpg;
+    [
+        match path.open[0] {
+            Some(z) => End::Open(z),
+            None if beyond(first, true) => End::Cap(0.0),
+            None => End::Cap(first_layer / 2.0),
+        },
+        match path.open[1] {
+            Some(z) => End::Open(z),
+            None if beyond(last, false) => End::Cap(path.length),
+            None => End::Cap(path.length - last_layer / 2.0),
+        },
+    ]
+}
+
+/// The wells' radial meshes in a cavity: the outer radius `outer` times
+/// the head column's shorter side, at most 0.3 of the way to another
+/// well's axis, shrunk until the outer surface stays inside the cavity a
+/// quarter of the thinnest completed layer (or half side) from its sides.
+pub(super) fn radials(
+    cpg: &Cpg,
+    wells: &[&Well3],
+    paths: &[&Path],
+    cells: &BTreeSet<Ijk>,
+    sides: &[Side],
+    opts: &Hybrid3Options,
+) -> Result<Vec<Radial>> {
+    let mut out = vec![];
+    for (n, (well, path)) in wells.iter().zip(paths).enumerate() {
+        let top = cpg.face([well.i, well.j, path.cells[0][2]], 4);
+        let side = (0..4)
+            .map(|k| {
+                let (a, b) = (top[k], top[(k + 1) % 4]);
+                (a[0] - b[0]).hypot(a[1] - b[1])
+            })
+            .fold(f64::INFINITY, f64::min);
+        let mut outer = opts.outer * side;
+        for (m, other) in paths.iter().enumerate() {
+            if m != n {
+                let apart = axes_apart(path, other);
+                if apart <= 2.0 * well.radius {
+                    return Err(Error::Usage(format!(
+                        "wells {} and {}: their axes pass within {apart:.6} of each other: their \
+                         radial meshes would overlap",
+                        well.name, wells[m].name
+                    )));
+                }
+                outer = outer.min(0.3 * apart);
+            }
+        }
+        let thinnest = path
+            .cells
+            .iter()
+            .map(|&c| {
+                (0..4)
+                    .map(|n| cpg.corner(c, n)[2] - cpg.corner(c, n + 4)[2])
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(f64::INFINITY, f64::min);
+        let clear = 0.25 * (side / 2.0).min(thinnest.max(0.0));
+        let ends = ends(cpg, path, cells);
+        let mut tries = 0;
+        let radial = loop {
+            let r = Radial::new(well, path, opts, outer, ends)?;
+            let bad = (0..r.levels.len())
+                .flat_map(|k| (0..r.m).map(move |s| (k, s)))
+                .find(|&(k, s)| {
+                    let p = r.surface(s, k);
+                    let open = match (k, ends) {
+                        (0, [End::Open(_), _]) => true,
+                        (k, [_, End::Open(_)]) => k + 1 == r.levels.len(),
+                        _ => false,
+                    };
+                    let inside = cpg.locate(p, cells.iter().copied()).is_some();
+                    !(inside || open) || clearance(p, sides) < clear
+                });
+            match bad {
+                None => break r,
+                Some((k, _)) if tries >= 12 || outer * 0.8 <= 2.0 * well.radius => {
+                    return Err(Error::Usage(format!(
+                        "well {}: its radial mesh does not fit in its cavity (around cell {}): at \
+                         level {} of {}, its outer surface comes within {clear:.6} of the \
+                         cavity's sides even at an outer radius of {outer:.6}",
+                        well.name,
+                        one_based(path.cells[0]),
+                        k + 1,
+                        r.levels.len(),
+                    )));
+                }
+                Some(_) => {
+                    outer *= 0.8;
+                    tries += 1;
+                }
+            }
+        };
+        out.push(radial);
+    }
+    Ok(out)
 }

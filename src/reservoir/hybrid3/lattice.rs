@@ -108,11 +108,6 @@ pub(super) enum Level {
     Along(f64),
 }
 
-/// Distance between two sites along a unit direction.
-pub(super) fn dist(a: [f64; 3], b: [f64; 3], n: [f64; 3]) -> f64 {
-    (0..3).map(|k| (b[k] - a[k]) * n[k]).sum::<f64>().abs()
-}
-
 /// The faces turned so that each is counter-clockwise seen from outside
 /// (its Newell normal points away from the site).
 pub(super) fn orient_faces(

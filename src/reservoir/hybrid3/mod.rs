@@ -1,38 +1,48 @@
-//! The 3D hybrid mesh (issue 6, part 6): a Cartesian block grid, a well
-//! (vertical or deviated, straight through the grid's whole thickness)
-//! with a radial mesh of rings x sectors x layers (a vertical well's are
-//! the grid's; a deviated well's are slabs across its axis, the first and
-//! last cut by the grid's top and bottom, so that its own links are
-//! orthogonal), a cavity of
-//! the 3 x 3 columns around the well's head, and a conforming orthogonal
-//! transition mesh (`conform3`) between the cavity's walls and the well
-//! mesh's outer surface. The walls are rectangles kept whole, so the
-//! reservoir cells beyond stay hexahedra; the well's outer faces are
-//! rectangles too (a deviated well's exact on a lattice, `Lattice`),
-//! except in a deviated well's first and last layers, where they are
-//! split in two triangles and their links to the transition need not be
-//! orthogonal. Built in stages: the radial mesh's geometry (`radial`, on
-//! a `lattice` when deviated), the cavity's complex and its certified
-//! transition mesh (`cavity`), the assembly (`assembly`).
+//! The 3D hybrid mesh (issues 6 and 24): a corner-point grid, wells
+//! (vertical or deviated, each along its completed layers) with radial
+//! meshes of rings x sectors x layers, a cavity of the live cells within
+//! one cell of each well's completed cells (cavities that touch merge),
+//! and a conforming orthogonal transition mesh (`conform3`) between the
+//! cavity's sides and the wells' outer surfaces. The sides are the grid
+//! cells' faces, each kept whole where it is planar and convex, else two
+//! triangles along a diagonal that the reservoir cell across carries too
+//! (no hanging faces). A radial mesh ends open where it meets the grid's
+//! flat top or bottom (its outline a window in the face there, the
+//! transition cut at it), else closed by a cap inside the cavity. A
+//! vertical well's layers are horizontal, at its axis' crossings of the
+//! grid's layers; a deviated well's are slabs across its axis, exact
+//! rectangles on a lattice (`lattice`). Built in stages: the corner-point
+//! cells (`cpg`), each well's completed interval (`path`), the cavities
+//! and the radial meshes in them (`cavity`, `radial`), each cavity's
+//! complex and certified transition (`complex`, in parallel), the
+//! assembly (`assembly`).
 
 mod assembly;
 mod cavity;
+mod complex;
+mod cpg;
 mod lattice;
+mod path;
 mod radial;
 
 use crate::backend::Backend;
 use crate::conform::{Report, D3};
 use crate::error::{Error, Result};
 use crate::mesh::{CellArray, CellMesh, Cells, Mesh3};
+use crate::progress::Progress;
+use crate::reservoir::deck::WellLinks;
 use crate::reservoir::hybrid::Region;
 use crate::reservoir::CornerPointGrid;
+use rayon::prelude::*;
 use serde::Serialize;
+use std::collections::BTreeMap;
 
-/// A well: its column (0-based), wellbore radius, and its deviation from
-/// vertical (degrees) towards the azimuth (degrees clockwise from +y). A
-/// deviated well's axis is rounded onto a lattice (its slopes to multiples
-/// of 2^-16 or finer) for exact rectangles on its outer surface.
-#[derive(Debug, Clone, PartialEq)]
+/// A well: its head column (0-based), completed layers, wellbore radius,
+/// and its deviation from vertical (degrees) towards the azimuth (degrees
+/// clockwise from +y). A deviated well's axis is rounded onto a lattice
+/// (its slopes to multiples of 2^-16 or finer) for exact rectangles on
+/// its outer surface.
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Well3 {
     /// Its name.
     pub name: String,
@@ -40,6 +50,9 @@ pub struct Well3 {
     pub i: usize,
     /// Its column J (0-based).
     pub j: usize,
+    /// Its completed layers (first, last; 0-based): COMPDAT's K range.
+    /// None: every layer.
+    pub k: Option<[usize; 2]>,
     /// Wellbore radius.
     pub radius: f64,
     /// Dip from vertical (degrees).
@@ -55,11 +68,13 @@ pub struct Hybrid3Options {
     pub rings: usize,
     /// Sectors of the radial mesh.
     pub sectors: usize,
-    /// Outer radius of the radial mesh, in the well cell's shorter sides
-    /// (as in 2D; it may reach into the cavity's other columns). Measured
-    /// with the flow check (tests/hybrid3.rs, 16 sectors, 10 m cells, the
-    /// annuli as faces): 0.4 gives 9.4% off Thiem's pressure drop, 1.0
-    /// gives 0.16%, 1.3 gives 3.9%; as in 2D, the well polygon belongs near the cavity's sides but
+    /// Outer radius of the radial mesh, in the well's head cell's shorter
+    /// sides (it may reach into the cavity's other columns); at most 0.3 of
+    /// the way to another well's axis, and shrunk by steps of 0.8 until the
+    /// mesh is clear of the cavity's sides. Measured with the flow check
+    /// (tests/hybrid3.rs, 16 sectors, 10 m cells, the annuli as faces): 0.4
+    /// gives 9.4% off Thiem's pressure drop, 1.0 gives 0.16%, 1.3 gives
+    /// 3.9%; as in 2D, the well polygon belongs near the cavity's sides but
     /// not at them.
     pub outer: f64,
     /// Write the mesh even when some transition sites stay outside their cells.
@@ -67,11 +82,14 @@ pub struct Hybrid3Options {
     /// Steiner points in the top and bottom annuli where their triangles
     /// miss their duals (`Options3::split_facets`).
     pub split_facets: bool,
-    /// Cut the transition cells at the grid's top and bottom with mirrored
-    /// sites (`Options3::clip`) instead of making the annuli there faces
-    /// (whose triangles may miss their duals and leave sites outside);
-    /// falls back to the annuli as faces when clipping fails.
+    /// Cut the transition cells at the grid's flat top and bottom with
+    /// mirrored sites (`Options3::clip`) where wells end open there,
+    /// instead of keeping the faces there (whose triangles may miss their
+    /// duals and leave sites outside); falls back to the faces when
+    /// clipping fails.
     pub clip: bool,
+    /// Told of each cavity meshed: ("cavities", done, of).
+    pub progress: Option<Progress>,
 }
 
 impl Default for Hybrid3Options {
@@ -83,12 +101,13 @@ impl Default for Hybrid3Options {
             allow_sites_outside: false,
             split_facets: false,
             clip: true,
+            progress: None,
         }
     }
 }
 
-/// The 3D hybrid mesh: reservoir hexahedra, transition polyhedra, well
-/// cells, all as polyhedra with one point numbering.
+/// The 3D hybrid mesh: reservoir cells, transition polyhedra, well cells,
+/// all as polyhedra with one point numbering.
 #[derive(Debug, Clone)]
 pub struct Hybrid3 {
     /// Cells, sites, weights; faces between cells.
@@ -100,11 +119,33 @@ pub struct Hybrid3 {
     /// Per cell, the grid cell whose rock it takes: its own, or for
     /// transition and well cells the cavity's cell that holds the site.
     pub host: Vec<[usize; 3]>,
-    /// The cells facing the wellbore, each with the geometric part of its
-    /// connection factor (m; `reservoir::deck`).
-    pub wellbore: Vec<(usize, f64)>,
+    /// Per well, the cells facing its wellbore, each with the geometric
+    /// part of its connection factor (m; `reservoir::deck`).
+    pub wellbore: Vec<WellLinks>,
     /// What the build did.
     pub report: Hybrid3Report,
+}
+
+/// A cavity's part of the report.
+#[derive(Debug, Clone, Serialize)]
+pub struct CavityReport {
+    /// The wells in it.
+    pub wells: Vec<String>,
+    /// Its grid cells.
+    pub grid_cells: usize,
+    /// Its wells' outer radii.
+    pub outer_radii: Vec<f64>,
+    /// The transition mesh's own report, with its certificate.
+    pub transition: Report<D3>,
+}
+
+/// Connections between two regions.
+#[derive(Debug, Clone, Serialize, Default, PartialEq)]
+pub struct Connections {
+    /// How many.
+    pub connections: usize,
+    /// Those whose face is not orthogonal to the link (|cos| above 1e-6).
+    pub non_orthogonal: usize,
 }
 
 /// What the build did.
@@ -112,55 +153,25 @@ pub struct Hybrid3 {
 pub struct Hybrid3Report {
     /// Cells per region: reservoir, transition, well.
     pub cells: [usize; 3],
-    /// The transition mesh's own report.
-    pub transition: Report<D3>,
-    /// Connections between cells, and those whose two sites are not on the
-    /// normal of their face (|cos| above 1e-6).
+    /// Per cavity, its wells and its transition's report.
+    pub cavities: Vec<CavityReport>,
+    /// Connections between cells.
     pub connections: usize,
     /// Connections whose face is not orthogonal to the link.
     pub non_orthogonal: usize,
+    /// The same per pair of regions ("reservoir-transition", ...).
+    pub by_regions: BTreeMap<String, Connections>,
+    /// Transition sites outside their cells, over all cavities.
+    pub sites_outside: usize,
 }
 
-/// Checks that the grid is a Cartesian block grid (vertical pillars, flat
-/// horizons, axis-aligned cells) and returns its node coordinates per axis
-/// (x, y, and z up = -depth).
-fn axes(g: &CornerPointGrid) -> Result<[Vec<f64>; 3]> {
-    let x: Vec<f64> = (0..=g.nx)
-        .map(|i| g.corner(i.min(g.nx - 1), 0, 0, (i == g.nx) as usize)[0])
-        .collect();
-    let y: Vec<f64> = (0..=g.ny)
-        .map(|j| g.corner(0, j.min(g.ny - 1), 0, 2 * (j == g.ny) as usize)[1])
-        .collect();
-    let z: Vec<f64> = (0..=g.nz)
-        .map(|k| -g.corner(0, 0, k.min(g.nz - 1), 4 * (k == g.nz) as usize)[2])
-        .collect();
-    for k in 0..g.nz {
-        for j in 0..g.ny {
-            for i in 0..g.nx {
-                for c in 0..8 {
-                    let (di, dj, b) = (c & 1, (c >> 1) & 1, c >> 2);
-                    let p = g.corner(i, j, k, c);
-                    if p != [x[i + di], y[j + dj], -z[k + b]] {
-                        return Err(Error::Usage(format!(
-                            "the 3D hybrid mesh needs a Cartesian block grid (vertical pillars, flat \
-                             horizons): cell ({}, {}, {}) is not a box",
-                            i + 1,
-                            j + 1,
-                            k + 1
-                        )));
-                    }
-                }
-            }
-        }
+impl Hybrid3Report {
+    /// Whether every cavity's transition is certified conforming.
+    pub fn conforms(&self) -> bool {
+        self.cavities
+            .iter()
+            .all(|c| c.transition.certificate.conforms())
     }
-    let increasing = |v: &[f64]| v.windows(2).all(|w| w[0] < w[1]);
-    let decreasing = |v: &[f64]| v.windows(2).all(|w| w[0] > w[1]);
-    if !(increasing(&x) && increasing(&y) && decreasing(&z)) {
-        return Err(Error::Usage(
-            "the grid's cells have no volume or are not ordered".into(),
-        ));
-    }
-    Ok([x, y, z])
 }
 
 impl Hybrid3 {
@@ -194,15 +205,59 @@ impl Hybrid3 {
     }
 }
 
-/// Builds the 3D hybrid mesh around one well.
+/// Builds the 3D hybrid mesh around the wells: their cavities meshed in
+/// parallel, then assembled.
 pub fn build<B: Backend + ?Sized>(
     backend: &B,
     g: &CornerPointGrid,
-    well: &Well3,
+    wells: &[Well3],
     opts: &Hybrid3Options,
 ) -> Result<Hybrid3> {
-    let w = radial::Radial::new(g, well, opts)?;
-    let cavity = cavity::Cavity::new(g, &w);
-    let t = cavity.mesh(backend, opts)?;
-    Ok(assembly::assemble(g, &w, &cavity, t))
+    let cpg = cpg::Cpg { g };
+    if wells.is_empty() {
+        return Err(Error::Usage("the 3D hybrid needs a well".into()));
+    }
+    let paths = wells
+        .iter()
+        .map(|w| path::Path::new(&cpg, w))
+        .collect::<Result<Vec<_>>>()?;
+    let groups = cavity::cavities(&cpg, &paths);
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let of = groups.len();
+    let built = groups
+        .into_par_iter()
+        .map(|cells| {
+            let ws: Vec<&Well3> = cells.wells.iter().map(|&w| &wells[w]).collect();
+            let ps: Vec<&path::Path> = cells.wells.iter().map(|&w| &paths[w]).collect();
+            let open: Vec<(usize, f64)> = ps
+                .iter()
+                .flat_map(|p| {
+                    [(4, p.open[0]), (5, p.open[1])]
+                        .into_iter()
+                        .filter_map(|(f, z)| z.map(|z| (f, z)))
+                })
+                .collect();
+            let sides = cavity::sides(&cpg, &cells.cells, &open)?;
+            let radials = cavity::radials(&cpg, &ws, &ps, &cells.cells, &sides, opts)?;
+            let transition = complex::Transition::new(&sides, &radials);
+            let outcome = transition.mesh(backend, opts).map_err(|e| {
+                let names: Vec<&str> = ws.iter().map(|w| w.name.as_str()).collect();
+                Error::Within {
+                    part: format!("the cavity of well(s) {}", names.join(", ")),
+                    error: Box::new(e),
+                }
+            })?;
+            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            if let Some(p) = opts.progress {
+                p("cavities", n, of);
+            }
+            Ok(assembly::Built {
+                cells,
+                transition,
+                radials,
+                outcome,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(assembly::assemble(&cpg, wells, built))
 }

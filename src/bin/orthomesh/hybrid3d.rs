@@ -1,0 +1,151 @@
+//! `hybrid --3d`: wells from the deck and the command line, their 3D
+//! hybrid mesh, and its files.
+
+use crate::deck::{grid_rock, grid_unit, DeckOut, FromInput};
+use crate::{bar, deck_wells, finish_bar, one_based, report_text, write_texts, HybridArgs};
+use crate::{DEFAULT_WELL_RADIUS, MANY_WELLS};
+use orthomesh::reservoir::{hybrid3, Hybrid3Options, Well3};
+use orthomesh::{io, Backend, Error, Progress, Result};
+use std::io::IsTerminal;
+
+/// NAME:I:J[:K1-K2][:RADIUS[:DIP:AZIMUTH]] (I, J, K 1-based; degrees).
+fn well3_spec(spec: &str) -> Result<Well3> {
+    let mut parts: Vec<&str> = spec.split(':').collect();
+    let bad = || {
+        Error::Usage(format!(
+            "well '{spec}': expected NAME:I:J[:K1-K2][:RADIUS[:DIP:AZIMUTH]]"
+        ))
+    };
+    let num = |t: &str| {
+        t.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(bad)
+    };
+    let k = match parts.get(3).and_then(|t| t.split_once('-')) {
+        Some((a, b)) => {
+            let k = [one_based(num(a)?, spec)?, one_based(num(b)?, spec)?];
+            parts.remove(3);
+            Some(k)
+        }
+        None => None,
+    };
+    if ![3, 4, 6].contains(&parts.len()) || parts[0].is_empty() {
+        return Err(bad());
+    }
+    let angle = |k: usize| parts.get(k).map_or(Ok(0.0), |t| num(t));
+    Ok(Well3 {
+        name: parts[0].to_string(),
+        i: one_based(num(parts[1])?, spec)?,
+        j: one_based(num(parts[2])?, spec)?,
+        k,
+        radius: parts.get(3).map_or(Ok(DEFAULT_WELL_RADIUS), |t| num(t))?,
+        dip: angle(4)?,
+        azimuth: angle(5)?,
+    })
+}
+
+/// The wells: the deck's (WELSPECS head, COMPDAT layers and diameter),
+/// then --well (a name given again replaces the earlier well).
+fn wells(a: &HybridArgs) -> Result<Vec<Well3>> {
+    let mut list: Vec<Well3> = vec![];
+    list.extend(deck_wells(a)?.into_iter().map(|w| Well3 {
+        name: w.name,
+        i: w.i,
+        j: w.j,
+        k: w.k,
+        radius: w.radius.unwrap_or(DEFAULT_WELL_RADIUS),
+        ..Default::default()
+    }));
+    for spec in &a.wells {
+        let w = well3_spec(spec)?;
+        list.retain(|x| x.name != w.name);
+        list.push(w);
+    }
+    if !a.wells_xy.is_empty() || !a.faults.is_empty() {
+        return Err(Error::Usage(
+            "--3d takes wells by column (--well, or the deck's); --well-xy and --fault are 2D"
+                .into(),
+        ));
+    }
+    if list.is_empty() {
+        return Err(Error::Usage(
+            "--3d needs a well: --well NAME:I:J[:K1-K2][:RADIUS[:DIP:AZIMUTH]] or a --deck with \
+             WELSPECS/COMPDAT"
+                .into(),
+        ));
+    }
+    Ok(list)
+}
+
+/// `hybrid --3d`.
+pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
+    let g = io::eclipse::read_grid(&a.grid)?;
+    let list = wells(&a)?;
+    a.simulator.check(true)?;
+    let watched = std::io::stderr().is_terminal() && (list.len() >= MANY_WELLS || g.nz > 1);
+    let opts = Hybrid3Options {
+        rings: a.rings.unwrap_or(6),
+        sectors: a.sectors.unwrap_or(16),
+        outer: a.outer.unwrap_or(1.0),
+        allow_sites_outside: a.allow_sites_outside,
+        split_facets: a.split_facets,
+        // a bar over the cavities when someone watches
+        progress: watched.then_some(bar as Progress),
+        ..Default::default()
+    };
+    let built = hybrid3::build(backend, &g, &list, &opts);
+    finish_bar();
+    let mut h = built?;
+    if a.out.reproducible {
+        for c in &mut h.report.cavities {
+            c.transition.timing = None;
+        }
+    }
+    // The network only where a file needs it.
+    let network = (a.tough.is_some() || a.simulator.wanted()).then(|| h.mesh.network());
+    let deck = match &network {
+        Some(network) if a.simulator.wanted() => {
+            let title = format!("{} (3D)", a.grid.display());
+            let outer = || h.outer_cells(&g);
+            a.simulator.text(&title, network, &h.wellbore, outer, || {
+                Ok(FromInput {
+                    length: grid_unit(&a)?,
+                    rock: Some(grid_rock(&a, &g, &h.host)?),
+                    ..Default::default()
+                })
+            })?
+        }
+        _ => DeckOut::default(),
+    };
+    let deck = deck.tough(a.tough.as_deref(), network.as_ref())?;
+    let mut texts = vec![(a.out.output.clone(), deck.vtu(h.cells()))];
+    texts.extend(deck.files);
+    if let Some(p) = &a.out.report {
+        texts.push((p.clone(), report_text(&h.report, &a.grid)?));
+    }
+    write_texts(&texts, || {
+        let r = &h.report;
+        let (faces, exact, inside, sites) = r.cavities.iter().fold((0, 0, 0, 0), |s, c| {
+            let k = &c.transition.certificate;
+            (
+                s.0 + k.faces,
+                s.1 + k.faces_exact,
+                s.2 + k.sites_inside,
+                s.3 + k.domain_sites,
+            )
+        });
+        eprintln!(
+            "3D hybrid: {} wells in {} cavities; {} reservoir, {} transition, {} well cells; {} \
+             connections, {} non-orthogonal; certificates: faces {exact}/{faces} exact, sites \
+             inside {inside}/{sites}",
+            h.wellbore.len(),
+            r.cavities.len(),
+            r.cells[0],
+            r.cells[1],
+            r.cells[2],
+            r.connections,
+            r.non_orthogonal,
+        );
+    })
+}

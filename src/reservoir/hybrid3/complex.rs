@@ -1,0 +1,288 @@
+//! The transition's complex in a cavity: its sides (facing reservoir
+//! cells or nothing), the grid's flat top or bottom merged into one facet
+//! with open wells' outlines as windows, each well's outer surface and
+//! caps; and its certified mesh.
+
+use super::cavity::Side;
+use super::cpg::Ijk;
+use super::radial::{End, Radial};
+use super::Hybrid3Options;
+use crate::backend::Backend;
+use crate::complex::{Complex3, Facet};
+use crate::conform::{conform3, Outcome, D3};
+use crate::error::{Error, Result};
+use crate::geom::cross_f;
+use crate::options::Options;
+use std::collections::HashMap;
+
+/// What lies across a facet of the transition's complex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Across {
+    /// A reservoir cell.
+    Cell(Ijk),
+    /// Nothing: the grid's boundary, inactive cells, the wellbore's ends.
+    Outside,
+    /// Well `w` (of the cavity's), its cell (layer, ring, sector).
+    Well(usize, [usize; 3]),
+}
+
+/// The transition's constraints and what each facet faces.
+pub(super) struct Transition {
+    pub(super) cx: Complex3,
+    pub(super) across: Vec<Across>,
+    /// The facets on the grid's flat top and bottom (cut at when asked).
+    pub(super) open: Vec<u32>,
+}
+
+/// Points shared by exact coordinates.
+#[derive(Default)]
+struct Points {
+    cx: Complex3,
+    ids: HashMap<[u64; 3], u32>,
+}
+
+impl Points {
+    fn id(&mut self, p: [f64; 3]) -> u32 {
+        let cx = &mut self.cx;
+        *self.ids.entry(p.map(f64::to_bits)).or_insert_with(|| {
+            cx.points.push(p);
+            cx.vertex_ids.push(cx.points.len() as i64);
+            cx.points.len() as u32 - 1
+        })
+    }
+}
+
+/// The boundary loops of a union of pieces (edges without their reverse).
+fn loops(pieces: &[Vec<u32>]) -> Vec<Vec<u32>> {
+    let mut edges: HashMap<u32, Vec<u32>> = HashMap::new();
+    let all: std::collections::HashSet<(u32, u32)> = pieces
+        .iter()
+        .flat_map(|p| (0..p.len()).map(move |k| (p[k], p[(k + 1) % p.len()])))
+        .collect();
+    for &(a, b) in &all {
+        if !all.contains(&(b, a)) {
+            edges.entry(a).or_default().push(b);
+        }
+    }
+    let mut starts: Vec<u32> = edges.keys().copied().collect();
+    starts.sort_unstable();
+    let mut out = vec![];
+    for s in starts {
+        while let Some(b) = edges.get_mut(&s).and_then(Vec::pop) {
+            let mut cycle = vec![s];
+            let mut at = b;
+            while at != s {
+                cycle.push(at);
+                match edges.get_mut(&at).and_then(Vec::pop) {
+                    Some(n) => at = n,
+                    None => break,
+                }
+            }
+            out.push(cycle);
+        }
+    }
+    out
+}
+
+/// Whether (x, y) is inside a polygon's projection (even-odd rule).
+fn inside_xy(poly: &[[f64; 3]], p: [f64; 3]) -> bool {
+    let mut inside = false;
+    for k in 0..poly.len() {
+        let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+        if (a[1] > p[1]) != (b[1] > p[1]) {
+            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+            if p[0] < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+impl Transition {
+    /// The complex of a cavity's sides and wells.
+    pub(super) fn new(sides: &[Side], wells: &[Radial]) -> Transition {
+        let mut pts = Points::default();
+        let mut across = vec![];
+        let mut facet =
+            |pts: &mut Points, polygons: Vec<Vec<u32>>, holes: Vec<[f64; 3]>, a: Across| {
+                pts.cx.facets.push(Facet {
+                    polygons,
+                    holes,
+                    marker: 1 + matches!(a, Across::Well(..)) as i64,
+                });
+                across.push(a);
+            };
+        for s in sides.iter().filter(|s| s.open.is_none()) {
+            let ids = s.points.iter().map(|&p| pts.id(p)).collect();
+            facet(
+                &mut pts,
+                vec![ids],
+                vec![],
+                s.across.map_or(Across::Outside, Across::Cell),
+            );
+        }
+        // The grid's flat top and bottom: one facet per loop, with the
+        // outlines of the wells open there as windows.
+        let mut open = vec![];
+        for (f, level) in [(4usize, 0usize), (5, usize::MAX)] {
+            // numbered apart first: the points inside the loops are no
+            // vertices of the complex
+            let mut local = Points::default();
+            let pieces: Vec<Vec<u32>> = sides
+                .iter()
+                .filter(|s| s.open == Some(f))
+                .map(|s| s.points.iter().map(|&p| local.id(p)).collect())
+                .collect();
+            for rim in loops(&pieces) {
+                let poly: Vec<[f64; 3]> =
+                    rim.iter().map(|&v| local.cx.points[v as usize]).collect();
+                let rim = poly.iter().map(|&p| pts.id(p)).collect();
+                let mut polygons = vec![rim];
+                let mut holes = vec![];
+                for w in wells {
+                    let (k, end) = match level {
+                        0 => (0, w.ends[0]),
+                        _ => (w.nl, w.ends[1]),
+                    };
+                    let axis = w.axis_at(k);
+                    if matches!(end, End::Open(_)) && inside_xy(&poly, axis) {
+                        polygons.push((0..w.m).map(|s| pts.id(w.surface(s, k))).collect());
+                        holes.push(axis);
+                    }
+                }
+                open.push(pts.cx.facets.len() as u32);
+                facet(&mut pts, polygons, holes, Across::Outside);
+            }
+        }
+        for (n, w) in wells.iter().enumerate() {
+            outer_surface(&mut pts, &mut facet, n, w);
+            for (end, k, layer) in [(w.ends[0], 0, 0), (w.ends[1], w.nl, w.nl - 1)] {
+                if let End::Cap(_) = end {
+                    cap(&mut pts, &mut facet, n, w, k, layer);
+                }
+            }
+            let mid = w.at(0.0, 0.0, w.mid[w.nl / 2]);
+            pts.cx.holes.push(mid);
+        }
+        Transition {
+            cx: pts.cx,
+            across,
+            open,
+        }
+    }
+
+    /// The certified transition mesh: cut at the grid's flat top and bottom
+    /// when asked, else (or when that fails) with the faces there kept.
+    pub(super) fn mesh<B: Backend + ?Sized>(
+        &self,
+        backend: &B,
+        opts: &Hybrid3Options,
+    ) -> Result<Outcome<D3>> {
+        let run = |clip: Vec<u32>| {
+            conform3(
+                backend,
+                &self.cx,
+                &Options {
+                    allow_sites_outside: opts.allow_sites_outside,
+                    // The sides' and the wells' rectangles face cells centred on
+                    // them: orthogonal links need their power centres at their
+                    // centres, hence equal weights.
+                    whole_polygons: crate::weights::Keep::Shared,
+                    split_facets: opts.split_facets,
+                    clip,
+                    ..Default::default()
+                },
+            )
+        };
+        // Clipping needs every side's and well face's sites below the top and
+        // above the bottom (a deviated well's triangles may have theirs
+        // beyond); where it fails, the faces there are kept.
+        if opts.clip && !self.open.is_empty() {
+            run(self.open.clone()).or_else(|cut| {
+                run(vec![]).map_err(|faces| {
+                    Error::Tried(vec![
+                        ("cut at the grid's top and bottom".into(), cut),
+                        ("with the faces there kept".into(), faces),
+                    ])
+                })
+            })
+        } else {
+            run(vec![])
+        }
+    }
+}
+
+type AddFacet<'a> = dyn FnMut(&mut Points, Vec<Vec<u32>>, Vec<[f64; 3]>, Across) + 'a;
+
+/// A well's outer surface: rectangles between levels across its axis (or
+/// horizontal for a vertical well), else two triangles.
+fn outer_surface(pts: &mut Points, facet: &mut AddFacet, n: usize, w: &Radial) {
+    let (m, rings) = (w.m, w.rings);
+    for k in 0..w.nl {
+        let lo: Vec<u32> = (0..m).map(|s| pts.id(w.surface(s, k + 1))).collect();
+        let hi: Vec<u32> = (0..m).map(|s| pts.id(w.surface(s, k))).collect();
+        for s in 0..m {
+            let (a, b, c, d) = (hi[s], hi[(s + 1) % m], lo[(s + 1) % m], lo[s]);
+            let cell = Across::Well(n, [k, rings - 1, s]);
+            if w.vertical || (w.exact(k) && w.exact(k + 1)) {
+                facet(pts, vec![vec![a, b, c, d]], vec![], cell);
+            } else {
+                // The in-plane Delaunay diagonal. Measured against
+                // diagonals alternating from sector to sector (which avoid
+                // twisted prisms, Schoenhardt, Rambau) on five wells, dips
+                // 5 to 30: fewer sites outside on three (7x7x2, dip 20: 2
+                // of 72 against 9), as many on one, 2 more on one.
+                let angle_at = |o: u32, x: u32, y: u32| {
+                    let [po, px, py] = [o, x, y].map(|v| pts.cx.points[v as usize]);
+                    let e: [f64; 3] = std::array::from_fn(|i| px[i] - po[i]);
+                    let f: [f64; 3] = std::array::from_fn(|i| py[i] - po[i]);
+                    let dot: f64 = (0..3).map(|i| e[i] * f[i]).sum();
+                    let n = cross_f(e, f);
+                    n.iter().map(|x| x * x).sum::<f64>().sqrt().atan2(dot)
+                };
+                let ac = angle_at(b, a, c) + angle_at(d, c, a) <= std::f64::consts::PI;
+                let halves = if ac {
+                    [vec![a, b, c], vec![a, c, d]]
+                } else {
+                    [vec![a, b, d], vec![b, c, d]]
+                };
+                for t in halves {
+                    facet(pts, vec![t], vec![], cell);
+                }
+            }
+        }
+    }
+}
+
+/// A cap at level k: each ring cell's face there (whole on a horizontal
+/// level, else two triangles) and the wellbore's end (nothing across).
+fn cap(pts: &mut Points, facet: &mut AddFacet, n: usize, w: &Radial, k: usize, layer: usize) {
+    let m = w.m;
+    for q in 0..w.rings {
+        for s in 0..m {
+            let [a, b, c, d] = [(q, s), (q + 1, s), (q + 1, s + 1), (q, s + 1)]
+                .map(|(q, s)| pts.id(w.point(q, s, k)));
+            let cell = Across::Well(n, [layer, q, s]);
+            if w.flat(k) {
+                facet(pts, vec![vec![a, b, c, d]], vec![], cell);
+            } else {
+                facet(pts, vec![vec![a, b, c]], vec![], cell);
+                facet(pts, vec![vec![a, c, d]], vec![], cell);
+            }
+        }
+    }
+    let bore: Vec<u32> = (0..m).map(|s| pts.id(w.point(0, s, k))).collect();
+    if w.flat(k) {
+        facet(pts, vec![bore], vec![], Across::Outside);
+    } else {
+        for s in 1..m - 1 {
+            facet(
+                pts,
+                vec![vec![bore[0], bore[s], bore[s + 1]]],
+                vec![],
+                Across::Outside,
+            );
+        }
+    }
+}

@@ -1,0 +1,287 @@
+//! Corner-point cells as polyhedra in the mesh's frame (x, y, z up =
+//! minus depth): their faces, each planar and convex kept whole, else two
+//! triangles along a diagonal both cells across choose alike; the
+//! neighbour across each face, past pinched-out cells; and which cell
+//! holds a point.
+
+use crate::error::{Error, Result};
+use crate::geom::{newell, orient, orient3};
+use crate::reservoir::CornerPointGrid;
+use std::cmp::Ordering;
+
+/// A cell (i, j, k), 0-based.
+pub(super) type Ijk = [usize; 3];
+
+/// The six faces' corners (c = di + 2 dj + 4 b, b = 1 at the bottom), each
+/// counter-clockwise seen from outside a right-handed cell, in the order
+/// I-, I+, J-, J+, top, bottom.
+const FACES: [[usize; 4]; 6] = [
+    [0, 2, 6, 4],
+    [1, 5, 7, 3],
+    [0, 4, 5, 1],
+    [2, 3, 7, 6],
+    [0, 1, 3, 2],
+    [4, 6, 7, 5],
+];
+
+/// The corner across face f that matches corner c of this cell.
+fn across(f: usize, c: usize) -> usize {
+    match f {
+        0 | 1 => c ^ 1,
+        2 | 3 => c ^ 2,
+        _ => c ^ 4,
+    }
+}
+
+/// The grid's cells as polyhedra.
+pub(super) struct Cpg<'g> {
+    pub(super) g: &'g CornerPointGrid,
+}
+
+impl<'g> Cpg<'g> {
+    /// Corner c of cell (i, j, k) in the mesh's frame.
+    pub(super) fn corner(&self, [i, j, k]: Ijk, c: usize) -> [f64; 3] {
+        let [x, y, depth] = self.g.corner(i, j, k, c);
+        [x, y, -depth]
+    }
+
+    /// The cell's eight corners.
+    pub(super) fn corners(&self, c: Ijk) -> [[f64; 3]; 8] {
+        std::array::from_fn(|n| self.corner(c, n))
+    }
+
+    /// Whether the cell has no thickness: each top corner on its bottom one.
+    pub(super) fn pinched(&self, c: Ijk) -> bool {
+        (0..4).all(|n| self.corner(c, n) == self.corner(c, n + 4))
+    }
+
+    /// Whether the cell is meshed: active and not pinched out.
+    pub(super) fn live(&self, c: Ijk) -> bool {
+        self.g.active(c[0], c[1], c[2]) && !self.pinched(c)
+    }
+
+    /// Face f's corners, outward.
+    pub(super) fn face(&self, c: Ijk, f: usize) -> [[f64; 3]; 4] {
+        let p = self.corners(c);
+        let mut q = FACES[f].map(|n| p[n]);
+        if self.left_handed() {
+            q.reverse();
+        }
+        q
+    }
+
+    /// Whether the grid's cells are left-handed (their FACES turn inward),
+    /// decided on the first pillars' layout.
+    pub(super) fn left_handed(&self) -> bool {
+        let g = self.g;
+        let p = |i: usize, j: usize| {
+            let c = g.coord[j * (g.nx + 1) + i];
+            [c[0], c[1]]
+        };
+        orient(p(0, 0), p(1, 0), p(0, 1)) == Ordering::Less
+    }
+
+    /// The live cell across face f, when the faces match exactly (past
+    /// pinched-out cells across the top and bottom); None on the grid's
+    /// boundary or beside an inactive cell; an error where the faces do not
+    /// match (a fault's throw).
+    pub(super) fn neighbour(&self, c: Ijk, f: usize) -> Result<Option<Ijk>> {
+        let g = self.g;
+        let step = |n: Ijk| -> Option<Ijk> {
+            let [i, j, k] = n;
+            match f {
+                0 => i.checked_sub(1).map(|i| [i, j, k]),
+                1 => (i + 1 < g.nx).then_some([i + 1, j, k]),
+                2 => j.checked_sub(1).map(|j| [i, j, k]),
+                3 => (j + 1 < g.ny).then_some([i, j + 1, k]),
+                4 => k.checked_sub(1).map(|k| [i, j, k]),
+                _ => (k + 1 < g.nz).then_some([i, j, k + 1]),
+            }
+        };
+        let mut n = c;
+        loop {
+            let Some(next) = step(n) else { return Ok(None) };
+            n = next;
+            if f < 4 || !self.pinched(n) {
+                break;
+            }
+        }
+        let matches = FACES[f]
+            .iter()
+            .all(|&m| self.corner(c, m) == self.corner(n, across(f, m)));
+        if !matches {
+            // Between columns, a throw; across layers, a gap or an overlap.
+            return Err(Error::Usage(format!(
+                "cells {} and {} do not share their face (a fault's throw or a gap between \
+                 layers): the 3D hybrid needs matching faces around and inside its cavities",
+                one_based(c),
+                one_based(n)
+            )));
+        }
+        Ok(self.g.active(n[0], n[1], n[2]).then_some(n))
+    }
+
+    /// The cell's site: the mean of its corners.
+    pub(super) fn centre(&self, c: Ijk) -> [f64; 3] {
+        let p = self.corners(c);
+        std::array::from_fn(|a| p.iter().map(|q| q[a]).sum::<f64>() / 8.0)
+    }
+
+    /// The cell holding p among the live cells of the given columns (by
+    /// the tetrahedra of its faces' pieces around its centre), if any.
+    pub(super) fn locate(&self, p: [f64; 3], cells: impl IntoIterator<Item = Ijk>) -> Option<Ijk> {
+        cells.into_iter().find(|&c| {
+            let o = self.centre(c);
+            let mut inside = true;
+            for f in 0..6 {
+                let q = self.face(c, f);
+                for t in pieces(&q) {
+                    // a point inside is on the inner side of every piece
+                    // seen from the centre (cells are star-shaped from it)
+                    for w in triangles(&t) {
+                        let [a, b, d] = w.map(|n| q[n]);
+                        if orient3(a, b, d, o) != orient3(a, b, d, p)
+                            && orient3(a, b, d, p) != Ordering::Equal
+                        {
+                            inside = false;
+                        }
+                    }
+                }
+            }
+            inside
+        })
+    }
+}
+
+/// (i, j, k) 1-based for messages.
+pub(super) fn one_based([i, j, k]: Ijk) -> String {
+    format!("({}, {}, {})", i + 1, j + 1, k + 1)
+}
+
+/// A face's pieces, as indices of its corners: none where it has no area;
+/// the face whole where it is planar and strictly convex (after merging
+/// coincident corners); else two triangles along the diagonal through the
+/// smallest corner (by coordinates), which the cell across picks too.
+pub(super) fn pieces(q: &[[f64; 3]; 4]) -> Vec<Vec<usize>> {
+    // the corners left after merging coincident neighbours
+    let mut v: Vec<usize> = vec![];
+    for n in 0..4 {
+        if v.last().is_none_or(|&l| q[l] != q[n]) {
+            v.push(n);
+        }
+    }
+    while v.len() > 1 && q[v[0]] == q[*v.last().unwrap_or(&0)] {
+        v.pop();
+    }
+    match v.len() {
+        0..=2 => vec![],
+        3 => {
+            let n = newell(&[q[v[0]], q[v[1]], q[v[2]]]);
+            if n == [0.0; 3] {
+                vec![]
+            } else {
+                vec![v]
+            }
+        }
+        _ => {
+            let planar = orient3(q[0], q[1], q[2], q[3]) == Ordering::Equal;
+            if planar && strictly_convex(q) {
+                return vec![vec![0, 1, 2, 3]];
+            }
+            let least = (0..4)
+                .min_by(|&a, &b| {
+                    q[a].iter()
+                        .zip(&q[b])
+                        .map(|(x, y)| x.total_cmp(y))
+                        .find(|o| o.is_ne())
+                        .unwrap_or(Ordering::Equal)
+                })
+                .unwrap_or(0);
+            let (a, b, c, d) = (least, (least + 1) % 4, (least + 2) % 4, (least + 3) % 4);
+            vec![vec![a, b, c], vec![a, c, d]]
+                .into_iter()
+                .filter(|t| newell(&[q[t[0]], q[t[1]], q[t[2]]]) != [0.0; 3])
+                .collect()
+        }
+    }
+}
+
+/// Whether a planar quadrilateral turns one way at every corner.
+fn strictly_convex(q: &[[f64; 3]; 4]) -> bool {
+    let n = newell(q);
+    let axis = (0..3)
+        .max_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+        .unwrap_or(2);
+    let flat = |p: [f64; 3]| crate::geom::drop_axis(axis, p);
+    let turn = |k: usize| orient(flat(q[k]), flat(q[(k + 1) % 4]), flat(q[(k + 2) % 4]));
+    let first = turn(0);
+    first != Ordering::Equal && (1..4).all(|k| turn(k) == first)
+}
+
+/// A piece's fan of triangles.
+fn triangles(t: &[usize]) -> Vec<[usize; 3]> {
+    (1..t.len() - 1).map(|k| [t[0], t[k], t[k + 1]]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_box_has_six_whole_faces_and_matching_neighbours() {
+        let g = CornerPointGrid::cartesian([2, 2, 2], [10.0, 10.0, 4.0]);
+        let cpg = Cpg { g: &g };
+        for f in 0..6 {
+            let q = cpg.face([0, 0, 0], f);
+            assert_eq!(pieces(&q), vec![vec![0, 1, 2, 3]]);
+            // outward: the Newell normal points away from the centre
+            let n = newell(&q);
+            let o = cpg.centre([0, 0, 0]);
+            let out: f64 = (0..3).map(|a| n[a] * (q[0][a] - o[a])).sum();
+            assert!(out > 0.0, "face {f}");
+        }
+        assert_eq!(cpg.neighbour([0, 0, 0], 1).unwrap(), Some([1, 0, 0]));
+        assert_eq!(cpg.neighbour([0, 0, 0], 0).unwrap(), None);
+        assert_eq!(cpg.neighbour([0, 0, 0], 5).unwrap(), Some([0, 0, 1]));
+        assert_eq!(
+            cpg.locate([5.0, 5.0, -6.0], [[0, 0, 0], [0, 0, 1]]),
+            Some([0, 0, 1])
+        );
+        assert_eq!(cpg.locate([15.0, 5.0, -6.0], [[0, 0, 0], [0, 0, 1]]), None);
+    }
+
+    #[test]
+    fn a_twisted_face_splits_alike_from_both_sides() {
+        let q = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.3],
+            [0.0, 1.0, 0.0],
+        ];
+        let mine: Vec<Vec<[f64; 3]>> = pieces(&q)
+            .iter()
+            .map(|t| t.iter().map(|&n| q[n]).collect())
+            .collect();
+        // the cell across sees the corners the other way round
+        let r = [q[2], q[1], q[0], q[3]];
+        let theirs: Vec<Vec<[f64; 3]>> = pieces(&r)
+            .iter()
+            .map(|t| t.iter().map(|&n| r[n]).collect())
+            .collect();
+        assert_eq!(mine.len(), 2);
+        let key = |t: &Vec<[f64; 3]>| {
+            let mut k: Vec<[u64; 3]> = t.iter().map(|p| p.map(f64::to_bits)).collect();
+            k.sort_unstable();
+            k
+        };
+        let mut a: Vec<_> = mine.iter().map(key).collect();
+        let mut b: Vec<_> = theirs.iter().map(key).collect();
+        a.sort();
+        b.sort();
+        assert_eq!(a, b);
+        // a pinched face: two corners coincide, one triangle
+        let p = [q[0], q[1], q[1], q[3]];
+        assert_eq!(pieces(&p).len(), 1);
+        assert!(pieces(&[q[0], q[0], q[1], q[1]]).is_empty());
+    }
+}

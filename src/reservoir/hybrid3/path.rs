@@ -1,0 +1,208 @@
+//! A well's completed interval in the grid: its straight axis from the
+//! top of its first completed layer down to the bottom of its last, the
+//! cells it crosses there, and whether its ends lie on a flat top or
+//! bottom of the grid (where its radial mesh stays open) or inside the
+//! cavity (where the mesh is closed by caps).
+
+use super::cpg::{one_based, Cpg, Ijk};
+use super::Well3;
+use crate::error::{Error, Result};
+use crate::reservoir::CornerPointGrid;
+
+/// A well's axis and completed cells.
+pub(super) struct Path {
+    /// The axis' point at the top of the completed interval.
+    pub(super) head: [f64; 3],
+    /// The axis' unit direction, going down.
+    pub(super) u: [f64; 3],
+    /// The completed interval's length along the axis.
+    pub(super) length: f64,
+    /// The live completed cells it crosses.
+    pub(super) cells: Vec<Ijk>,
+    /// Where the axis crosses from one completed layer to the next (along
+    /// it from the head): a vertical well's layers are the grid's.
+    pub(super) cuts: Vec<f64>,
+    /// Per end (top, bottom), the height of the grid's flat top or bottom
+    /// the end lies on, if it does.
+    pub(super) open: [Option<f64>; 2],
+}
+
+/// The completed layers: the given range, or every layer.
+fn range(g: &CornerPointGrid, well: &Well3) -> Result<[usize; 2]> {
+    let [k1, k2] = well.k.unwrap_or([0, g.nz - 1]);
+    if k1 > k2 || k2 >= g.nz {
+        return Err(Error::Usage(format!(
+            "well {}: completed layers {}..{} are not in the grid's 1..{}",
+            well.name,
+            k1 + 1,
+            k2 + 1,
+            g.nz
+        )));
+    }
+    Ok([k1, k2])
+}
+
+/// The centre of face f (top 4, bottom 5) of a cell: the mean of its corners.
+fn face_centre(cpg: &Cpg, c: Ijk, f: usize) -> [f64; 3] {
+    let q = cpg.face(c, f);
+    std::array::from_fn(|a| q.iter().map(|p| p[a]).sum::<f64>() / 4.0)
+}
+
+/// The height of the grid's top (f = 4) or bottom (f = 5) over the
+/// columns around (i, j) within `reach`, when it is one flat plane there.
+fn flat(cpg: &Cpg, [i, j]: [usize; 2], f: usize, reach: usize) -> Option<f64> {
+    let g = cpg.g;
+    let k = if f == 4 { 0 } else { g.nz - 1 };
+    let mut z: Option<f64> = None;
+    for jj in j.saturating_sub(reach)..=(j + reach).min(g.ny - 1) {
+        for ii in i.saturating_sub(reach)..=(i + reach).min(g.nx - 1) {
+            for p in cpg.face([ii, jj, k], f) {
+                if *z.get_or_insert(p[2]) != p[2] {
+                    return None;
+                }
+            }
+        }
+    }
+    z
+}
+
+impl Path {
+    /// The well's completed interval, or why it has none.
+    pub(super) fn new(cpg: &Cpg, well: &Well3) -> Result<Path> {
+        let g = cpg.g;
+        let (i, j) = (well.i, well.j);
+        if i >= g.nx || j >= g.ny {
+            return Err(Error::Usage(format!(
+                "well {}: column ({}, {}) is not in the grid's {} x {} columns",
+                well.name,
+                i + 1,
+                j + 1,
+                g.nx,
+                g.ny
+            )));
+        }
+        let [k1, k2] = range(g, well)?;
+        for k in k1..=k2 {
+            if !g.active(i, j, k) {
+                return Err(Error::Usage(format!(
+                    "well {}: its completion in cell {} is in an inactive cell",
+                    well.name,
+                    one_based([i, j, k])
+                )));
+            }
+        }
+        let live: Vec<usize> = (k1..=k2).filter(|&k| !cpg.pinched([i, j, k])).collect();
+        let (Some(&first), Some(&last)) = (live.first(), live.last()) else {
+            return Err(Error::Usage(format!(
+                "well {}: its completed cells in column ({}, {}) are all pinched out",
+                well.name,
+                i + 1,
+                j + 1
+            )));
+        };
+        let head = face_centre(cpg, [i, j, first], 4);
+        let dip = well.dip.to_radians();
+        let az = well.azimuth.to_radians();
+        let u = [dip.sin() * az.sin(), dip.sin() * az.cos(), -dip.cos()];
+        if !u.iter().all(|x| x.is_finite()) || u[2] >= -1e-3 {
+            return Err(Error::Usage(format!(
+                "well {}: a dip of {} degrees is not through the layers",
+                well.name, well.dip
+            )));
+        }
+        let reach = 2;
+        let open = [
+            (first == 0).then(|| flat(cpg, [i, j], 4, reach)).flatten(),
+            (last == g.nz - 1)
+                .then(|| flat(cpg, [i, j], 5, reach))
+                .flatten(),
+        ];
+        if well.dip == 0.0 {
+            let bottom = face_centre(cpg, [i, j, last], 5);
+            let cuts = live[1..]
+                .iter()
+                .map(|&k| head[2] - face_centre(cpg, [i, j, k], 4)[2])
+                .collect();
+            return Ok(Path {
+                head,
+                u,
+                length: head[2] - bottom[2],
+                cells: live.iter().map(|&k| [i, j, k]).collect(),
+                cuts,
+                open,
+            });
+        }
+        Path::walk(cpg, well, head, u, [first, last], open)
+    }
+
+    /// A deviated well: the cells its axis crosses from the head down to
+    /// the bottom of the last completed layer, found by steps along it.
+    fn walk(
+        cpg: &Cpg,
+        well: &Well3,
+        head: [f64; 3],
+        u: [f64; 3],
+        [first, last]: [usize; 2],
+        open: [Option<f64>; 2],
+    ) -> Result<Path> {
+        let g = cpg.g;
+        let thickness = (first..=last)
+            .map(|k| {
+                let c = [well.i, well.j, k];
+                face_centre(cpg, c, 4)[2] - face_centre(cpg, c, 5)[2]
+            })
+            .fold(f64::INFINITY, f64::min);
+        let step = 0.05 * thickness.max(1e-9) * -u[2];
+        let at = |t: f64| -> [f64; 3] { std::array::from_fn(|a| head[a] + t * u[a]) };
+        let all = |k: usize| (0..g.ny).flat_map(move |j| (0..g.nx).map(move |i| [i, j, k]));
+        let find = |p: [f64; 3]| -> Option<Ijk> {
+            (first..=last).find_map(|k| cpg.locate(p, all(k).filter(|&c| cpg.live(c))))
+        };
+        let mut cells: Vec<Ijk> = vec![[well.i, well.j, first]];
+        let mut cuts: Vec<f64> = vec![];
+        let mut t = 0.0;
+        let length = loop {
+            let next = t + step;
+            let p = at(next);
+            match find(p) {
+                Some(c) => {
+                    let prev = cells[cells.len() - 1];
+                    if c != prev {
+                        if c[2] != prev[2] {
+                            cuts.push((t + next) / 2.0);
+                        }
+                        cells.push(c);
+                    }
+                    t = next;
+                }
+                None => {
+                    // below the last completed layer, or out of the grid
+                    let below = cpg.locate(p, (0..g.nz).flat_map(all)).map(|c| c[2] > last);
+                    let under_grid = last == g.nz - 1 && open[1].is_some_and(|z| p[2] < z);
+                    if below == Some(true) || under_grid {
+                        break (t + next) / 2.0;
+                    }
+                    return Err(Error::Usage(format!(
+                        "well {}: its axis leaves the grid (or enters an inactive or pinched-out \
+                         cell) at ({:.6}, {:.6}, {:.6}), after cell {}",
+                        well.name,
+                        p[0],
+                        p[1],
+                        -p[2],
+                        one_based(cells[cells.len() - 1])
+                    )));
+                }
+            }
+        };
+        cells.sort_unstable();
+        cells.dedup();
+        Ok(Path {
+            head,
+            u,
+            length,
+            cells,
+            cuts,
+            open,
+        })
+    }
+}
