@@ -296,3 +296,123 @@ fn thiem_in_3d() {
     assert_eq!(hy.report.cavities[0].transition.sites.sites_outside, 0);
     assert!(err < 0.005, "{err}");
 }
+
+/// Counts per pair of regions: (connections, non-orthogonal).
+fn pair(h: &Hybrid3, name: &str) -> (usize, usize) {
+    h.report
+        .by_regions
+        .get(name)
+        .map_or((0, 0), |c| (c.connections, c.non_orthogonal))
+}
+
+/// A well completed in layers 2 to 4 of 5: rings only there, plugs of
+/// sector wedges closing them inside the cavity, wellbore links only
+/// along the completion.
+#[test]
+fn completed_layers_get_rings_and_plugs() {
+    let g = CornerPointGrid::cartesian([7, 7, 5], [10.0, 10.0, 4.0]);
+    let opts = Hybrid3Options {
+        allow_sites_outside: true,
+        ..Default::default()
+    };
+    let (m, rings) = (opts.sectors, opts.rings);
+    for b in compiled() {
+        let w = Well3 {
+            k: Some([1, 3]),
+            ..well(0.0)
+        };
+        let h = build(&*b, &g, &[w], &opts).unwrap();
+        let r = &h.report;
+        let c = &r.cavities[0].transition.certificate;
+        println!(
+            "3D hybrid, completed layers 2-4 of 5: cells {:?}, sites inside {} of {}, by regions {:?}",
+            r.cells, c.sites_inside, c.domain_sites, r.by_regions
+        );
+        assert!(r.conforms(), "{c:?}");
+        assert_eq!(r.cells[2], 2 * m + 3 * rings * m);
+        assert_eq!(h.wellbore[0].links.len(), 3 * m);
+        // the caps' triangles are the only non-orthogonal links to the
+        // transition; the walls' rectangles and the outer surface's are
+        assert_eq!(pair(&h, "transition-well"), (5 * m + 2 * m, 2 * m));
+        assert_eq!(pair(&h, "reservoir-transition").1, 0);
+        // plug wedges to their rings: the well's only non-orthogonal links
+        assert_eq!(pair(&h, "well-well").1, 2 * rings * m);
+        let bore =
+            m as f64 / 2.0 * 0.1f64.powi(2) * (std::f64::consts::TAU / m as f64).sin() * 12.0;
+        let total: f64 = h.mesh.volumes.iter().sum();
+        assert!(
+            (total - (70.0 * 70.0 * 20.0 - bore)).abs() < 1e-9 * total,
+            "{total}"
+        );
+        write("completed", &h);
+    }
+}
+
+/// Wells two columns apart share cavity cells and one transition; wells
+/// three apart have cavities that touch, meshed apart and joined face to
+/// face across the sides between them.
+#[test]
+fn nearby_wells_merge_and_touching_cavities_meet() {
+    let g = CornerPointGrid::cartesian([10, 7, 2], [10.0, 10.0, 4.0]);
+    let b = &compiled()[0];
+    let opts = Hybrid3Options::default();
+    let at = |name: &str, i: usize| Well3 {
+        name: name.into(),
+        i,
+        ..well(0.0)
+    };
+    let h = build(&**b, &g, &[at("A", 2), at("B", 4)], &opts).unwrap();
+    let r = &h.report;
+    assert_eq!(r.cavities.len(), 1);
+    assert_eq!(r.cavities[0].wells, ["A", "B"]);
+    // at most 0.3 of the way to the other well
+    assert!(r.cavities[0].outer_radii.iter().all(|&o| o <= 6.0 + 1e-12));
+    assert!(r.conforms());
+    let h = build(&**b, &g, &[at("A", 2), at("B", 5)], &opts).unwrap();
+    let r = &h.report;
+    println!(
+        "touching cavities: {} cavities, {} unpaired faces, by regions {:?}",
+        r.cavities.len(),
+        r.unpaired_faces,
+        r.by_regions
+    );
+    assert_eq!(r.cavities.len(), 2);
+    assert_eq!(
+        (r.unpaired_faces, r.non_orthogonal, r.sites_outside),
+        (0, 0, 0)
+    );
+    // the transitions meet across the 2 x 2 sides between columns 4 and 5
+    assert!(pair(&h, "transition-transition").0 > 0);
+    assert_eq!(h.wellbore.len(), 2);
+}
+
+/// SPE9's corner-point grid (dipping 10 degrees) with a well completed in
+/// layers 2 to 4, as COMPDAT has its producers: meshed and certified.
+#[test]
+fn a_well_in_spe9_along_its_completion() {
+    let g = orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/SPE9.GRDECL")).unwrap();
+    let b = &compiled()[0];
+    let opts = Hybrid3Options {
+        allow_sites_outside: true,
+        ..Default::default()
+    };
+    let w = Well3 {
+        name: "PRODU10".into(),
+        i: 10,
+        j: 8,
+        k: Some([1, 3]),
+        radius: 0.25,
+        ..Default::default()
+    };
+    let h = build(&**b, &g, &[w], &opts).unwrap();
+    let r = &h.report;
+    println!(
+        "SPE9, one well in layers 2-4: cells {:?}, outer radius {:.1}, {} transition sites outside, by regions {:?}",
+        r.cells, r.cavities[0].outer_radii[0], r.sites_outside, r.by_regions
+    );
+    assert!(r.conforms());
+    assert_eq!(r.cells[0], 24 * 25 * 15 - 45);
+    assert_eq!(h.wellbore[0].links.len(), 3 * opts.sectors);
+    let total: f64 = h.mesh.volumes.iter().sum();
+    assert!(total > 0.0 && h.mesh.volumes.iter().all(|&v| v > 0.0));
+}

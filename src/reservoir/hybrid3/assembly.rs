@@ -32,7 +32,14 @@ pub(super) struct Assembly {
     ids: HashMap<[u64; 3], u32>,
     /// Per reservoir grid cell, its cell.
     pub(super) res_cell: BTreeMap<Ijk, usize>,
+    /// Transition faces on sides between two cavities, by the side's
+    /// points: (cell, face, area, distance from the site).
+    between: BTreeMap<Vec<u32>, Vec<Half>>,
 }
+
+/// A transition face on a side between cavities: its cell, points, area,
+/// and its site's distance.
+type Half = (usize, Vec<u32>, f64, f64);
 
 /// The plane of a face through its points' centroid (Newell's normal: the
 /// mean plane of a face that is not planar).
@@ -100,14 +107,22 @@ impl Assembly {
 
     /// Connections between reservoir cells across their I+, J+ and bottom
     /// faces, in grid order.
-    pub(super) fn reservoir_links(&mut self, cpg: &Cpg) {
+    /// Returns the faces left unconnected, where a throw (or a gap) keeps
+    /// the cell across from sharing them.
+    pub(super) fn reservoir_links(&mut self, cpg: &Cpg) -> usize {
         let cells: Vec<(Ijk, usize)> = self.res_cell.iter().map(|(&c, &a)| (c, a)).collect();
+        let mut unmatched = 0;
         for (c, a) in cells {
             for f in [1, 3, 5] {
-                // faces were checked when the cavities were built; a throw
-                // outside them leaves the two cells unconnected
-                let Ok(Some(n)) = cpg.neighbour(c, f) else {
-                    continue;
+                // faces around the cavities were checked when they were
+                // built; a throw elsewhere leaves the two cells unconnected
+                let n = match cpg.neighbour(c, f) {
+                    Ok(Some(n)) => n,
+                    Ok(None) => continue,
+                    Err(_) => {
+                        unmatched += 1;
+                        continue;
+                    }
                 };
                 let Some(&b) = self.res_cell.get(&n) else {
                     continue;
@@ -126,6 +141,7 @@ impl Assembly {
                 self.link(a, b, face, mean_plane(&pts));
             }
         }
+        unmatched
     }
 
     /// A link across a face between cells a and b.
@@ -176,13 +192,17 @@ impl Assembly {
         first_t
     }
 
-    /// A well's cells (ring q, sector s, layer k) and its own links;
-    /// returns the first's index.
+    /// A well's cells (ring q, sector s, layer k; a plug's wedges) and its
+    /// own links; returns the first's index.
     pub(super) fn well(&mut self, w: &Radial) -> usize {
-        let (m, rings) = (w.m, w.rings);
+        let m = w.m;
         let first_w = self.out.cells.len();
         let rho = site_radii(&w.r, m);
         for (k, &mid_k) in w.mid.iter().enumerate() {
+            if w.is_plug(k) {
+                self.wedges(w, k);
+                continue;
+            }
             for (q, &rho_q) in rho.iter().enumerate() {
                 for s in 0..m {
                     let v: Vec<u32> = [
@@ -214,29 +234,84 @@ impl Assembly {
                 }
             }
         }
-        let cell = |q: usize, s: usize, k: usize| first_w + (k * rings + q) * m + s;
-        for k in 0..w.nl {
+        self.well_links(w, first_w);
+        first_w
+    }
+
+    /// A plug's wedges in layer k: from the axis to the outer surface,
+    /// closed by one triangle at the far level and, at the near one, by
+    /// the ring cells' faces and the wellbore's end.
+    fn wedges(&mut self, w: &Radial, k: usize) {
+        let (m, rings) = (w.m, w.rings);
+        let (far, near) = if k == 0 { (0, 1) } else { (k + 1, k) };
+        let half = std::f64::consts::PI / m as f64;
+        let rho = 2.0 / 3.0 * w.outer * half.cos();
+        for s in 0..m {
+            let (cf, cn) = (self.point(w.centre(far)), self.point(w.centre(near)));
+            let p = |a: &mut Self, q: usize, s: usize, l: usize| a.point(w.point(q, s, l));
+            let mut faces = vec![
+                vec![cf, p(self, rings, s, far), p(self, rings, s + 1, far)],
+                vec![
+                    p(self, rings, s, far),
+                    p(self, rings, s + 1, far),
+                    p(self, rings, s + 1, near),
+                    p(self, rings, s, near),
+                ],
+                vec![cn, p(self, 0, s, near), p(self, 0, s + 1, near)],
+            ];
             for q in 0..rings {
+                faces.push(vec![
+                    p(self, q, s, near),
+                    p(self, q + 1, s, near),
+                    p(self, q + 1, s + 1, near),
+                    p(self, q, s + 1, near),
+                ]);
+            }
+            for side in [s, s + 1] {
+                let mut f = vec![cf, p(self, rings, side, far)];
+                f.extend((0..=rings).rev().map(|q| p(self, q, side, near)));
+                f.push(cn);
+                faces.push(f);
+            }
+            let site = w.at(rho, TAU * (s as f64 + 0.5) / m as f64, w.mid[k]);
+            let faces = orient_faces(faces, &self.out.points, site);
+            self.push_cell(faces, site, Region::Well, None);
+        }
+    }
+
+    /// A well's own links: across sectors, rings and layers (a plug's
+    /// wedge to each ring cell of its sector beside it).
+    fn well_links(&mut self, w: &Radial, first_w: usize) {
+        let (m, rings) = (w.m, w.rings);
+        let cell = |k: usize, q: usize, s: usize| first_w + w.cell(k, q, s);
+        for k in 0..w.nl {
+            let qs = if w.is_plug(k) { 1 } else { rings };
+            for q in 0..qs {
                 for s in 0..m {
-                    let a = cell(q, s, k);
-                    let mut next = vec![cell(q, (s + 1) % m, k)];
-                    if q + 1 < rings {
-                        next.push(cell(q + 1, s, k));
+                    let a = cell(k, q, s);
+                    let mut next = vec![cell(k, q, (s + 1) % m)];
+                    if q + 1 < qs {
+                        next.push(cell(k, q + 1, s));
                     }
                     if k + 1 < w.nl {
-                        next.push(cell(q, s, k + 1));
+                        match (w.is_plug(k), w.is_plug(k + 1)) {
+                            (false, false) | (true, true) => next.push(cell(k + 1, q, s)),
+                            (false, true) => next.push(cell(k + 1, 0, s)),
+                            (true, false) => next.extend((0..rings).map(|q| cell(k + 1, q, s))),
+                        }
                     }
                     for b in next {
                         let face = find_face(&self.out.cells[a], &self.out.cells[b]);
                         let pts: Vec<[f64; 3]> =
                             face.iter().map(|&v| self.out.points[v as usize]).collect();
-                        let pl = Plane::of(&pts);
-                        self.link(a, b, face, pl);
+                        if pts.len() >= 3 {
+                            let pl = Plane::of(&pts);
+                            self.link(a, b, face, pl);
+                        }
                     }
                 }
             }
         }
-        first_w
     }
 
     /// Interfaces: a transition's faces on the cavity's sides and on its
@@ -246,11 +321,23 @@ impl Assembly {
         for f in &t.mesh.facet_faces {
             let a = first_t + f.cell;
             let other = match b.transition.across[f.facet as usize] {
-                Across::Cell(c) => self.res_cell.get(&c).copied(),
-                Across::Well(n, [k, q, s]) => {
-                    let w = &b.radials[n];
-                    Some(first_w[n] + (k * w.rings + q) * w.m + s)
+                Across::Cell(c) if !self.res_cell.contains_key(&c) => {
+                    // a side shared with another cavity: paired later
+                    let mut key: Vec<u32> = b.transition.cx.facets[f.facet as usize].polygons[0]
+                        .iter()
+                        .map(|&v| self.point(b.transition.cx.points[v as usize]))
+                        .collect();
+                    key.sort_unstable();
+                    let face = f
+                        .points
+                        .iter()
+                        .map(|&v| self.point(t.mesh.points[v as usize]));
+                    let e = (a, face.collect(), f.area, f.d);
+                    self.between.entry(key).or_default().push(e);
+                    None
                 }
+                Across::Cell(c) => self.res_cell.get(&c).copied(),
+                Across::Well(n, [k, q, s]) => Some(first_w[n] + b.radials[n].cell(k, q, s)),
                 Across::Outside => None,
             };
             let Some(other) = other else { continue };
@@ -272,20 +359,72 @@ impl Assembly {
     }
 }
 
+impl Assembly {
+    /// Links across the sides between cavities: faces with the same
+    /// points, else a side kept whole on one side against each of the
+    /// other side's pieces of it. Returns the faces left unpaired.
+    pub(super) fn between_cavities(&mut self, cavity_of: &[usize], first_t: usize) -> usize {
+        let mut unpaired = 0;
+        for (side, faces) in std::mem::take(&mut self.between) {
+            let key = |f: &Vec<u32>| {
+                let mut k = f.clone();
+                k.sort_unstable();
+                k
+            };
+            let cav = |c: usize| cavity_of[c - first_t];
+            let Some(&(a0, ..)) = faces.first() else {
+                continue;
+            };
+            let (mine, theirs): (Vec<_>, Vec<_>) = faces.iter().partition(|f| cav(f.0) == cav(a0));
+            let mut used = vec![false; theirs.len()];
+            for x in &mine {
+                let same = theirs.iter().position(|y| key(&y.1) == key(&x.1));
+                let whole = |f: &Vec<u32>| key(f) == side;
+                let pairs: Vec<usize> = match same {
+                    Some(n) => vec![n],
+                    None if whole(&x.1) => (0..theirs.len()).collect(),
+                    None if theirs.len() == 1 && whole(&theirs[0].1) => vec![0],
+                    None => vec![],
+                };
+                unpaired += usize::from(pairs.is_empty());
+                for n in pairs {
+                    used[n] = true;
+                    let y = theirs[n];
+                    // the smaller face is the shared one
+                    let (face, area) = if y.2 < x.2 { (&y.1, y.2) } else { (&x.1, x.2) };
+                    let pts: Vec<[f64; 3]> =
+                        face.iter().map(|&v| self.out.points[v as usize]).collect();
+                    let pl = Plane::of(&pts);
+                    self.out.links.push(Link3 {
+                        cells: [x.0, y.0],
+                        face: face.clone(),
+                        area,
+                        d: [x.3, y.3],
+                        normal: pl.unit,
+                    });
+                }
+            }
+            unpaired += used.iter().filter(|u| !**u).count();
+        }
+        unpaired
+    }
+}
+
 /// The innermost ring's cells and the geometric part of their connection
 /// to the wellbore: radial flow from the wellbore to the sites' radius
 /// within a sector is exact, theta L / ln(rho / r_w), L the cell's length
-/// along the axis.
+/// along the axis. Plugs have none.
 pub(super) fn wellbore(w: &Radial, first_w: usize) -> Vec<(usize, f64)> {
-    let (m, rings) = (w.m, w.rings);
+    let m = w.m;
     let rho = site_radii(&w.r, m);
     let log = (rho[0] / w.r[0]).ln();
     let theta = TAU / m as f64;
     (0..w.nl)
+        .filter(|&k| !w.is_plug(k))
         .flat_map(|k| {
             let (a, b) = (w.axis_at(k), w.axis_at(k + 1));
             let length = (0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt();
-            (0..m).map(move |s| (first_w + k * rings * m + s, theta * length / log))
+            (0..m).map(move |s| (first_w + w.cell(k, 0, s), theta * length / log))
         })
         .collect()
 }
@@ -317,7 +456,7 @@ pub(super) fn assemble(cpg: &Cpg, wells: &[super::Well3], built: Vec<Built>) -> 
         .flat_map(|(n, b)| b.cells.cells.iter().map(move |&c| (c, n)))
         .collect();
     a.reservoir(cpg, &|c| owner.contains_key(&c));
-    a.reservoir_links(cpg);
+    let unmatched = a.reservoir_links(cpg);
     let mut names = vec![];
     let mut radials: Vec<&Radial> = vec![];
     let mut firsts = vec![];
@@ -333,6 +472,8 @@ pub(super) fn assemble(cpg: &Cpg, wells: &[super::Well3], built: Vec<Built>) -> 
         firsts.extend(first_w);
         cavity_of.extend(std::iter::repeat_n(n, a.out.cells.len() - first_t));
     }
+    let first_t = a.res_cell.len();
+    let unpaired = a.between_cavities(&cavity_of, first_t);
     let wellbore = well_links(&names, &radials, &firsts);
     let Assembly {
         mut out,
@@ -404,6 +545,8 @@ pub(super) fn assemble(cpg: &Cpg, wells: &[super::Well3], built: Vec<Built>) -> 
             .sum(),
         cavities,
         connections: out.links.len(),
+        unpaired_faces: unpaired,
+        unmatched_faces: unmatched,
         non_orthogonal: by_regions.values().map(|c| c.non_orthogonal).sum(),
         by_regions,
     };

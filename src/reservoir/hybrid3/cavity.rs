@@ -45,7 +45,8 @@ fn dilate(cpg: &Cpg, path: &Path) -> BTreeSet<Ijk> {
 }
 
 /// The wells' cavities: dilated completed cells, merged where they share
-/// or touch a cell (through a face).
+/// a cell. Cavities that only touch stay apart: each transition conforms
+/// to the sides between them, which both cut alike (`cpg::pieces`).
 pub(super) fn cavities(cpg: &Cpg, paths: &[Path]) -> Vec<CavityCells> {
     let sets: Vec<BTreeSet<Ijk>> = paths.iter().map(|p| dilate(cpg, p)).collect();
     // union-find over wells
@@ -60,21 +61,10 @@ pub(super) fn cavities(cpg: &Cpg, paths: &[Path]) -> Vec<CavityCells> {
     }
     let mut owner: BTreeMap<Ijk, usize> = BTreeMap::new();
     for (w, set) in sets.iter().enumerate() {
-        for &[i, j, k] in set {
-            let near = [
-                Some([i, j, k]),
-                i.checked_sub(1).map(|i| [i, j, k]),
-                Some([i + 1, j, k]),
-                j.checked_sub(1).map(|j| [i, j, k]),
-                Some([i, j + 1, k]),
-                k.checked_sub(1).map(|k| [i, j, k]),
-                Some([i, j, k + 1]),
-            ];
-            for c in near.into_iter().flatten() {
-                if let Some(&o) = owner.get(&c) {
-                    let (a, b) = (find(&mut root, o), find(&mut root, w));
-                    root[a.max(b)] = a.min(b);
-                }
+        for c in set {
+            if let Some(&o) = owner.get(c) {
+                let (a, b) = (find(&mut root, o), find(&mut root, w));
+                root[a.max(b)] = a.min(b);
             }
         }
         for &c in set {
@@ -178,9 +168,11 @@ fn axes_apart(a: &Path, b: &Path) -> f64 {
     best
 }
 
-/// Each well's ends: open on the grid's flat top or bottom, else a cap at
-/// the completed interval's end where the cavity has a layer beyond it,
-/// else a cap at the mid-level of the end layer.
+/// Each well's ends: open on the grid's flat top or bottom; else closed by
+/// a plug at the completed interval's end where the cavity has a layer
+/// beyond it (the plug a quarter of that layer's length along the axis),
+/// else at the mid-level of the end layer (the plug a quarter of the half
+/// layer beyond).
 pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
     let first = path
         .cells
@@ -194,27 +186,40 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
         .max_by_key(|c| c[2])
         .copied()
         .unwrap_or([0; 3]);
-    let beyond = |c: Ijk, up: bool| {
-        let k = if up {
-            c[2].checked_sub(1)
-        } else {
-            Some(c[2] + 1)
-        };
-        k.is_some_and(|k| cells.contains(&[c[0], c[1], k]))
+    // the layer beyond an end cell, if the cavity holds it: its length
+    // along the axis
+    let beyond = |c: Ijk, up: bool| -> Option<f64> {
+        let k = if up { c[2].checked_sub(1)? } else { c[2] + 1 };
+        let n = [c[0], c[1], k];
+        cells.contains(&n).then(|| {
+            let mean = |f: usize| cpg.face(n, f).iter().map(|p| p[2]).sum::<f64>() / 4.0;
+            (mean(4) - mean(5)) / -path.u[2]
+        })
     };
     let first_layer = path.cuts.first().copied().unwrap_or(path.length);
     let last_layer = path.length - path.cuts.last().copied().unwrap_or(0.0);
-    let _ = cpg;
     [
-        match path.open[0] {
-            Some(z) => End::Open(z),
-            None if beyond(first, true) => End::Cap(0.0),
-            None => End::Cap(first_layer / 2.0),
+        match (path.open[0], beyond(first, true)) {
+            (Some(z), _) => End::Open(z),
+            (None, Some(len)) => End::Cap {
+                at: 0.0,
+                plug: 0.25 * len,
+            },
+            (None, None) => End::Cap {
+                at: first_layer / 2.0,
+                plug: 0.125 * first_layer,
+            },
         },
-        match path.open[1] {
-            Some(z) => End::Open(z),
-            None if beyond(last, false) => End::Cap(path.length),
-            None => End::Cap(path.length - last_layer / 2.0),
+        match (path.open[1], beyond(last, false)) {
+            (Some(z), _) => End::Open(z),
+            (None, Some(len)) => End::Cap {
+                at: path.length,
+                plug: 0.25 * len,
+            },
+            (None, None) => End::Cap {
+                at: path.length - last_layer / 2.0,
+                plug: 0.125 * last_layer,
+            },
         },
     ]
 }

@@ -158,7 +158,7 @@ impl Transition {
         for (n, w) in wells.iter().enumerate() {
             outer_surface(&mut pts, &mut facet, n, w);
             for (end, k, layer) in [(w.ends[0], 0, 0), (w.ends[1], w.nl, w.nl - 1)] {
-                if let End::Cap(_) = end {
+                if let End::Cap { .. } = end {
                     cap(&mut pts, &mut facet, n, w, k, layer);
                 }
             }
@@ -216,7 +216,7 @@ impl Transition {
 type AddFacet<'a> = dyn FnMut(&mut Points, Vec<Vec<u32>>, Vec<[f64; 3]>, Across) + 'a;
 
 /// A well's outer surface: rectangles between levels across its axis (or
-/// horizontal for a vertical well), else two triangles.
+/// horizontal for a vertical well), else two triangles; a plug's too.
 fn outer_surface(pts: &mut Points, facet: &mut AddFacet, n: usize, w: &Radial) {
     let (m, rings) = (w.m, w.rings);
     for k in 0..w.nl {
@@ -255,34 +255,13 @@ fn outer_surface(pts: &mut Points, facet: &mut AddFacet, n: usize, w: &Radial) {
     }
 }
 
-/// A cap at level k: each ring cell's face there (whole on a horizontal
-/// level, else two triangles) and the wellbore's end (nothing across).
+/// A cap at level k: the plug's triangle of each sector (its wedge cell
+/// in layer `layer` beyond), around the axis' point there.
 fn cap(pts: &mut Points, facet: &mut AddFacet, n: usize, w: &Radial, k: usize, layer: usize) {
-    let m = w.m;
-    for q in 0..w.rings {
-        for s in 0..m {
-            let [a, b, c, d] = [(q, s), (q + 1, s), (q + 1, s + 1), (q, s + 1)]
-                .map(|(q, s)| pts.id(w.point(q, s, k)));
-            let cell = Across::Well(n, [layer, q, s]);
-            if w.flat(k) {
-                facet(pts, vec![vec![a, b, c, d]], vec![], cell);
-            } else {
-                facet(pts, vec![vec![a, b, c]], vec![], cell);
-                facet(pts, vec![vec![a, c, d]], vec![], cell);
-            }
-        }
-    }
-    let bore: Vec<u32> = (0..m).map(|s| pts.id(w.point(0, s, k))).collect();
-    if w.flat(k) {
-        facet(pts, vec![bore], vec![], Across::Outside);
-    } else {
-        for s in 1..m - 1 {
-            facet(
-                pts,
-                vec![vec![bore[0], bore[s], bore[s + 1]]],
-                vec![],
-                Across::Outside,
-            );
-        }
+    let c = pts.id(w.centre(k));
+    let o: Vec<u32> = (0..w.m).map(|s| pts.id(w.surface(s, k))).collect();
+    for s in 0..w.m {
+        let cell = Across::Well(n, [layer, 0, s]);
+        facet(pts, vec![vec![c, o[s], o[(s + 1) % w.m]]], vec![], cell);
     }
 }

@@ -157,6 +157,12 @@ pub struct Hybrid3Report {
     pub cavities: Vec<CavityReport>,
     /// Connections between cells.
     pub connections: usize,
+    /// Transition faces on a side between two cavities that match no face
+    /// of the other (0: the cavities meet face to face).
+    pub unpaired_faces: usize,
+    /// Faces between reservoir cells left unconnected because the cells
+    /// across do not share them (a fault's throw: not yet connected).
+    pub unmatched_faces: usize,
     /// Connections whose face is not orthogonal to the link.
     pub non_orthogonal: usize,
     /// The same per pair of regions ("reservoir-transition", ...).

@@ -17,8 +17,16 @@ pub(super) enum End {
     /// On the grid's flat top or bottom at this height: the cavity's face
     /// there has the well's outline as a window.
     Open(f64),
-    /// Closed by a cap across the axis this far along it from the head.
-    Cap(f64),
+    /// Closed inside the cavity: the rings end `at` this far along the
+    /// axis from the head, and a plug of sector wedges `plug` long beyond
+    /// them closes the mesh with one triangle per sector (no facets at the
+    /// wellbore's scale for the transition).
+    Cap {
+        /// Where the rings end, along the axis from the head.
+        at: f64,
+        /// The plug's length along the axis.
+        plug: f64,
+    },
 }
 
 /// The well's radial mesh.
@@ -43,6 +51,8 @@ pub(super) struct Radial {
     pub(super) nl: usize,
     /// The ends, top and bottom.
     pub(super) ends: [End; 2],
+    /// Whether the first and the last layer are plugs of sector wedges.
+    plug: [bool; 2],
     /// The first level across the axis, and the outline's lattice points there.
     t1: f64,
     base: Vec<[i64; 3]>,
@@ -63,7 +73,7 @@ fn slabs(
     let slant = outer * well.dip.to_radians().tan();
     let t_of = |e: End, top: bool| match e {
         End::Open(z) => (z - path.head[2]) / u[2] + if top { slant } else { -slant },
-        End::Cap(t) => t,
+        End::Cap { at, .. } => at,
     };
     let (ta, tb) = (t_of(ends[0], true), t_of(ends[1], false));
     let n = (path.cuts.len() + 1).max(2);
@@ -83,25 +93,34 @@ fn slabs(
     let mut t: Vec<f64> = (0..=n)
         .map(|k| ta + (tb - ta) * k as f64 / n as f64)
         .collect();
+    if let End::Cap { plug, .. } = ends[0] {
+        t.insert(0, ta - plug);
+    }
+    if let End::Cap { plug, .. } = ends[1] {
+        t.push(tb + plug);
+    }
+    let last = t.len() - 1;
+    let open = [
+        matches!(ends[0], End::Open(_)),
+        matches!(ends[1], End::Open(_)),
+    ];
     if let Some(l) = lattice {
         // the planes across the axis a whole number of lattice steps from
         // the first
-        let first = usize::from(matches!(ends[0], End::Open(_)));
-        for k in first + 1..n {
+        let first = usize::from(open[0]);
+        let end = if open[1] { last - 1 } else { last };
+        for k in first + 1..=end {
             t[k] = t[first] + l.steps(t[k] - t[first]) as f64 * l.step();
-        }
-        if let End::Cap(_) = ends[1] {
-            t[n] = t[first] + l.steps(t[n] - t[first]) as f64 * l.step();
         }
     }
     let level = |k: usize| match (k, ends[0], ends[1]) {
         (0, End::Open(z), _) => Level::Height(z),
-        (k, _, End::Open(z)) if k == n => Level::Height(z),
+        (k, _, End::Open(z)) if k == last => Level::Height(z),
         _ => Level::Along(t[k]),
     };
-    let levels = (0..=n).map(level).collect();
+    let levels = (0..=last).map(level).collect();
     // the ends' sites on one slab across the axis, past the slant
-    let mid = (0..n).map(|k| Level::Along((t[k] + t[k + 1]) / 2.0));
+    let mid = (0..last).map(|k| Level::Along((t[k] + t[k + 1]) / 2.0));
     Ok((levels, mid.collect()))
 }
 
@@ -133,7 +152,7 @@ impl Radial {
         // A deviated well's axis rounded onto a lattice, for exact rectangles.
         let bottom = match ends[1] {
             End::Open(z) => z,
-            End::Cap(_) => head[2] + path.length * path.u[2],
+            End::Cap { at, plug } => head[2] + (at + plug) * path.u[2],
         };
         let zmax = head[2].abs().max(bottom.abs()) + outer;
         let lattice = (!vertical).then(|| Lattice::new(path.u, zmax)).flatten();
@@ -145,7 +164,7 @@ impl Radial {
         let (levels, mid) = if vertical {
             let z = |e: End| match e {
                 End::Open(z) => z,
-                End::Cap(t) => head[2] - t,
+                End::Cap { at, .. } => head[2] - at,
             };
             let mut zs = vec![z(ends[0])];
             zs.extend(path.cuts.iter().map(|t| head[2] - t));
@@ -153,6 +172,12 @@ impl Radial {
             let (top, bottom) = (zs[0], z(ends[1]));
             zs.retain(|&h| h <= top && h >= bottom);
             zs.dedup();
+            if let End::Cap { plug, .. } = ends[0] {
+                zs.insert(0, top + plug);
+            }
+            if let End::Cap { plug, .. } = ends[1] {
+                zs.push(bottom - plug);
+            }
             let mid = zs.windows(2).map(|w| Level::Height((w[0] + w[1]) / 2.0));
             (
                 zs.iter().map(|&z| Level::Height(z)).collect(),
@@ -183,6 +208,7 @@ impl Radial {
             mid,
             nl,
             ends,
+            plug: ends.map(|e| matches!(e, End::Cap { .. })),
             t1: 0.0,
             base: vec![],
         };
@@ -249,14 +275,39 @@ impl Radial {
         matches!(self.levels[k], Level::Along(_)) && !self.base.is_empty()
     }
 
-    /// Whether level k's points lie on one plane exactly (a horizontal
-    /// one, or one across the axis on the lattice).
-    pub(super) fn flat(&self, k: usize) -> bool {
-        matches!(self.levels[k], Level::Height(_)) || self.exact(k)
-    }
-
     /// The axis' point at a level (at the axis itself).
     pub(super) fn axis_at(&self, k: usize) -> [f64; 3] {
         self.at(0.0, 0.0, self.levels[k])
+    }
+
+    /// The axis' point at level k, on the lattice's plane there when the
+    /// level is on the lattice (the plug's triangles then share its plane).
+    pub(super) fn centre(&self, k: usize) -> [f64; 3] {
+        match &self.lattice {
+            Some(l) if self.exact(k) => l.point(l.on(self.axis_at(k), l.plane(self.surface(0, k)))),
+            _ => self.axis_at(k),
+        }
+    }
+
+    /// Whether layer k is a plug of sector wedges (an end closed inside
+    /// the cavity).
+    pub(super) fn is_plug(&self, k: usize) -> bool {
+        (k == 0 && self.plug[0]) || (k + 1 == self.nl && self.plug[1])
+    }
+
+    /// The cells of layer k: rings x sectors, or a plug's sectors.
+    fn cells_in(&self, k: usize) -> usize {
+        if self.is_plug(k) {
+            self.m
+        } else {
+            self.rings * self.m
+        }
+    }
+
+    /// The index among the well's cells of layer k, ring q (any in a plug),
+    /// sector s.
+    pub(super) fn cell(&self, k: usize, q: usize, s: usize) -> usize {
+        let before: usize = (0..k).map(|l| self.cells_in(l)).sum();
+        before + if self.is_plug(k) { s } else { q * self.m + s }
     }
 }
