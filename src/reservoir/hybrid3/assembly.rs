@@ -238,42 +238,29 @@ impl Assembly {
         first_w
     }
 
-    /// A plug's wedges in layer k: from the axis to the outer surface,
-    /// closed by one triangle at the far level and, at the near one, by
-    /// the ring cells' faces and the wellbore's end.
+    /// A plug's wedges in layer k: triangular prisms from the axis to the
+    /// outer surface. Toward the rings, a wedge's face is one triangle that
+    /// the rings' faces and the wellbore's end tile: a polyhedron carrying
+    /// the ring points on its own edges is not valid for vtk (its
+    /// convexity test), so this interface inside the well is the one place
+    /// where faces meet without matching corners.
     fn wedges(&mut self, w: &Radial, k: usize) {
-        let (m, rings) = (w.m, w.rings);
+        let rings = w.rings;
         let (far, near) = if k == 0 { (0, 1) } else { (k + 1, k) };
-        let half = std::f64::consts::PI / m as f64;
+        let half = std::f64::consts::PI / w.m as f64;
         let rho = 2.0 / 3.0 * w.outer * half.cos();
-        for s in 0..m {
+        for s in 0..w.m {
             let (cf, cn) = (self.point(w.centre(far)), self.point(w.centre(near)));
-            let p = |a: &mut Self, q: usize, s: usize, l: usize| a.point(w.point(q, s, l));
-            let mut faces = vec![
-                vec![cf, p(self, rings, s, far), p(self, rings, s + 1, far)],
-                vec![
-                    p(self, rings, s, far),
-                    p(self, rings, s + 1, far),
-                    p(self, rings, s + 1, near),
-                    p(self, rings, s, near),
-                ],
-                vec![cn, p(self, 0, s, near), p(self, 0, s + 1, near)],
+            let [of, of1, on, on1] = [(s, far), (s + 1, far), (s, near), (s + 1, near)]
+                .map(|(s, l)| self.point(w.point(rings, s, l)));
+            let faces = vec![
+                vec![cf, of, of1],
+                vec![cn, on, on1],
+                vec![of, of1, on1, on],
+                vec![cf, of, on, cn],
+                vec![cf, of1, on1, cn],
             ];
-            for q in 0..rings {
-                faces.push(vec![
-                    p(self, q, s, near),
-                    p(self, q + 1, s, near),
-                    p(self, q + 1, s + 1, near),
-                    p(self, q, s + 1, near),
-                ]);
-            }
-            for side in [s, s + 1] {
-                let mut f = vec![cf, p(self, rings, side, far)];
-                f.extend((0..=rings).rev().map(|q| p(self, q, side, near)));
-                f.push(cn);
-                faces.push(f);
-            }
-            let site = w.at(rho, TAU * (s as f64 + 0.5) / m as f64, w.mid[k]);
+            let site = w.at(rho, TAU * (s as f64 + 0.5) / w.m as f64, w.mid[k]);
             let faces = orient_faces(faces, &self.out.points, site);
             self.push_cell(faces, site, Region::Well, None);
         }
@@ -301,7 +288,12 @@ impl Assembly {
                         }
                     }
                     for b in next {
-                        let face = find_face(&self.out.cells[a], &self.out.cells[b]);
+                        let mut face = find_face(&self.out.cells[a], &self.out.cells[b]);
+                        if face.is_empty() {
+                            // a plug's wedge and a ring cell: the ring cell's face
+                            let (ring, wedge) = if w.is_plug(k) { (b, a) } else { (a, b) };
+                            face = self.ring_face(ring, wedge);
+                        }
                         let pts: Vec<[f64; 3]> =
                             face.iter().map(|&v| self.out.points[v as usize]).collect();
                         if pts.len() >= 3 {
@@ -312,6 +304,29 @@ impl Assembly {
                 }
             }
         }
+    }
+
+    /// The face of a ring cell toward the plug's wedge beside it: the one
+    /// whose points all lie on the wedge's face (the level between them).
+    fn ring_face(&self, ring: usize, wedge: usize) -> Vec<u32> {
+        let theirs = &self.out.cells[wedge];
+        let on_level = |f: &Vec<u32>| {
+            theirs.iter().any(|g| {
+                g.len() == 3 && {
+                    let pts: Vec<[f64; 3]> =
+                        g.iter().map(|&v| self.out.points[v as usize]).collect();
+                    let pl = Plane::of(&pts);
+                    let scale = pl.area.sqrt();
+                    f.iter()
+                        .all(|&v| pl.distance(self.out.points[v as usize]) <= 1e-9 * scale)
+                }
+            })
+        };
+        self.out.cells[ring]
+            .iter()
+            .find(|f| on_level(f))
+            .cloned()
+            .unwrap_or_default()
     }
 
     /// Interfaces: a transition's faces on the cavity's sides and on its
