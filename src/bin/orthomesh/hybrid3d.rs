@@ -111,8 +111,8 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             a.simulator.text(&title, network, &h.wellbore, outer, || {
                 Ok(FromInput {
                     length: grid_unit(&a)?,
+                    deck: a.deck.as_deref(),
                     rock: Some(grid_rock(&a, &g, &h.host)?),
-                    ..Default::default()
                 })
             })?
         }

@@ -27,13 +27,13 @@ pub(super) struct CavityCells {
 }
 
 /// The live cells within one cell of a path's cells.
-fn dilate(cpg: &Cpg, path: &Path) -> BTreeSet<Ijk> {
+fn dilate(cpg: &Cpg, path: &Path, reach: usize) -> BTreeSet<Ijk> {
     let g = cpg.g;
     let mut out = BTreeSet::new();
     for &[i, j, k] in &path.cells {
         for kk in k.saturating_sub(1)..=(k + 1).min(g.nz - 1) {
-            for jj in j.saturating_sub(1)..=(j + 1).min(g.ny - 1) {
-                for ii in i.saturating_sub(1)..=(i + 1).min(g.nx - 1) {
+            for jj in j.saturating_sub(reach)..=(j + reach).min(g.ny - 1) {
+                for ii in i.saturating_sub(reach)..=(i + reach).min(g.nx - 1) {
                     if cpg.live([ii, jj, kk]) {
                         out.insert([ii, jj, kk]);
                     }
@@ -44,11 +44,18 @@ fn dilate(cpg: &Cpg, path: &Path) -> BTreeSet<Ijk> {
     out
 }
 
-/// The wells' cavities: dilated completed cells, merged where they share
-/// a cell. Cavities that only touch stay apart: each transition conforms
-/// to the sides between them, which both cut alike (`cpg::pieces`).
-pub(super) fn cavities(cpg: &Cpg, paths: &[Path]) -> Vec<CavityCells> {
-    let sets: Vec<BTreeSet<Ijk>> = paths.iter().map(|p| dilate(cpg, p)).collect();
+/// Radial meshes up to this many of their head cell's shorter sides fit
+/// in their own columns: their cavities take no columns around.
+pub(super) const OWN_COLUMN: f64 = 0.4;
+
+/// The wells' cavities: completed cells with the layer beyond each end,
+/// and the columns around them unless the radial meshes are small enough
+/// for their own columns (`OWN_COLUMN`); merged where they share a cell.
+/// Cavities that only touch stay apart: each transition conforms to the
+/// sides between them, which both cut alike (`cpg::pieces`).
+pub(super) fn cavities(cpg: &Cpg, paths: &[Path], outer: f64) -> Vec<CavityCells> {
+    let reach = usize::from(outer > OWN_COLUMN);
+    let sets: Vec<BTreeSet<Ijk>> = paths.iter().map(|p| dilate(cpg, p, reach)).collect();
     // union-find over wells
     let mut root: Vec<usize> = (0..paths.len()).collect();
     fn find(root: &mut [usize], a: usize) -> usize {

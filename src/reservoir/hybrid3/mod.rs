@@ -69,7 +69,8 @@ pub struct Hybrid3Options {
     /// Sectors of the radial mesh.
     pub sectors: usize,
     /// Outer radius of the radial mesh, in the well's head cell's shorter
-    /// sides (it may reach into the cavity's other columns); at most 0.3 of
+    /// sides: up to 0.4, the cavity is the well's own column(s); above,
+    /// the columns around too, which the mesh may reach into. At most 0.3 of
     /// the way to another well's axis, and shrunk by steps of 0.8 until the
     /// mesh is clear of the cavity's sides. Measured with the flow check
     /// (tests/hybrid3.rs, 16 sectors, 10 m cells, the annuli as faces): 0.4
@@ -227,7 +228,7 @@ pub fn build<B: Backend + ?Sized>(
         .iter()
         .map(|w| path::Path::new(&cpg, w))
         .collect::<Result<Vec<_>>>()?;
-    let groups = cavity::cavities(&cpg, &paths);
+    let groups = cavity::cavities(&cpg, &paths, opts.outer);
     let done = std::sync::atomic::AtomicUsize::new(0);
     let of = groups.len();
     let built = groups
