@@ -8,9 +8,10 @@ a JSON sidecar), checked with what reservoir engineers run:
 - Thiem's cases: the pressure drop between the well (its bottom-hole
   pressure, plus the hydrostatic head to each cell's depth) and the cells
   at r = L/4 is within 0.5% of Thiem's, printed;
-- SPE9's top layer: each of its 26 wells at its scheduled rate or limit, or
-  an injector whose limit is below the initial pressure at its depth (in
-  water only), and the open boundary holds the input's EQUIL.
+- SPE9's top layer and SPE9 in 3D: each of its 26 wells at its scheduled
+  rate or limit, or an injector whose limit is below the initial pressure
+  at its depth (in water only); the top layer's open boundary holds the
+  input's EQUIL.
 
 Usage: python3 tests/decks.py DIR   (scripts/test.sh runs it)
 """
@@ -159,7 +160,7 @@ def main():
             dry = [w for w in names if flow[w] <= 0.0 and w not in cannot]
             assert not dry, f"{deck}: wells without production: {dry}"
             scheduled(deck, side.get("scheduled", {}), summary, flow)
-        if "equil" in side:
+        if "equil" in side and side["equil"]["cells"]:
             equilibrium(deck, side["equil"], summary)
 
 

@@ -619,3 +619,101 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
         assert!(!dir.join("bad.vtu").exists() && !dir.join("BAD.DATA").exists());
     }
 }
+
+/// SPE9 in full 3D: its 24 x 25 x 15 grid with its 26 wells along their
+/// COMPDAT layers (radial meshes in their own columns, `--outer 0.3`), its
+/// rock, EQUIL and the first 30 days of its own schedule, for decks.py to
+/// run in OPM Flow.
+#[test]
+fn spe9_in_3d_deck() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
+    let case = data.join("SPE9_CP.DATA");
+    let grid = orthomesh::io::eclipse::read_grid(&data.join("SPE9.GRDECL")).unwrap();
+    let (found, _) = orthomesh::io::eclipse::read_wells(&case).unwrap();
+    let wells: Vec<Well3> = found
+        .into_iter()
+        .map(|w| Well3 {
+            name: w.name,
+            i: w.i,
+            j: w.j,
+            k: w.k,
+            radius: w.radius.unwrap_or(0.25),
+            ..Default::default()
+        })
+        .collect();
+    assert_eq!(wells.len(), 26);
+    assert_eq!(wells[0].k, Some([10, 14]));
+    let opts = Hybrid3Options {
+        outer: 0.3,
+        allow_sites_outside: true,
+        ..Default::default()
+    };
+    let start = std::time::Instant::now();
+    let h = hybrid3::build(&default_backend(), &grid, &wells, &opts).unwrap();
+    let r = &h.report;
+    println!(
+        "SPE9 in 3D, 26 wells: {:.1} s, {} cavities, cells {:?}, {} of {} transition sites outside, {} unpaired faces, by regions {:?}",
+        start.elapsed().as_secs_f64(),
+        r.cavities.len(),
+        r.cells,
+        r.sites_outside,
+        r.cells[1],
+        r.unpaired_faces,
+        r.by_regions
+    );
+    assert!(r.conforms());
+    assert_eq!(r.unpaired_faces + r.unmatched_faces, 0);
+    assert_eq!(h.wellbore.len(), 26);
+    // every well connected along its completed layers only
+    let m = opts.sectors;
+    for (w, links) in wells.iter().zip(&h.wellbore) {
+        let [k1, k2] = w.k.unwrap();
+        assert_eq!(links.links.len(), (k2 - k1 + 1) * m, "{}", w.name);
+    }
+    let net = h.mesh.network();
+    let length = orthomesh::io::eclipse::length_unit(&case).unwrap();
+    let names: Vec<String> = wells.iter().map(|w| w.name.clone()).collect();
+    let (periods, said) = orthomesh::io::schedule::read_schedule(&case, &names).unwrap();
+    let controls = periods[0].controls.clone();
+    let cells = grid.nx * grid.ny * grid.nz;
+    let paths = [data.join("SPE9.GRDECL"), case.clone()];
+    let paths: Vec<&std::path::Path> = paths.iter().map(|p| p.as_path()).collect();
+    let (props, _) = orthomesh::io::eclipse::read_properties(&paths, cells).unwrap();
+    let choices = orthomesh::reservoir::deck::DeckChoices {
+        length,
+        rock: Some(orthomesh::io::deck::rock_from(
+            &props,
+            &h.host,
+            [grid.nx, grid.ny],
+        )),
+        schedule: Some((periods, said)),
+        days: Some(30.0),
+        equil: orthomesh::io::schedule::read_equil(&case).unwrap(),
+        ..Default::default()
+    };
+    let (d, _, _) =
+        orthomesh::reservoir::deck::prepare("SPE9 in 3D", &net, &h.wellbore, &choices).unwrap();
+    let text = orthomesh::io::deck::to_string(&d).unwrap();
+    let dir = out_dir();
+    orthomesh::io::write_atomic(&dir.join("spe9-3d.DATA"), text.as_bytes()).unwrap();
+    let mut scheduled = serde_json::Map::new();
+    for (n, c) in controls {
+        let c = match c {
+            orthomesh::reservoir::deck::Control::Produce { rate, min_bhp } => {
+                json!(["produce", rate, min_bhp])
+            }
+            orthomesh::reservoir::deck::Control::Inject { rate, max_bhp } => {
+                json!(["inject", rate, max_bhp])
+            }
+            other => panic!("{n}: {other:?}"),
+        };
+        scheduled.insert(n, c);
+    }
+    let sidecar = json!({
+        "nnc": net.connections.len(), "cells": net.elements.len(), "wells": 26, "days": 30.0,
+        "scheduled": scheduled,
+        "equil": { "datum": d.datum, "pressure": d.pressure, "cells": [] },
+        "well_depth": d.wells.iter().map(|w| (w.name.clone(), json!(d.cells[w.connections[0].0].depth))).collect::<serde_json::Map<_, _>>()
+    });
+    orthomesh::io::write_atomic(&dir.join("spe9-3d.json"), sidecar.to_string().as_bytes()).unwrap();
+}
