@@ -429,13 +429,42 @@ fn hybrid_pipeline(c: &mut Criterion) {
     g.finish();
 }
 
+/// SPE9 in full 3D with its 26 wells along their COMPDAT layers, each in
+/// its own columns (`--outer 0.3`; issue target: within a minute). Only
+/// under `cargo bench`: one build takes tens of seconds, and
+/// tests/decks.rs builds it in the test suite.
+fn hybrid3_pipeline(c: &mut Criterion) {
+    use orthomesh::reservoir::hybrid3::{self, Hybrid3Options, Well3};
+    if !std::env::args().any(|a| a == "--bench") {
+        return;
+    }
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
+    let grid = read_grid(&dir.join("SPE9.GRDECL")).unwrap();
+    let (found, _) = read_wells(&dir.join("SPE9_CP.DATA")).unwrap();
+    let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(0.25)).collect();
+    let opts = Hybrid3Options {
+        outer: 0.3,
+        allow_sites_outside: true,
+        ..Default::default()
+    };
+    let mut g = c.benchmark_group("hybrid3");
+    g.sample_size(10).measurement_time(Duration::from_secs(60));
+    for b in backends() {
+        g.bench_function(BenchmarkId::new(b.name(), "spe9-3d-26-wells"), |bench| {
+            bench.iter(|| hybrid3::build(&*b, &grid, &wells, &opts).unwrap())
+        });
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     regular_triangulation,
     regular_triangulation_3,
     conform3_pipeline,
     conform_pipeline,
-    hybrid_pipeline
+    hybrid_pipeline,
+    hybrid3_pipeline
 );
 
 fn main() {

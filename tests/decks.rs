@@ -192,7 +192,7 @@ fn thiem_decks_in_2d_and_25d() {
         } else {
             let l = orthomesh::reservoir::extrude(&h, &grid).unwrap();
             let net = l.network(&h);
-            let links = l.well_links(&h);
+            let links = l.well_links(&h, &[]);
             assert_eq!(links[0].links.len(), 32 * layers);
             let t = thiem(
                 l.node.iter().map(|p| r([p[0], p[1]])).collect(),
@@ -630,17 +630,7 @@ fn spe9_in_3d_deck() {
     let case = data.join("SPE9_CP.DATA");
     let grid = orthomesh::io::eclipse::read_grid(&data.join("SPE9.GRDECL")).unwrap();
     let (found, _) = orthomesh::io::eclipse::read_wells(&case).unwrap();
-    let wells: Vec<Well3> = found
-        .into_iter()
-        .map(|w| Well3 {
-            name: w.name,
-            i: w.i,
-            j: w.j,
-            k: w.k,
-            radius: w.radius.unwrap_or(0.25),
-            ..Default::default()
-        })
-        .collect();
+    let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(0.25)).collect();
     assert_eq!(wells.len(), 26);
     assert_eq!(wells[0].k, Some([10, 14]));
     let opts = Hybrid3Options {

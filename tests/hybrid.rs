@@ -164,6 +164,21 @@ fn spe9_in_2_5d() {
     let l = orthomesh::reservoir::layers::extrude(&h, &g).unwrap();
     write_layers("spe9", &h, &l);
     assert_eq!(l.cells.len(), 15 * h.mesh.cells.len());
+    // COMPDAT's layers: each well linked to its wellbore there only (the
+    // injector in layers 11-15, the producers in 2-4), else in every layer.
+    let (found, _) = orthomesh::io::eclipse::read_wells(&data("SPE9_CP.DATA")).unwrap();
+    let completed: Vec<(String, [usize; 2])> =
+        found.into_iter().map(|w| (w.name, w.k.unwrap())).collect();
+    let open = l.well_links(&h, &[]);
+    let links = l.well_links(&h, &completed);
+    for ((a, b), (name, [k1, k2])) in open.iter().zip(&links).zip(&completed) {
+        assert_eq!(&b.name, name);
+        assert_eq!(a.links.len(), 15 * b.links.len() / (k2 - k1 + 1), "{name}");
+        assert!(b
+            .links
+            .iter()
+            .all(|&(e, _)| (*k1..=*k2).contains(&l.origin[e].1)));
+    }
     // Volumes add up to the grid's (less the wellbores), to the precision
     // of mean thicknesses over cells that straddle columns.
     let grid_volume: f64 = (0..15)

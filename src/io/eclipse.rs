@@ -430,6 +430,21 @@ pub struct Well {
     pub radius: Option<f64>,
 }
 
+impl Well {
+    /// The 3D hybrid's well: this head column and completed layers, a
+    /// vertical axis, and this radius or else `radius`.
+    pub fn well3(self, radius: f64) -> crate::reservoir::Well3 {
+        crate::reservoir::Well3 {
+            name: self.name,
+            i: self.i,
+            j: self.j,
+            k: self.k,
+            radius: self.radius.unwrap_or(radius),
+            ..Default::default()
+        }
+    }
+}
+
 /// The wells of a deck, from WELSPECS (head column) and COMPDAT (layers,
 /// diameter). Included files that do not exist are skipped and named in
 /// the second value (a deck's other data is not needed here).

@@ -260,20 +260,33 @@ impl Layered {
             .collect()
     }
 
-    /// Each well's links to its innermost ring in every layer, by element
-    /// (for `reservoir::deck`; the well is open over the whole grid).
-    pub fn well_links(&self, h: &Hybrid) -> Vec<crate::reservoir::deck::WellLinks> {
+    /// Each well's links to its innermost ring in the layers it is
+    /// completed in (`completed`: first and last layer, 0-based, by well
+    /// name, as COMPDAT gives them; a well not named there is open over the
+    /// whole grid), by element (for `reservoir::deck`).
+    pub fn well_links(
+        &self,
+        h: &Hybrid,
+        completed: &[(String, [usize; 2])],
+    ) -> Vec<crate::reservoir::deck::WellLinks> {
         let m = &h.mesh;
         h.wells
             .iter()
             .map(|w| {
                 // Per inner cell, its factor per unit thickness.
                 let unit: crate::FastMap<u32, f64> = w.links(|_| 1.0).into_iter().collect();
+                let [k1, k2] = completed
+                    .iter()
+                    .find(|(n, _)| *n == w.name)
+                    .map_or([0, usize::MAX], |c| c.1);
                 let links = self
                     .origin
                     .iter()
                     .enumerate()
-                    .filter_map(|(e, (c, _))| {
+                    .filter_map(|(e, (c, k))| {
+                        if !(k1..=k2).contains(k) {
+                            return None;
+                        }
                         let g = unit.get(c)?;
                         Some((e, g * self.volume[e] / m.area(&m.cells[*c as usize])))
                     })

@@ -49,14 +49,11 @@ fn well3_spec(spec: &str) -> Result<Well3> {
 /// then --well (a name given again replaces the earlier well).
 fn wells(a: &HybridArgs) -> Result<Vec<Well3>> {
     let mut list: Vec<Well3> = vec![];
-    list.extend(deck_wells(a)?.into_iter().map(|w| Well3 {
-        name: w.name,
-        i: w.i,
-        j: w.j,
-        k: w.k,
-        radius: w.radius.unwrap_or(DEFAULT_WELL_RADIUS),
-        ..Default::default()
-    }));
+    list.extend(
+        deck_wells(a)?
+            .into_iter()
+            .map(|w| w.well3(DEFAULT_WELL_RADIUS)),
+    );
     for spec in &a.wells {
         let w = well3_spec(spec)?;
         list.retain(|x| x.name != w.name);

@@ -512,8 +512,15 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
                             [i, j, k]
                         })
                         .collect();
+                    // COMPDAT's layers: a well given again by --well is
+                    // open over the whole grid
+                    let completed: Vec<(String, [usize; 2])> = deck_wells(&a)?
+                        .into_iter()
+                        .filter(|w| !a.wells.iter().any(|s| s.split(':').next() == Some(&w.name)))
+                        .filter_map(|w| Some((w.name, w.k?)))
+                        .collect();
                     (
-                        l.well_links(&h),
+                        l.well_links(&h, &completed),
                         hosts,
                         format!("{} (2.5D)", a.grid.display()),
                     )
