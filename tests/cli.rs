@@ -527,6 +527,40 @@ fn hybrid_3d_from_options() {
         std::fs::remove_file(f).unwrap();
     }
     // Bad requests: exit 1, a message, nothing written.
+    // trajectories: bent, leaving the grid, one point (the block is
+    // 70 x 70 m, 8 m thick)
+    let path = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.display().to_string()
+    };
+    let bent = format!(
+        "--well-path=H:{}",
+        path("bent.txt", "5 35 4\n35 45 4\n65 35 4\n")
+    );
+    let out = format!("--well-path=H:{}", path("out.txt", "35 35 4\n95 35 4\n"));
+    let one = format!("--well-path=H:{}", path("one.txt", "x y z\n35 35 4\n"));
+    for (arg, says) in [
+        (&bent, "H: its path bends: point 2 is 10.000 off the line"),
+        (&out, "H: its path leaves the grid"),
+        (
+            &one,
+            "one.txt:2: a well path needs two points or more, found 1",
+        ),
+    ] {
+        let (code, err) = orthomesh(&[
+            "hybrid",
+            "--3d",
+            "--grid",
+            g,
+            arg,
+            "-o",
+            vtu.to_str().unwrap(),
+        ]);
+        assert_ne!(code, 0, "{arg}");
+        assert!(err.contains(says), "{arg}: {err}");
+        assert!(!vtu.exists());
+    }
     for (grid, wells, says) in [
         (
             g,

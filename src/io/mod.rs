@@ -9,6 +9,7 @@ pub mod svg;
 pub mod tetgen;
 pub mod tough;
 pub mod vtu;
+pub mod wellpath;
 
 use crate::complex::Complex;
 use crate::error::{Error, Result};

@@ -42,11 +42,37 @@ fn well3_spec(spec: &str) -> Result<Well3> {
         radius: parts.get(3).map_or(Ok(DEFAULT_WELL_RADIUS), |t| num(t))?,
         dip: angle(4)?,
         azimuth: angle(5)?,
+        path: None,
+    })
+}
+
+/// NAME:FILE[:RADIUS]: a well along the trajectory in FILE.
+fn well_path_spec(spec: &str) -> Result<Well3> {
+    let bad = || Error::Usage(format!("well path '{spec}': expected NAME:FILE[:RADIUS]"));
+    let (name, rest) = spec.split_once(':').ok_or_else(bad)?;
+    // a radius after the last colon, if it parses (file names may hold colons)
+    let (file, radius) = match rest.rsplit_once(':') {
+        Some((f, r)) if r.parse::<f64>().is_ok() => (f, r.parse::<f64>().ok()),
+        _ => (rest, None),
+    };
+    if name.is_empty() || file.is_empty() {
+        return Err(bad());
+    }
+    let radius = radius.unwrap_or(DEFAULT_WELL_RADIUS);
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err(bad());
+    }
+    Ok(Well3 {
+        name: name.to_string(),
+        radius,
+        path: Some(io::wellpath::read_well_path(std::path::Path::new(file))?),
+        ..Default::default()
     })
 }
 
 /// The wells: the deck's (WELSPECS head, COMPDAT layers and diameter),
-/// then --well (a name given again replaces the earlier well).
+/// then --well, then --well-path (a name given again replaces the earlier
+/// well).
 fn wells(a: &HybridArgs) -> Result<Vec<Well3>> {
     let mut list: Vec<Well3> = vec![];
     list.extend(
@@ -59,6 +85,11 @@ fn wells(a: &HybridArgs) -> Result<Vec<Well3>> {
         list.retain(|x| x.name != w.name);
         list.push(w);
     }
+    for spec in &a.well_paths {
+        let w = well_path_spec(spec)?;
+        list.retain(|x| x.name != w.name);
+        list.push(w);
+    }
     if !a.wells_xy.is_empty() || !a.faults.is_empty() {
         return Err(Error::Usage(
             "--3d takes wells by column (--well, or the deck's); --well-xy and --fault are 2D"
@@ -67,8 +98,8 @@ fn wells(a: &HybridArgs) -> Result<Vec<Well3>> {
     }
     if list.is_empty() {
         return Err(Error::Usage(
-            "--3d needs a well: --well NAME:I:J[:K1-K2][:RADIUS[:DIP:AZIMUTH]] or a --deck with \
-             WELSPECS/COMPDAT"
+            "--3d needs a well: --well NAME:I:J[:K1-K2][:RADIUS[:DIP:AZIMUTH]], --well-path \
+             NAME:FILE[:RADIUS] or a --deck with WELSPECS/COMPDAT"
                 .into(),
         ));
     }

@@ -152,6 +152,16 @@ struct HybridArgs {
     /// A vertical well at map position X, Y.
     #[arg(long = "well-xy", value_name = "NAME:X:Y[:RADIUS]")]
     wells_xy: Vec<String>,
+    /// 3D: a well along a straight trajectory file (a point per line: x,
+    /// y, depth positive down, further columns such as measured depth
+    /// ignored; as xtgeo and RMS export them), completed over its whole
+    /// length; horizontal wells come this way.
+    #[arg(
+        long = "well-path",
+        value_name = "NAME:FILE[:RADIUS]",
+        requires = "three_d"
+    )]
+    well_paths: Vec<String>,
     /// A fault as a map polyline: its parts inside cavities become
     /// constraint chains (FAULTS in the grid are used too).
     #[arg(long = "fault", value_name = "X1,Y1,X2,Y2[,...]")]

@@ -205,6 +205,28 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
     };
     let first_layer = path.cuts.first().copied().unwrap_or(path.length);
     let last_layer = path.length - path.cuts.last().copied().unwrap_or(0.0);
+    if path.explicit {
+        // a trajectory: a plug beyond each end where the cavity holds what
+        // lies a half cell beyond it, else within the end cell
+        let inside = |t: f64| {
+            let p: [f64; 3] = std::array::from_fn(|a| path.head[a] + t * path.u[a]);
+            cpg.locate(p, cells.iter().copied()).is_some()
+        };
+        let cap = |end: f64, cell: f64, out: f64| match inside(end + out * cell / 2.0) {
+            true => End::Cap {
+                at: end,
+                plug: 0.25 * cell,
+            },
+            false => End::Cap {
+                at: end - out * cell / 2.0,
+                plug: 0.125 * cell,
+            },
+        };
+        return [
+            cap(0.0, first_layer, -1.0),
+            cap(path.length, last_layer, 1.0),
+        ];
+    }
     [
         match (path.open[0], beyond(first, true)) {
             (Some(z), _) => End::Open(z),

@@ -9,36 +9,74 @@ use crate::geom::newell;
 /// 2^K exactly, so a translate by a whole number of steps along w stays
 /// on the lattice, and a deviated well's outer faces between two such
 /// planes are exact rectangles (kept whole: their links orthogonal).
+/// Coordinates are the mesh's permuted so that the axis' largest component
+/// is the third (negated where it points up): any axis, horizontal too.
 pub(super) struct Lattice {
     h: f64,
     k: i32,
     w: [i64; 2],
+    /// The mesh's axes in the lattice's order, and the third's sign.
+    perm: [usize; 3],
+    flip: f64,
 }
 
 impl Lattice {
-    /// The lattice for an axis (unit, going down) and points with |z| up
-    /// to zmax; None where z would not be exact.
-    pub(super) fn new(u: [f64; 3], zmax: f64) -> Option<Lattice> {
-        let e = zmax.log2().ceil() as i32;
+    /// The lattice for an axis (unit) and points whose coordinate along
+    /// its largest component is at most `extent` in size; None where that
+    /// coordinate would not be exact.
+    pub(super) fn new(u: [f64; 3], extent: f64) -> Option<Lattice> {
+        let a = (0..3)
+            .max_by(|&x, &y| u[x].abs().total_cmp(&u[y].abs()))
+            .unwrap_or(2);
+        // the other two in the mesh's order (z's lattice is the mesh's own)
+        let perm = match a {
+            0 => [1, 2, 0],
+            1 => [2, 0, 1],
+            _ => [0, 1, 2],
+        };
+        let flip = if u[a] > 0.0 { -1.0 } else { 1.0 };
+        let v = [u[perm[0]], u[perm[1]], flip * u[perm[2]]];
+        let e = extent.log2().ceil() as i32;
         // K bits of the axis' slopes (16 or more for depths up to 16 km),
         // steps along the axis of at most 2^-5 (h 2^K), and as fine a
-        // lattice as the doubles hold z on: |Z| < 2^51
+        // lattice as the doubles hold the third coordinate on: |Z| < 2^51
         let k = ((46 - e) / 2).clamp(8, 20);
         let h = 2f64.powi(e + k - 51);
         let one = 2f64.powi(k);
         let w = [
-            (-u[0] / u[2] * one).round() as i64,
-            (-u[1] / u[2] * one).round() as i64,
+            (-v[0] / v[2] * one).round() as i64,
+            (-v[1] / v[2] * one).round() as i64,
         ];
         (h.is_normal() && w.iter().all(|x| x.unsigned_abs() < 1 << 40)).then_some(Lattice {
             h,
             k,
             w,
+            perm,
+            flip,
         })
     }
 
-    /// The axis' direction w (unit z).
-    pub(super) fn slopes(&self) -> [f64; 3] {
+    /// A mesh point in the lattice's coordinates.
+    fn inward(&self, p: [f64; 3]) -> [f64; 3] {
+        [
+            p[self.perm[0]],
+            p[self.perm[1]],
+            self.flip * p[self.perm[2]],
+        ]
+    }
+
+    /// A point in the lattice's coordinates in the mesh's.
+    fn outward(&self, q: [f64; 3]) -> [f64; 3] {
+        let mut p = [0.0; 3];
+        p[self.perm[0]] = q[0];
+        p[self.perm[1]] = q[1];
+        p[self.perm[2]] = self.flip * q[2];
+        p
+    }
+
+    /// The axis' direction w (unit third coordinate), in the lattice's
+    /// coordinates.
+    fn slopes(&self) -> [f64; 3] {
         let one = 2f64.powi(self.k);
         [self.w[0] as f64 / one, self.w[1] as f64 / one, -1.0]
     }
@@ -47,7 +85,7 @@ impl Lattice {
     pub(super) fn axis(&self) -> [f64; 3] {
         let v = self.slopes();
         let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        v.map(|x| x / n)
+        self.outward(v.map(|x| x / n))
     }
 
     /// The length along the axis of one step (h 2^K w).
@@ -73,7 +111,8 @@ impl Lattice {
     }
 
     pub(super) fn round(&self, p: [f64; 3]) -> [i64; 3] {
-        [p[0] / self.h, p[1] / self.h, p[2] / self.z_unit()].map(|c| c.round() as i64)
+        let q = self.inward(p);
+        [q[0] / self.h, q[1] / self.h, q[2] / self.z_unit()].map(|c| c.round() as i64)
     }
 
     /// The lattice point with p's x and y rounded, on a plane.
@@ -92,11 +131,11 @@ impl Lattice {
     }
 
     pub(super) fn point(&self, p: [i64; 3]) -> [f64; 3] {
-        [
+        self.outward([
             p[0] as f64 * self.h,
             p[1] as f64 * self.h,
             p[2] as f64 * self.z_unit(),
-        ]
+        ])
     }
 }
 
@@ -153,13 +192,21 @@ mod tests {
     #[test]
     fn lattice_rectangles_are_exact() {
         for (dip, az, x0, zmax) in [
-            (10.0f64, 30.0f64, 45.0, 20.0),
+            (10.0f64, 30.0f64, 45.0f64, 20.0),
             (37.0, 211.0, 612_345.7, 3100.0),
             (1.0, 359.0, -2.5e4, 9000.0),
+            // horizontal and nearly so, along x, y and between
+            (90.0, 90.0, 45.0, 90.0),
+            (88.0, 0.0, 4500.0, 9000.0),
+            (95.0, 200.0, 612_345.7, 700_000.0),
         ] {
             let (d, a) = (dip.to_radians(), az.to_radians());
             let u = [d.sin() * a.sin(), d.sin() * a.cos(), -d.cos()];
-            let l = Lattice::new(u, zmax).unwrap();
+            let big = (0..3)
+                .max_by(|&x, &y| u[x].abs().total_cmp(&u[y].abs()))
+                .unwrap();
+            let extent = [x0.abs(), (x0 * 0.7).abs(), zmax][big] + 10.0;
+            let l = Lattice::new(u, extent).unwrap();
             let v = l.axis();
             assert!(
                 (0..3).all(|k| (v[k] - u[k]).abs() < 2f64.powi(-14)),

@@ -25,6 +25,9 @@ pub(super) struct Path {
     /// Per end (top, bottom), the height of the grid's flat top or bottom
     /// the end lies on, if it does.
     pub(super) open: [Option<f64>; 2],
+    /// Whether it follows a trajectory (its ends capped within its cells)
+    /// rather than a column's completed layers.
+    pub(super) explicit: bool,
 }
 
 /// The completed layers: the given range, or every layer.
@@ -69,6 +72,9 @@ fn flat(cpg: &Cpg, [i, j]: [usize; 2], f: usize, reach: usize) -> Option<f64> {
 impl Path {
     /// The well's completed interval, or why it has none.
     pub(super) fn new(cpg: &Cpg, well: &Well3) -> Result<Path> {
+        if let Some(points) = &well.path {
+            return Path::along(cpg, well, points);
+        }
         let g = cpg.g;
         let (i, j) = (well.i, well.j);
         if i >= g.nx || j >= g.ny {
@@ -130,9 +136,105 @@ impl Path {
                 cells: live.iter().map(|&k| [i, j, k]).collect(),
                 cuts,
                 open,
+                explicit: false,
             });
         }
         Path::walk(cpg, well, head, u, [first, last], open)
+    }
+
+    /// A well along a straight trajectory (x, y, depth), completed over its
+    /// whole length: its cells found by steps along it, its ends capped.
+    fn along(cpg: &Cpg, well: &Well3, points: &[[f64; 3]]) -> Result<Path> {
+        let bad = |why: String| Err(Error::Usage(format!("well {}: {why}", well.name)));
+        let frame = |p: [f64; 3]| [p[0], p[1], -p[2]];
+        let (Some(&first), Some(&last)) = (points.first(), points.last()) else {
+            return bad("its path has no points".into());
+        };
+        if points.iter().flatten().any(|x| !x.is_finite()) {
+            return bad("its path has a NaN or infinite coordinate".into());
+        }
+        let (head, toe) = (frame(first), frame(last));
+        let d: [f64; 3] = std::array::from_fn(|a| toe[a] - head[a]);
+        let length = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if length <= 0.0 {
+            return bad("its path has no length".into());
+        }
+        let u = d.map(|x| x / length);
+        // straight: every point within 1% of the length of the chord
+        for (n, &p) in points.iter().enumerate() {
+            let q = frame(p);
+            let v: [f64; 3] = std::array::from_fn(|a| q[a] - head[a]);
+            let t: f64 = (0..3).map(|a| v[a] * u[a]).sum();
+            let off = (0..3)
+                .map(|a| (v[a] - t * u[a]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            if off > 0.01 * length {
+                return bad(format!(
+                    "its path bends: point {} is {off:.3} off the line from its first to its last \
+                     (the 3D hybrid takes straight well paths)",
+                    n + 1
+                ));
+            }
+        }
+        let all = |g: &CornerPointGrid| {
+            let (nx, ny, nz) = (g.nx, g.ny, g.nz);
+            (0..nz).flat_map(move |k| (0..ny).flat_map(move |j| (0..nx).map(move |i| [i, j, k])))
+        };
+        let Some(start) = cpg.locate(head, all(cpg.g).filter(|&c| cpg.live(c))) else {
+            return bad(format!(
+                "its path starts at ({:.6}, {:.6}, {:.6}), outside the grid's live cells",
+                first[0], first[1], first[2]
+            ));
+        };
+        let extent = |c: Ijk| {
+            let t: Vec<f64> = cpg
+                .corners(c)
+                .iter()
+                .map(|p| (0..3).map(|a| p[a] * u[a]).sum())
+                .collect();
+            t.iter().fold(f64::MIN, |a, &b| a.max(b)) - t.iter().fold(f64::MAX, |a, &b| a.min(b))
+        };
+        let step = 0.05 * extent(start);
+        let at = |t: f64| -> [f64; 3] { std::array::from_fn(|a| head[a] + t * u[a]) };
+        let mut cells = vec![start];
+        let mut cuts = vec![];
+        let mut t = 0.0;
+        while t < length {
+            let next = (t + step).min(length);
+            let p = at(next);
+            let prev = cells[cells.len() - 1];
+            let [i, j, k] = prev;
+            let g = cpg.g;
+            // the cell before and its neighbours first, then the grid
+            let near = (k.saturating_sub(1)..=(k + 1).min(g.nz - 1)).flat_map(move |kk| {
+                (j.saturating_sub(1)..=(j + 1).min(g.ny - 1)).flat_map(move |jj| {
+                    (i.saturating_sub(1)..=(i + 1).min(g.nx - 1)).map(move |ii| [ii, jj, kk])
+                })
+            });
+            let found = cpg
+                .locate(
+                    p,
+                    std::iter::once(prev).chain(near).filter(|&c| cpg.live(c)),
+                )
+                .or_else(|| cpg.locate(p, all(g).filter(|&c| cpg.live(c))));
+            let Some(c) = found else {
+                return bad(format!(
+                    "its path leaves the grid (or enters an inactive or pinched-out cell) at \
+                     ({:.6}, {:.6}, {:.6}), after cell {}",
+                    p[0],
+                    p[1],
+                    -p[2],
+                    one_based(prev)
+                ));
+            };
+            if c != prev {
+                cuts.push((t + next) / 2.0);
+                cells.push(c);
+            }
+            t = next;
+        }
+        Ok(Path::of(head, u, length, cells, cuts, None))
     }
 
     /// A deviated well: the cells its axis crosses from the head down to
@@ -194,15 +296,29 @@ impl Path {
                 }
             }
         };
+        Ok(Path::of(head, u, length, cells, cuts, Some(open)))
+    }
+
+    /// A path from its axis and the cells it crosses (in any order, any
+    /// repeated), with its ends' flat heights, or None for a trajectory.
+    fn of(
+        head: [f64; 3],
+        u: [f64; 3],
+        length: f64,
+        mut cells: Vec<Ijk>,
+        cuts: Vec<f64>,
+        open: Option<[Option<f64>; 2]>,
+    ) -> Path {
         cells.sort_unstable();
         cells.dedup();
-        Ok(Path {
+        Path {
             head,
             u,
             length,
             cells,
             cuts,
-            open,
-        })
+            open: open.unwrap_or([None, None]),
+            explicit: open.is_none(),
+        }
     }
 }

@@ -146,16 +146,25 @@ impl Radial {
                 well.name, well.radius
             )));
         }
-        let vertical = well.dip == 0.0;
+        let vertical = well.path.is_none() && well.dip == 0.0;
         let az = well.azimuth.to_radians();
         let head = path.head;
-        // A deviated well's axis rounded onto a lattice, for exact rectangles.
-        let bottom = match ends[1] {
-            End::Open(z) => z,
-            End::Cap { at, plug } => head[2] + (at + plug) * path.u[2],
+        // A deviated well's axis rounded onto a lattice, for exact rectangles:
+        // its coordinate along the axis' largest component is exact up to
+        // the ends' (and the outer radius beyond).
+        let end = match ends[1] {
+            End::Open(z) => (z - head[2]) / path.u[2],
+            End::Cap { at, plug } => at + plug,
         };
-        let zmax = head[2].abs().max(bottom.abs()) + outer;
-        let lattice = (!vertical).then(|| Lattice::new(path.u, zmax)).flatten();
+        let a = (0..3)
+            .max_by(|&x, &y| path.u[x].abs().total_cmp(&path.u[y].abs()))
+            .unwrap_or(2);
+        let far = match (a, ends[1]) {
+            (2, End::Open(z)) => z,
+            _ => head[a] + end * path.u[a],
+        };
+        let extent = head[a].abs().max(far.abs()) + outer;
+        let lattice = (!vertical).then(|| Lattice::new(path.u, extent)).flatten();
         let u = lattice.as_ref().map_or(path.u, Lattice::axis);
         let az = if vertical { az } else { u[0].atan2(u[1]) };
         let e1 = [az.cos(), -az.sin(), 0.0];
