@@ -46,13 +46,17 @@ fn write(stem: &str, d: &Deck, mut extra: serde_json::Value) {
 }
 
 /// The deck's connections are the network's, one for one, with
-/// T = c A / (d1/k + d2/k) for uniform k.
-fn assert_matches(d: &Deck, net: &Network) {
+/// T = c A / (d1/k1 + d2/k2) (k along the connection's axis).
+fn assert_matches(d: &Deck, net: &Network, rock: &Rock) {
     assert_eq!(d.nnc.len(), net.connections.len());
     let want: f64 = net
         .connections
         .iter()
-        .map(|c| DARCY * PERM * c.area / (c.d[0] + c.d[1]))
+        .map(|c| {
+            let axis = c.isot as usize - 1;
+            let k = c.elements.map(|e| rock.perm[e][axis]);
+            DARCY * c.area / (c.d[0] / k[0] + c.d[1] / k[1])
+        })
         .sum();
     let got: f64 = d.nnc.iter().map(|c| c.transmissibility).sum();
     assert!((got - want).abs() <= 1e-12 * want, "{got} {want}");
@@ -72,15 +76,16 @@ struct Thiem {
     radius: Vec<f64>,
     boundary: Vec<bool>,
     band: Vec<bool>,
-    /// Total thickness and domain side.
-    thickness: f64,
+    /// Permeability times thickness over the layers (mD m), and the
+    /// domain's side.
+    kh: f64,
     side: f64,
 }
 
 impl Thiem {
     /// p = P0 + A ln(r / (L/2)), A = q mu B / (2 pi c k h).
     fn slope(&self) -> f64 {
-        RATE * Fluid::default().viscosity / (TAU * DARCY * PERM * self.thickness)
+        RATE * Fluid::default().viscosity / (TAU * DARCY * self.kh)
     }
 
     fn exact(&self, r: f64) -> f64 {
@@ -88,6 +93,11 @@ impl Thiem {
     }
 
     fn deck(&self, stem: &str, net: &Network, wells: &[WellLinks]) {
+        let rock = Rock::uniform(net.elements.len(), [PERM; 3], 0.2);
+        self.deck_in(stem, net, wells, &rock)
+    }
+
+    fn deck_in(&self, stem: &str, net: &Network, wells: &[WellLinks], rock: &Rock) {
         // Compressible enough for Flow's time stepping: the interior settles
         // within a day (phi mu c_t L^2 / (c k)), and in 20 days the boundary,
         // of a million times its pore volume, drifts by 1e-3 bar.
@@ -101,9 +111,8 @@ impl Thiem {
             steps: vec![2.0; 10],
             fluid: Fluid::default(),
         };
-        let rock = Rock::uniform(net.elements.len(), [PERM; 3], 0.2);
-        let (mut d, position) = deck(stem, net, &rock, wells, &settings);
-        assert_matches(&d, net);
+        let (mut d, position) = deck(stem, net, rock, wells, &settings);
+        assert_matches(&d, net, rock);
         let mut pressures = vec![0.0; d.cells.len()];
         let mut band = vec![];
         let top = d
@@ -178,7 +187,7 @@ fn thiem_decks_in_2d_and_25d() {
             radius,
             boundary,
             band,
-            thickness: layers as f64 * dz,
+            kh: PERM * layers as f64 * dz,
             side,
         };
         if layers == 1 {
@@ -260,7 +269,7 @@ fn thiem_deck_with_peacemans_factor_in_a_conform_mesh() {
             .iter()
             .map(|&s| (r(s) - side / 4.0).abs() <= dx / 2.0)
             .collect(),
-        thickness,
+        kh: PERM * thickness,
         side,
     };
     t.deck("thiem-peaceman", &net, &wells);
@@ -272,19 +281,28 @@ fn thiem_deck_with_peacemans_factor_in_a_conform_mesh() {
 /// the transition mesh is 1.4% off Thiem there too (docs/limitations.md).
 #[test]
 fn thiem_deck_in_3d() {
+    let (h, t) = thiem_3d(&[0.0, 5.0, 10.0], &[PERM, PERM]);
+    let links = &h.wellbore;
+    assert_eq!((links[0].name.as_str(), links[0].radius), ("W", RW));
+    assert_eq!(links[0].links.len(), Hybrid3Options::default().sectors * 2);
+    t.deck("thiem-3d", &h.mesh.network(), links);
+}
+
+/// The 3D hybrid of a block of 15 x 15 columns of 10 m with layers at the
+/// given depths and permeabilities around a vertical well (sectors turned
+/// by 30 degrees), with its Thiem case.
+fn thiem_3d(depths: &[f64], perm: &[f64]) -> (hybrid3::Hybrid3, Thiem) {
     let (n, dx) = (15, 10.0);
-    let grid = CornerPointGrid::cartesian([n, n, 2], [dx, dx, 5.0]);
+    let grid = CornerPointGrid::layered([n, n], [dx, dx], depths);
     let w = Well3 {
         name: "W".into(),
         i: n / 2,
         j: n / 2,
         radius: RW,
-        dip: 0.0,
         azimuth: 30.0,
         ..Default::default()
     };
     let h = hybrid3::build(&default_backend(), &grid, &[w], &Hybrid3Options::default()).unwrap();
-    let net = h.mesh.network();
     let c = (n / 2) as f64 * dx + dx / 2.0;
     let side = n as f64 * dx;
     let r = |p: [f64; 3]| (p[0] - c).hypot(p[1] - c);
@@ -299,13 +317,26 @@ fn thiem_deck_in_3d() {
                     && (r(h.mesh.sites[k]) - side / 4.0).abs() <= dx / 2.0
             })
             .collect(),
-        thickness: 10.0,
+        kh: (0..perm.len())
+            .map(|k| perm[k] * (depths[k + 1] - depths[k]))
+            .sum(),
         side,
     };
-    let links = &h.wellbore;
-    assert_eq!((links[0].name.as_str(), links[0].radius), ("W", RW));
-    assert_eq!(links[0].links.len(), Hybrid3Options::default().sectors * 2);
-    t.deck("thiem-3d", &net, links);
+    (h, t)
+}
+
+/// The 3D hybrid of a layered block (50, 200 and 100 mD in layers of 4, 2
+/// and 6 m; tests/hybrid3.rs checks it with the crate's own solver), each
+/// cell with its host's permeability, for decks.py's Thiem check in Flow.
+#[test]
+fn thiem_deck_in_a_layered_block() {
+    let perm = [50.0, 200.0, 100.0];
+    let (h, t) = thiem_3d(&[0.0, 4.0, 6.0, 12.0], &perm);
+    let rock = Rock {
+        perm: h.host.iter().map(|c| [perm[c[2]]; 3]).collect(),
+        poro: vec![0.2; h.host.len()],
+    };
+    t.deck_in("thiem-3d-layered", &h.mesh.network(), &h.wellbore, &rock);
 }
 
 /// The demo's mesh and SPE9's top layer with its 26 wells, as the CLI

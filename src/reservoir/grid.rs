@@ -50,19 +50,29 @@ impl CornerPointGrid {
     /// A Cartesian block grid of nx x ny x nz cells of size dx, dy, dz,
     /// all active, from the origin, depth increasing with k.
     pub fn cartesian(n: [usize; 3], d: [f64; 3]) -> CornerPointGrid {
-        let [nx, ny, nz] = n;
+        let depths: Vec<f64> = (0..=n[2]).map(|k| k as f64 * d[2]).collect();
+        CornerPointGrid::layered([n[0], n[1]], [d[0], d[1]], &depths)
+    }
+
+    /// A block of nx x ny columns of size dx, dy whose layers' tops and
+    /// bottom are at the given depths (increasing), all active.
+    pub fn layered(n: [usize; 2], d: [f64; 2], depths: &[f64]) -> CornerPointGrid {
+        let [nx, ny] = n;
+        let nz = depths.len().saturating_sub(1);
+        let bottom = depths.last().copied().unwrap_or(0.0);
+        let top = depths.first().copied().unwrap_or(0.0);
         let coord = (0..=ny)
             .flat_map(|j| {
                 (0..=nx).map(move |i| {
                     let (x, y) = (i as f64 * d[0], j as f64 * d[1]);
-                    [x, y, 0.0, x, y, nz as f64 * d[2]]
+                    [x, y, top, x, y, bottom]
                 })
             })
             .collect();
         let mut zcorn = vec![0.0; 8 * nx * ny * nz];
         for k in 0..nz {
             for b in 0..2 {
-                let z = (k + b) as f64 * d[2];
+                let z = depths[k + b];
                 for r in 0..4 * nx * ny {
                     zcorn[(2 * k + b) * 4 * nx * ny + r] = z;
                 }
