@@ -48,14 +48,46 @@ fn dilate(cpg: &Cpg, path: &Path, reach: usize) -> BTreeSet<Ijk> {
 /// in their own columns: their cavities take no columns around.
 pub(super) const OWN_COLUMN: f64 = 0.4;
 
+/// The shorter side of a well's head cell's top, in map view.
+pub(super) fn head_side(cpg: &Cpg, path: &Path) -> f64 {
+    let top = cpg.face(path.head_cell, 4);
+    (0..4)
+        .map(|k| {
+            let (a, b) = (top[k], top[(k + 1) % 4]);
+            (a[0] - b[0]).hypot(a[1] - b[1])
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Whether a well's cavity takes the columns around its cells: unless its
+/// radial mesh, as its own 3 x 3 columns would let it be (in dipping
+/// layers it shrinks), fits in its own columns (`OWN_COLUMN`).
+pub(super) fn reach(cpg: &Cpg, well: &Well3, path: &Path, opts: &Hybrid3Options) -> usize {
+    if opts.outer <= OWN_COLUMN {
+        return 0;
+    }
+    let cells = dilate(cpg, path, 1);
+    let open: Vec<(usize, f64)> = [(4, path.open[0]), (5, path.open[1])]
+        .into_iter()
+        .filter_map(|(f, z)| z.map(|z| (f, z)))
+        .collect();
+    let outer = sides(cpg, &cells, &open)
+        .and_then(|sides| radials(cpg, &[well], &[path], &cells, &sides, opts))
+        .map_or(f64::INFINITY, |r| r[0].outer);
+    usize::from(outer > OWN_COLUMN * head_side(cpg, path))
+}
+
 /// The wells' cavities: completed cells with the layer beyond each end,
-/// and the columns around them unless the radial meshes are small enough
-/// for their own columns (`OWN_COLUMN`); merged where they share a cell.
-/// Cavities that only touch stay apart: each transition conforms to the
-/// sides between them, which both cut alike (`cpg::pieces`).
-pub(super) fn cavities(cpg: &Cpg, paths: &[Path], outer: f64) -> Vec<CavityCells> {
-    let reach = usize::from(outer > OWN_COLUMN);
-    let sets: Vec<BTreeSet<Ijk>> = paths.iter().map(|p| dilate(cpg, p, reach)).collect();
+/// and the columns around them as far as each well reaches (`reach`);
+/// merged where they share a cell. Cavities that only touch stay apart:
+/// each transition conforms to the sides between them, which both cut
+/// alike (`cpg::pieces`).
+pub(super) fn cavities(cpg: &Cpg, paths: &[Path], reach: &[usize]) -> Vec<CavityCells> {
+    let sets: Vec<BTreeSet<Ijk>> = paths
+        .iter()
+        .zip(reach)
+        .map(|(p, &r)| dilate(cpg, p, r))
+        .collect();
     // union-find over wells
     let mut root: Vec<usize> = (0..paths.len()).collect();
     fn find(root: &mut [usize], a: usize) -> usize {
@@ -267,13 +299,7 @@ pub(super) fn radials(
 ) -> Result<Vec<Radial>> {
     let mut out = vec![];
     for (n, (well, path)) in wells.iter().zip(paths).enumerate() {
-        let top = cpg.face([well.i, well.j, path.cells[0][2]], 4);
-        let side = (0..4)
-            .map(|k| {
-                let (a, b) = (top[k], top[(k + 1) % 4]);
-                (a[0] - b[0]).hypot(a[1] - b[1])
-            })
-            .fold(f64::INFINITY, f64::min);
+        let side = head_side(cpg, path);
         let mut outer = opts.outer * side;
         for (m, other) in paths.iter().enumerate() {
             if m != n {
@@ -322,7 +348,7 @@ pub(super) fn radials(
                          level {} of {}, its outer surface comes within {clear:.6} of the \
                          cavity's sides even at an outer radius of {outer:.6}",
                         well.name,
-                        one_based(path.cells[0]),
+                        one_based(path.head_cell),
                         k + 1,
                         r.levels.len(),
                     )));

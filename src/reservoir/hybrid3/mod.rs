@@ -73,8 +73,9 @@ pub struct Hybrid3Options {
     /// Sectors of the radial mesh.
     pub sectors: usize,
     /// Outer radius of the radial mesh, in the well's head cell's shorter
-    /// sides: up to 0.4, the cavity is the well's own column(s); above,
-    /// the columns around too, which the mesh may reach into. At most 0.3 of
+    /// sides: up to 0.4 (also where the mesh shrinks to that to clear its
+    /// cavity), the cavity is the well's own column(s); above, the columns
+    /// around too, which the mesh may reach into. At most 0.3 of
     /// the way to another well's axis, and shrunk by steps of 0.8 until the
     /// mesh is clear of the cavity's sides. Measured with the flow check
     /// (tests/hybrid3.rs, 16 sectors, 10 m cells, the annuli as faces): 0.4
@@ -232,7 +233,12 @@ pub fn build<B: Backend + ?Sized>(
         .iter()
         .map(|w| path::Path::new(&cpg, w))
         .collect::<Result<Vec<_>>>()?;
-    let groups = cavity::cavities(&cpg, &paths, opts.outer);
+    let reach: Vec<usize> = wells
+        .par_iter()
+        .zip(&paths)
+        .map(|(w, p)| cavity::reach(&cpg, w, p, opts))
+        .collect();
+    let groups = cavity::cavities(&cpg, &paths, &reach);
     let done = std::sync::atomic::AtomicUsize::new(0);
     let of = groups.len();
     let built = groups

@@ -17,8 +17,9 @@ pub(super) struct Path {
     pub(super) u: [f64; 3],
     /// The completed interval's length along the axis.
     pub(super) length: f64,
-    /// The live completed cells it crosses.
+    /// The live completed cells it crosses, and the first of them.
     pub(super) cells: Vec<Ijk>,
+    pub(super) head_cell: Ijk,
     /// Where the axis crosses from one completed layer to the next (along
     /// it from the head): a vertical well's layers are the grid's.
     pub(super) cuts: Vec<f64>,
@@ -134,6 +135,7 @@ impl Path {
                 u,
                 length: head[2] - bottom[2],
                 cells: live.iter().map(|&k| [i, j, k]).collect(),
+                head_cell: [i, j, first],
                 cuts,
                 open,
                 explicit: false,
@@ -309,6 +311,7 @@ impl Path {
         cuts: Vec<f64>,
         open: Option<[Option<f64>; 2]>,
     ) -> Path {
+        let head_cell = cells[0];
         cells.sort_unstable();
         cells.dedup();
         Path {
@@ -316,6 +319,7 @@ impl Path {
             u,
             length,
             cells,
+            head_cell,
             cuts,
             open: open.unwrap_or([None, None]),
             explicit: open.is_none(),
