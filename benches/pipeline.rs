@@ -429,8 +429,8 @@ fn hybrid_pipeline(c: &mut Criterion) {
     g.finish();
 }
 
-/// SPE9 in full 3D with its 26 wells along their COMPDAT layers, each in
-/// its own columns (`--outer 0.3`; issue target: within a minute). Only
+/// SPE9 in full 3D with its 26 wells along their COMPDAT layers, with the
+/// defaults (issue target: within a minute). Only
 /// under `cargo bench`: one build takes tens of seconds, and
 /// tests/decks.rs builds it in the test suite.
 fn hybrid3_pipeline(c: &mut Criterion) {
@@ -443,7 +443,6 @@ fn hybrid3_pipeline(c: &mut Criterion) {
     let (found, _) = read_wells(&dir.join("SPE9_CP.DATA")).unwrap();
     let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(0.25)).collect();
     let opts = Hybrid3Options {
-        outer: 0.3,
         allow_sites_outside: true,
         ..Default::default()
     };

@@ -652,7 +652,8 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
 }
 
 /// SPE9 in full 3D: its 24 x 25 x 15 grid with its 26 wells along their
-/// COMPDAT layers (radial meshes in their own columns, `--outer 0.3`), its
+/// COMPDAT layers (defaults: the radial meshes shrink to clear the 10
+/// degree dip, so each cavity is its well's own column), its
 /// rock, EQUIL and the first 30 days of its own schedule, for decks.py to
 /// run in OPM Flow.
 #[test]
@@ -665,7 +666,6 @@ fn spe9_in_3d_deck() {
     assert_eq!(wells.len(), 26);
     assert_eq!(wells[0].k, Some([10, 14]));
     let opts = Hybrid3Options {
-        outer: 0.3,
         allow_sites_outside: true,
         ..Default::default()
     };
