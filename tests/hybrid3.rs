@@ -552,3 +552,26 @@ fn thiem_in_a_layered_block() {
     );
     assert!(err < 0.005, "{err}");
 }
+
+/// A pinched-out layer (no thickness) between two others: left out, the
+/// layers across it meet, and the well is completed in the two others.
+#[test]
+fn a_pinched_out_layer_is_left_out() {
+    let g = CornerPointGrid::layered([7, 7], [10.0, 10.0], &[0.0, 4.0, 4.0, 8.0]);
+    let b = &compiled()[0];
+    let opts = Hybrid3Options::default();
+    let h = build(&**b, &g, &[well(0.0)], &opts).unwrap();
+    let r = &h.report;
+    assert!(r.conforms());
+    assert_eq!(r.cells[0], 2 * (49 - 9));
+    assert_eq!(h.wellbore[0].links.len(), 2 * opts.sectors);
+    assert_eq!(
+        (r.non_orthogonal, r.sites_outside, r.unmatched_faces),
+        (0, 0, 0)
+    );
+    // reservoir cells of layers 1 and 3 meet across layer 2
+    assert!(h.mesh.links.iter().any(|l| {
+        let [a, b] = l.cells.map(|c| h.ijk[c]);
+        matches!((a, b), (Some([0, 0, 0]), Some([0, 0, 2])))
+    }));
+}

@@ -251,6 +251,28 @@ mod tests {
     }
 
     #[test]
+    fn pinched_out_cells_are_skipped_across() {
+        // layer 2 of 3 has no thickness: layers 1 and 3 meet across it
+        let g = CornerPointGrid::layered([1, 1], [10.0, 10.0], &[0.0, 4.0, 4.0, 9.0]);
+        let cpg = Cpg { g: &g };
+        assert!(cpg.pinched([0, 0, 1]) && !cpg.live([0, 0, 1]));
+        assert_eq!(cpg.neighbour([0, 0, 0], 5).unwrap(), Some([0, 0, 2]));
+        assert_eq!(cpg.neighbour([0, 0, 2], 4).unwrap(), Some([0, 0, 0]));
+        // a gap between layers is no shared face: an error naming both cells
+        let mut gap = g.clone();
+        for r in 0..4 {
+            gap.zcorn[4 * 4 + r] = 5.0; // layer 3's top 1 m below layer 1's bottom
+            gap.zcorn[2 * 4 + r] = 5.0; // (and layer 2 pinched there)
+            gap.zcorn[3 * 4 + r] = 5.0;
+        }
+        let e = Cpg { g: &gap }
+            .neighbour([0, 0, 0], 5)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("(1, 1, 1) and (1, 1, 3)"), "{e}");
+    }
+
+    #[test]
     fn a_twisted_face_splits_alike_from_both_sides() {
         let q = [
             [0.0, 0.0, 0.0],
