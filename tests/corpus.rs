@@ -66,7 +66,7 @@ fn check(case: &Case, backend: &str, dir: &Path) -> Result<(), String> {
     let path = |k: usize| outputs[k].display().to_string();
     args.extend(["-o".into(), path(0)]);
     // 3D inputs (named *_3d.*) get a TOUGH MESH where 2D ones get a picture
-    let three_d = args.iter().any(|a| a.contains("_3d."));
+    let three_d = args.iter().any(|a| a.contains("_3d.") || a == "--3d");
     if args[0] != "generate" {
         args.extend(["--report".into(), path(1)]);
         if !three_d {

@@ -314,23 +314,24 @@ pub(super) fn radials(
                 outer = outer.min(0.3 * apart);
             }
         }
+        // the thinnest completed cell, by its corners' thicknesses (those
+        // pinched to nothing left out: the clearance must be positive)
         let thinnest = path
             .cells
             .iter()
-            .map(|&c| {
-                (0..4)
-                    .map(|n| cpg.corner(c, n)[2] - cpg.corner(c, n + 4)[2])
-                    .fold(f64::INFINITY, f64::min)
-            })
-            .fold(f64::INFINITY, f64::min);
-        let clear = 0.25 * (side / 2.0).min(thinnest.max(0.0));
+            .flat_map(|&c| (0..4).map(move |n| cpg.corner(c, n)[2] - cpg.corner(c, n + 4)[2]))
+            .filter(|&t| t > 0.0)
+            .fold(side / 2.0, f64::min);
+        let clear = 0.25 * (side / 2.0).min(thinnest);
         let ends = ends(cpg, path, cells);
         let mut tries = 0;
         let radial = loop {
             let r = Radial::new(well, path, opts, outer, ends)?;
+            // the first point of the outer surface outside the cavity or
+            // too near its sides: (level, inside, its distance to them)
             let bad = (0..r.levels.len())
                 .flat_map(|k| (0..r.m).map(move |s| (k, s)))
-                .find(|&(k, s)| {
+                .find_map(|(k, s)| {
                     let p = r.surface(s, k);
                     let open = match (k, ends) {
                         (0, [End::Open(_), _]) => true,
@@ -338,15 +339,22 @@ pub(super) fn radials(
                         _ => false,
                     };
                     let inside = cpg.locate(p, cells.iter().copied()).is_some();
-                    !(inside || open) || clearance(p, sides) < clear
+                    let d = clearance(p, sides);
+                    (!(inside || open) || d < clear).then_some((k, inside || open, d))
                 });
             match bad {
                 None => break r,
-                Some((k, _)) if tries >= 12 || outer * 0.8 <= 2.0 * well.radius => {
+                Some((k, inside, d)) if tries >= 40 || outer * 0.8 <= 2.0 * well.radius => {
+                    let how = match inside {
+                        true => format!(
+                            "comes within {d:.6} of the cavity's sides (it must keep {clear:.6} away)"
+                        ),
+                        false => "leaves the cavity".to_string(),
+                    };
                     return Err(Error::Usage(format!(
                         "well {}: its radial mesh does not fit in its cavity (around cell {}): at \
-                         level {} of {}, its outer surface comes within {clear:.6} of the \
-                         cavity's sides even at an outer radius of {outer:.6}",
+                         level {} of {}, its outer surface {how}, even at an outer radius of \
+                         {outer:.6}",
                         well.name,
                         one_based(path.head_cell),
                         k + 1,
