@@ -575,3 +575,55 @@ fn a_pinched_out_layer_is_left_out() {
         matches!((a, b), (Some([0, 0, 0]), Some([0, 0, 2])))
     }));
 }
+
+/// A fault with a 2 m throw between columns 5 and 6 of a block of 4 m
+/// layers, away from the well: the reservoir cells across it are linked
+/// by the overlaps of their faces, which add up to the fault's shared
+/// area, and the mesh away from the fault is as without it.
+#[test]
+fn cells_across_a_throw_are_linked_by_their_overlaps() {
+    let (n, h) = (7, 10.0);
+    let mut g = CornerPointGrid::cartesian([n, n, 3], [h, h, 4.0]);
+    // columns i >= 5 (0-based) 2 m deeper, pillars long enough
+    for k in 0..3 {
+        for b in 0..2 {
+            for j in 0..n {
+                for dj in 0..2 {
+                    for i in 5..n {
+                        for di in 0..2 {
+                            let z = ((((2 * k + b) * n + j) * 2 + dj) * n + i) * 2 + di;
+                            g.zcorn[z] += 2.0;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    for p in &mut g.coord {
+        p[5] = 20.0;
+    }
+    let w = Well3 { i: 2, ..well(0.0) };
+    let b = &compiled()[0];
+    let h3 = build(&**b, &g, &[w], &Hybrid3Options::default()).unwrap();
+    let r = &h3.report;
+    println!(
+        "a throw of 2 m beside the cavity: {} links across it, {} faces left unconnected",
+        r.across_throws, r.unmatched_faces
+    );
+    assert!(r.conforms());
+    // per row of columns: layers 1-3 against 1-3 shifted by 2 m: 5 overlaps
+    assert_eq!(r.across_throws, 5 * n);
+    assert_eq!(r.unmatched_faces, 0);
+    let across: f64 = h3
+        .mesh
+        .links
+        .iter()
+        .filter(|l| {
+            let [a, b] = l.cells.map(|c| h3.ijk[c]);
+            matches!((a, b), (Some([4, _, _]), Some([5, _, _])))
+        })
+        .map(|l| l.area)
+        .sum();
+    // 7 faces of 10 m wide, 12 m high, 2 m of each uncovered
+    assert!((across - 7.0 * 10.0 * 10.0).abs() < 1e-9, "{across}");
+}

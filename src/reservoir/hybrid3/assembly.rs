@@ -41,6 +41,24 @@ pub(super) struct Assembly {
 /// and its site's distance.
 type Half = (usize, Vec<u32>, f64, f64);
 
+/// The part of a polygon where side(p) has the sign of `keep` (a half
+/// plane, Sutherland and Hodgman).
+fn clip(poly: &[[f64; 2]], side: impl Fn([f64; 2]) -> f64, keep: f64) -> Vec<[f64; 2]> {
+    let mut out = vec![];
+    for k in 0..poly.len() {
+        let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+        let (sp, sq) = (keep * side(p), keep * side(q));
+        if sp >= 0.0 {
+            out.push(p);
+        }
+        if (sp >= 0.0) != (sq >= 0.0) {
+            let t = sp / (sp - sq);
+            out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
+        }
+    }
+    out
+}
+
 /// The plane of a face through its points' centroid (Newell's normal: the
 /// mean plane of a face that is not planar).
 fn mean_plane(pts: &[[f64; 3]]) -> Plane {
@@ -109,9 +127,9 @@ impl Assembly {
     /// faces, in grid order.
     /// Returns the faces left unconnected, where a throw (or a gap) keeps
     /// the cell across from sharing them.
-    pub(super) fn reservoir_links(&mut self, cpg: &Cpg) -> usize {
+    pub(super) fn reservoir_links(&mut self, cpg: &Cpg) -> [usize; 2] {
         let cells: Vec<(Ijk, usize)> = self.res_cell.iter().map(|(&c, &a)| (c, a)).collect();
-        let mut unmatched = 0;
+        let (mut unmatched, mut thrown) = (0, 0);
         for (c, a) in cells {
             for f in [1, 3, 5] {
                 // faces around the cavities were checked when they were
@@ -119,6 +137,13 @@ impl Assembly {
                 let n = match cpg.neighbour(c, f) {
                     Ok(Some(n)) => n,
                     Ok(None) => continue,
+                    Err(_) if f < 4 => {
+                        // a throw: the cells across that overlap this face
+                        let links = self.across_throw(cpg, c, a, f);
+                        unmatched += usize::from(links == 0);
+                        thrown += links;
+                        continue;
+                    }
                     Err(_) => {
                         unmatched += 1;
                         continue;
@@ -141,7 +166,66 @@ impl Assembly {
                 self.link(a, b, face, mean_plane(&pts));
             }
         }
-        unmatched
+        [unmatched, thrown]
+    }
+
+    /// Links from reservoir cell c (mesh cell a) across its I+ (f 1) or J+
+    /// (f 3) face where a throw keeps the cells across from sharing it: to
+    /// each reservoir cell of the next column whose face overlaps it, by
+    /// the overlap (on the surface between the two pillars: clipped in
+    /// pillar fraction and depth, mapped back along the pillars), as
+    /// corner-point simulators connect cells across faults. Returns the
+    /// links made.
+    fn across_throw(&mut self, cpg: &Cpg, c: Ijk, a: usize, f: usize) -> usize {
+        let [i, j, _] = c;
+        let g = cpg.g;
+        let (next, mine, theirs) = match f {
+            1 if i + 1 < g.nx => ([i + 1, j], [1, 3, 5, 7], [0, 2, 4, 6]),
+            3 if j + 1 < g.ny => ([i, j + 1], [2, 3, 6, 7], [0, 1, 4, 5]),
+            _ => return 0,
+        };
+        // corner depths: top at the two pillars, bottom at the two
+        let depths = |cell: Ijk, n: [usize; 4]| n.map(|m| -cpg.corner(cell, m)[2]);
+        let da = depths(c, mine);
+        // the two pillars' points at a depth
+        let on_pillar = |q: usize, depth: f64| -> [f64; 3] {
+            let (pa, pb) = (cpg.corner(c, mine[q]), cpg.corner(c, mine[q + 2]));
+            let t = if pb[2] != pa[2] {
+                (-depth - pa[2]) / (pb[2] - pa[2])
+            } else {
+                0.0
+            };
+            std::array::from_fn(|k| pa[k] + t * (pb[k] - pa[k]))
+        };
+        let mut made = 0;
+        for k in 0..g.nz {
+            let n = [next[0], next[1], k];
+            let Some(&b) = self.res_cell.get(&n) else {
+                continue;
+            };
+            let db = depths(n, theirs);
+            // A's face in (pillar fraction, depth), clipped to B's strip
+            let mut poly = vec![[0.0, da[0]], [1.0, da[1]], [1.0, da[3]], [0.0, da[2]]];
+            let line = |d0: f64, d1: f64| move |p: [f64; 2]| p[1] - (d0 + p[0] * (d1 - d0));
+            poly = clip(&poly, line(db[0], db[1]), 1.0);
+            poly = clip(&poly, line(db[2], db[3]), -1.0);
+            if poly.len() < 3 {
+                continue;
+            }
+            let pts: Vec<[f64; 3]> = poly
+                .iter()
+                .map(|&[s, d]| {
+                    let (p, q) = (on_pillar(0, d), on_pillar(1, d));
+                    std::array::from_fn(|k| p[k] + s * (q[k] - p[k]))
+                })
+                .collect();
+            let pl = mean_plane(&pts);
+            if pl.area > 0.0 && pl.area.is_finite() {
+                self.link(a, b, vec![], pl);
+                made += 1;
+            }
+        }
+        made
     }
 
     /// A link across a face between cells a and b.
@@ -471,7 +555,7 @@ pub(super) fn assemble(cpg: &Cpg, wells: &[super::Well3], built: Vec<Built>) -> 
         .flat_map(|(n, b)| b.cells.cells.iter().map(move |&c| (c, n)))
         .collect();
     a.reservoir(cpg, &|c| owner.contains_key(&c));
-    let unmatched = a.reservoir_links(cpg);
+    let [unmatched, thrown] = a.reservoir_links(cpg);
     let mut names = vec![];
     let mut radials: Vec<&Radial> = vec![];
     let mut firsts = vec![];
@@ -562,6 +646,7 @@ pub(super) fn assemble(cpg: &Cpg, wells: &[super::Well3], built: Vec<Built>) -> 
         connections: out.links.len(),
         unpaired_faces: unpaired,
         unmatched_faces: unmatched,
+        across_throws: thrown,
         non_orthogonal: by_regions.values().map(|c| c.non_orthogonal).sum(),
         by_regions,
     };

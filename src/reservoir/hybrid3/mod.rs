@@ -166,9 +166,12 @@ pub struct Hybrid3Report {
     /// Transition faces on a side between two cavities that match no face
     /// of the other (0: the cavities meet face to face).
     pub unpaired_faces: usize,
-    /// Faces between reservoir cells left unconnected because the cells
-    /// across do not share them (a fault's throw: not yet connected).
+    /// Faces between reservoir cells left unconnected: across a gap
+    /// between layers, or a throw whose cells across do not overlap them.
     pub unmatched_faces: usize,
+    /// Connections between reservoir cells across a fault's throw, by the
+    /// overlap of their faces.
+    pub across_throws: usize,
     /// Connections whose face is not orthogonal to the link.
     pub non_orthogonal: usize,
     /// The same per pair of regions ("reservoir-transition", ...).
