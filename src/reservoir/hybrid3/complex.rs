@@ -1,7 +1,7 @@
 //! The transition's complex in a cavity: its sides (facing reservoir
-//! cells or nothing), the grid's flat top or bottom merged into one facet
-//! with open wells' outlines as windows, each well's outer surface and
-//! caps; and its certified mesh.
+//! cells, another cavity's cells or nothing), the grid's flat top or
+//! bottom merged into one facet with open wells' outlines as windows, each
+//! well's outer surface and its plugs' triangles; and its certified mesh.
 
 use super::cavity::Side;
 use super::cpg::Ijk;
@@ -18,9 +18,9 @@ use std::collections::HashMap;
 /// What lies across a facet of the transition's complex.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Across {
-    /// A reservoir cell.
+    /// A grid cell: a reservoir cell, or another cavity's.
     Cell(Ijk),
-    /// Nothing: the grid's boundary, inactive cells, the wellbore's ends.
+    /// Nothing: the grid's boundary, inactive cells.
     Outside,
     /// Well `w` (of the cavity's), its cell (layer, ring, sector).
     Well(usize, [usize; 3]),
@@ -52,10 +52,11 @@ impl Points {
     }
 }
 
-/// The boundary loops of a union of pieces (edges without their reverse).
+/// The boundary loops of a union of pieces (edges without their reverse),
+/// in an order that does not depend on hashing (reproducible outputs).
 fn loops(pieces: &[Vec<u32>]) -> Vec<Vec<u32>> {
-    let mut edges: HashMap<u32, Vec<u32>> = HashMap::new();
-    let all: std::collections::HashSet<(u32, u32)> = pieces
+    let mut edges: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    let all: std::collections::BTreeSet<(u32, u32)> = pieces
         .iter()
         .flat_map(|p| (0..p.len()).map(move |k| (p[k], p[(k + 1) % p.len()])))
         .collect();
@@ -64,8 +65,7 @@ fn loops(pieces: &[Vec<u32>]) -> Vec<Vec<u32>> {
             edges.entry(a).or_default().push(b);
         }
     }
-    let mut starts: Vec<u32> = edges.keys().copied().collect();
-    starts.sort_unstable();
+    let starts: Vec<u32> = edges.keys().copied().collect();
     let mut out = vec![];
     for s in starts {
         while let Some(b) = edges.get_mut(&s).and_then(Vec::pop) {
