@@ -90,12 +90,6 @@ fn wells(a: &HybridArgs) -> Result<Vec<Well3>> {
         list.retain(|x| x.name != w.name);
         list.push(w);
     }
-    if !a.wells_xy.is_empty() || !a.faults.is_empty() {
-        return Err(Error::Usage(
-            "--3d takes wells by column (--well, or the deck's); --well-xy and --fault are 2D"
-                .into(),
-        ));
-    }
     if list.is_empty() {
         return Err(Error::Usage(
             "--3d needs a well: --well NAME:I:J[:K1-K2][:RADIUS[:DIP:AZIMUTH]], --well-path \

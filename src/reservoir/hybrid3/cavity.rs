@@ -1,5 +1,5 @@
 //! A cavity: the live cells within one cell of some wells' completed
-//! cells (wells whose cavities overlap or touch share one); its sides,
+//! cells (wells whose cavities share cells share one); its sides,
 //! the grid cells' faces kept whole or split in two triangles alike on
 //! both sides; the wells' radial meshes inside, sized to stay clear of
 //! its sides and of each other.
@@ -67,10 +67,7 @@ pub(super) fn reach(cpg: &Cpg, well: &Well3, path: &Path, opts: &Hybrid3Options)
         return 0;
     }
     let cells = dilate(cpg, path, 1);
-    let open: Vec<(usize, f64)> = [(4, path.open[0]), (5, path.open[1])]
-        .into_iter()
-        .filter_map(|(f, z)| z.map(|z| (f, z)))
-        .collect();
+    let open: Vec<(usize, f64)> = path.open_faces().collect();
     let outer = sides(cpg, &cells, &open)
         .and_then(|sides| radials(cpg, &[well], &[path], &cells, &sides, opts))
         .map_or(f64::INFINITY, |r| r[0].outer);

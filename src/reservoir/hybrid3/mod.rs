@@ -249,14 +249,7 @@ pub fn build<B: Backend + ?Sized>(
         .map(|cells| {
             let ws: Vec<&Well3> = cells.wells.iter().map(|&w| &wells[w]).collect();
             let ps: Vec<&path::Path> = cells.wells.iter().map(|&w| &paths[w]).collect();
-            let open: Vec<(usize, f64)> = ps
-                .iter()
-                .flat_map(|p| {
-                    [(4, p.open[0]), (5, p.open[1])]
-                        .into_iter()
-                        .filter_map(|(f, z)| z.map(|z| (f, z)))
-                })
-                .collect();
+            let open: Vec<(usize, f64)> = ps.iter().flat_map(|p| p.open_faces()).collect();
             let sides = cavity::sides(&cpg, &cells.cells, &open)?;
             let radials = cavity::radials(&cpg, &ws, &ps, &cells.cells, &sides, opts)?;
             let transition = complex::Transition::new(&sides, &radials);

@@ -2,7 +2,7 @@
 //! top of its first completed layer down to the bottom of its last, the
 //! cells it crosses there, and whether its ends lie on a flat top or
 //! bottom of the grid (where its radial mesh stays open) or inside the
-//! cavity (where the mesh is closed by caps).
+//! cavity (where the mesh is closed by plugs).
 
 use super::cpg::{one_based, Cpg, Ijk};
 use super::Well3;
@@ -237,6 +237,14 @@ impl Path {
             t = next;
         }
         Ok(Path::of(head, u, length, cells, cuts, None))
+    }
+
+    /// The grid's flat top (face 4) and bottom (5) the ends lie on, with
+    /// their heights.
+    pub(super) fn open_faces(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        [(4, self.open[0]), (5, self.open[1])]
+            .into_iter()
+            .filter_map(|(f, z)| z.map(|z| (f, z)))
     }
 
     /// A deviated well: the cells its axis crosses from the head down to
