@@ -104,10 +104,21 @@ impl CornerPointGrid {
     /// c = di + 2 dj + 4 b (b = 1 at the bottom). x, y come from the
     /// corner's pillar, interpolated linearly at the corner's depth.
     pub fn corner(&self, i: usize, j: usize, k: usize, c: usize) -> [f64; 3] {
+        let (di, dj) = (c & 1, (c >> 1) & 1);
+        self.on_pillar(i + di, j + dj, self.depth(i, j, k, c))
+    }
+
+    /// The depth of corner c of cell (i, j, k) (its ZCORN value).
+    pub fn depth(&self, i: usize, j: usize, k: usize, c: usize) -> f64 {
         let (di, dj, b) = (c & 1, (c >> 1) & 1, c >> 2);
         let (nx, ny) = (self.nx, self.ny);
-        let z = self.zcorn[((((2 * k + b) * ny + j) * 2 + dj) * nx + i) * 2 + di];
-        let p = self.coord[(j + dj) * (nx + 1) + i + di];
+        self.zcorn[((((2 * k + b) * ny + j) * 2 + dj) * nx + i) * 2 + di]
+    }
+
+    /// The point of pillar (i, j) (0..=nx, 0..=ny) at a depth, interpolated
+    /// linearly between its ends.
+    pub fn on_pillar(&self, i: usize, j: usize, z: f64) -> [f64; 3] {
+        let p = self.coord[j * (self.nx + 1) + i];
         let (dz, t) = (p[5] - p[2], z - p[2]);
         let f = if dz != 0.0 { t / dz } else { 0.0 };
         [p[0] + f * (p[3] - p[0]), p[1] + f * (p[4] - p[1]), z]

@@ -41,24 +41,6 @@ pub(super) struct Assembly {
 /// and its site's distance.
 type Half = (usize, Vec<u32>, f64, f64);
 
-/// The part of a polygon where side(p) has the sign of `keep` (a half
-/// plane, Sutherland and Hodgman).
-fn clip(poly: &[[f64; 2]], side: impl Fn([f64; 2]) -> f64, keep: f64) -> Vec<[f64; 2]> {
-    let mut out = vec![];
-    for k in 0..poly.len() {
-        let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
-        let (sp, sq) = (keep * side(p), keep * side(q));
-        if sp >= 0.0 {
-            out.push(p);
-        }
-        if (sp >= 0.0) != (sq >= 0.0) {
-            let t = sp / (sp - sq);
-            out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
-        }
-    }
-    out
-}
-
 /// The plane of a face through its points' centroid (Newell's normal: the
 /// mean plane of a face that is not planar).
 fn mean_plane(pts: &[[f64; 3]]) -> Plane {
@@ -69,6 +51,27 @@ fn mean_plane(pts: &[[f64; 3]]) -> Plane {
         origin: std::array::from_fn(|a| pts.iter().map(|p| p[a]).sum::<f64>() / k),
         unit: n.map(|c| c / len),
         area: len / 2.0,
+    }
+}
+
+/// The plane of a face in pieces: their normals' sum, their areas', and
+/// the mean of their centroids by area.
+fn plane_of_pieces(pieces: &[Vec<[f64; 3]>]) -> Plane {
+    let (mut n, mut area, mut o) = ([0.0; 3], 0.0, [0.0; 3]);
+    for p in pieces {
+        let pl = mean_plane(p);
+        let m = newell(p);
+        for k in 0..3 {
+            n[k] += m[k];
+            o[k] += pl.area * pl.origin[k];
+        }
+        area += pl.area;
+    }
+    let len = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+    Plane {
+        origin: o.map(|x| x / area),
+        unit: n.map(|x| x / len),
+        area,
     }
 }
 
@@ -99,7 +102,10 @@ impl Assembly {
     }
 
     /// Reservoir cells outside the cavities, in grid order: each face's
-    /// pieces (as the cavities' sides have them).
+    /// pieces (`pieces`), also at throws: vtk accepts no face cut there
+    /// (corners on a side make its edges meet, coplanar pieces make the
+    /// cell nonconvex for it), so the cells across a throw, and the
+    /// transition's faces on one, meet there without matching corners.
     pub(super) fn reservoir(&mut self, cpg: &Cpg, in_cavity: &dyn Fn(Ijk) -> bool) {
         let g = cpg.g;
         for k in 0..g.nz {
@@ -124,23 +130,22 @@ impl Assembly {
     }
 
     /// Connections between reservoir cells across their I+, J+ and bottom
-    /// faces, in grid order.
-    /// Returns the faces left unconnected, where a throw (or a gap) keeps
-    /// the cell across from sharing them.
+    /// faces, in grid order; across a throw, to each cell across by the
+    /// pieces of the face they share (as corner-point simulators connect
+    /// cells across faults). Returns the faces left unconnected (a throw
+    /// with nothing across, a gap between layers) and the links across
+    /// throws.
     pub(super) fn reservoir_links(&mut self, cpg: &Cpg) -> [usize; 2] {
         let cells: Vec<(Ijk, usize)> = self.res_cell.iter().map(|(&c, &a)| (c, a)).collect();
         let (mut unmatched, mut thrown) = (0, 0);
         for (c, a) in cells {
             for f in [1, 3, 5] {
-                // faces around the cavities were checked when they were
-                // built; a throw elsewhere leaves the two cells unconnected
                 let n = match cpg.neighbour(c, f) {
                     Ok(Some(n)) => n,
                     Ok(None) => continue,
                     Err(_) if f < 4 => {
-                        // a throw: the cells across that overlap this face
-                        let links = self.across_throw(cpg, c, a, f);
-                        unmatched += usize::from(links == 0);
+                        let [links, none] = self.across_throw(cpg, c, a, f);
+                        unmatched += none;
                         thrown += links;
                         continue;
                     }
@@ -169,63 +174,30 @@ impl Assembly {
         [unmatched, thrown]
     }
 
-    /// Links from reservoir cell c (mesh cell a) across its I+ (f 1) or J+
-    /// (f 3) face where a throw keeps the cells across from sharing it: to
-    /// each reservoir cell of the next column whose face overlaps it, by
-    /// the overlap (on the surface between the two pillars: clipped in
-    /// pillar fraction and depth, mapped back along the pillars), as
-    /// corner-point simulators connect cells across faults. Returns the
-    /// links made.
-    fn across_throw(&mut self, cpg: &Cpg, c: Ijk, a: usize, f: usize) -> usize {
-        let [i, j, _] = c;
-        let g = cpg.g;
-        let (next, mine, theirs) = match f {
-            1 if i + 1 < g.nx => ([i + 1, j], [1, 3, 5, 7], [0, 2, 4, 6]),
-            3 if j + 1 < g.ny => ([i, j + 1], [2, 3, 6, 7], [0, 1, 4, 5]),
-            _ => return 0,
-        };
-        // corner depths: top at the two pillars, bottom at the two
-        let depths = |cell: Ijk, n: [usize; 4]| n.map(|m| -cpg.corner(cell, m)[2]);
-        let da = depths(c, mine);
-        // the two pillars' points at a depth
-        let on_pillar = |q: usize, depth: f64| -> [f64; 3] {
-            let (pa, pb) = (cpg.corner(c, mine[q]), cpg.corner(c, mine[q + 2]));
-            let t = if pb[2] != pa[2] {
-                (-depth - pa[2]) / (pb[2] - pa[2])
-            } else {
-                0.0
-            };
-            std::array::from_fn(|k| pa[k] + t * (pb[k] - pa[k]))
-        };
+    /// Links from reservoir cell c (mesh cell a) across its face f on a
+    /// throw: one to each reservoir cell across, by the pieces they share.
+    /// Returns the links made, and 1 where no live cell is across.
+    fn across_throw(&mut self, cpg: &Cpg, c: Ijk, a: usize, f: usize) -> [usize; 2] {
+        let mut by_cell: BTreeMap<Ijk, Vec<Vec<[f64; 3]>>> = BTreeMap::new();
+        for p in cpg.parts(c, f).unwrap_or_default() {
+            if let Some(n) = p.across {
+                by_cell.entry(n).or_default().push(p.points);
+            }
+        }
+        let none = usize::from(by_cell.is_empty());
         let mut made = 0;
-        for k in 0..g.nz {
-            let n = [next[0], next[1], k];
+        for (n, pieces) in by_cell {
             let Some(&b) = self.res_cell.get(&n) else {
                 continue;
             };
-            let db = depths(n, theirs);
-            // A's face in (pillar fraction, depth), clipped to B's strip
-            let mut poly = vec![[0.0, da[0]], [1.0, da[1]], [1.0, da[3]], [0.0, da[2]]];
-            let line = |d0: f64, d1: f64| move |p: [f64; 2]| p[1] - (d0 + p[0] * (d1 - d0));
-            poly = clip(&poly, line(db[0], db[1]), 1.0);
-            poly = clip(&poly, line(db[2], db[3]), -1.0);
-            if poly.len() < 3 {
-                continue;
-            }
-            let pts: Vec<[f64; 3]> = poly
-                .iter()
-                .map(|&[s, d]| {
-                    let (p, q) = (on_pillar(0, d), on_pillar(1, d));
-                    std::array::from_fn(|k| p[k] + s * (q[k] - p[k]))
-                })
-                .collect();
-            let pl = mean_plane(&pts);
+            let pl = plane_of_pieces(&pieces);
             if pl.area > 0.0 && pl.area.is_finite() {
-                self.link(a, b, vec![], pl);
+                let face = pieces[0].iter().map(|&p| self.point(p)).collect();
+                self.link(a, b, face, pl);
                 made += 1;
             }
         }
-        made
+        [made, none]
     }
 
     /// A link across a face between cells a and b.
@@ -326,8 +298,8 @@ impl Assembly {
     /// outer surface. Toward the rings, a wedge's face is one triangle that
     /// the rings' faces and the wellbore's end tile: a polyhedron carrying
     /// the ring points on its own edges is not valid for vtk (its
-    /// convexity test), so this interface inside the well is the one place
-    /// where faces meet without matching corners.
+    /// convexity test), so faces meet there without matching corners (as
+    /// reservoir cells do at throws, `reservoir`).
     fn wedges(&mut self, w: &Radial, k: usize) {
         let rings = w.rings;
         let (far, near) = if k == 0 { (0, 1) } else { (k + 1, k) };
@@ -437,7 +409,7 @@ impl Assembly {
                 }
                 Across::Cell(c) => self.res_cell.get(&c).copied(),
                 Across::Well(n, [k, q, s]) => Some(first_w[n] + b.radials[n].cell(k, q, s)),
-                Across::Outside => None,
+                Across::Outside | Across::Inner => None,
             };
             let Some(other) = other else { continue };
             let face: Vec<u32> = f

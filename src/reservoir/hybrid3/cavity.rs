@@ -4,7 +4,7 @@
 //! both sides; the wells' radial meshes inside, sized to stay clear of
 //! its sides and of each other.
 
-use super::cpg::{one_based, pieces, Cpg, Ijk};
+use super::cpg::{one_based, Cpg, Ijk};
 use super::path::Path;
 use super::radial::{End, Radial};
 use super::{Hybrid3Options, Well3};
@@ -18,6 +18,8 @@ pub(super) struct Side {
     /// Whether it lies on the grid's flat top (4) or bottom (5) where a
     /// well's radial mesh ends open.
     pub(super) open: Option<usize>,
+    /// Whether the cell across is the cavity's too: a fault inside it.
+    pub(super) inner: bool,
 }
 
 /// The cells of a cavity and the wells (indices) it holds.
@@ -26,22 +28,65 @@ pub(super) struct CavityCells {
     pub(super) wells: Vec<usize>,
 }
 
-/// The live cells within one cell of a path's cells.
+/// The live cells within one cell of a path's cells: the layers above
+/// and below, and the columns around as far as `reach`. Where a throw
+/// parts those columns, the cells there whose depths overlap the path
+/// cell's three layers'.
 fn dilate(cpg: &Cpg, path: &Path, reach: usize) -> BTreeSet<Ijk> {
     let g = cpg.g;
     let mut out = BTreeSet::new();
     for &[i, j, k] in &path.cells {
-        for kk in k.saturating_sub(1)..=(k + 1).min(g.nz - 1) {
-            for jj in j.saturating_sub(reach)..=(j + reach).min(g.ny - 1) {
-                for ii in i.saturating_sub(reach)..=(i + reach).min(g.nx - 1) {
-                    if cpg.live([ii, jj, kk]) {
+        let (k0, k1) = (k.saturating_sub(1), (k + 1).min(g.nz - 1));
+        let cols: Vec<[usize; 2]> = (j.saturating_sub(reach)..=(j + reach).min(g.ny - 1))
+            .flat_map(|jj| {
+                (i.saturating_sub(reach)..=(i + reach).min(g.nx - 1)).map(move |ii| [ii, jj])
+            })
+            .collect();
+        let inner = |c: [usize; 2], f: usize| match f {
+            0 => c[0] > i.saturating_sub(reach),
+            1 => c[0] < (i + reach).min(g.nx - 1),
+            2 => c[1] > j.saturating_sub(reach),
+            _ => c[1] < (j + reach).min(g.ny - 1),
+        };
+        let faulted = cols
+            .iter()
+            .any(|&c| (0..4).any(|f| inner(c, f) && cpg.is_thrown(c, f)));
+        if faulted {
+            let depth = |c: Ijk, n: usize| cpg.g.depth(c[0], c[1], c[2], n);
+            let range = |c: Ijk| {
+                (0..8).fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], n| {
+                    [lo.min(depth(c, n)), hi.max(depth(c, n))]
+                })
+            };
+            let (top, bottom) = (range([i, j, k0])[0], range([i, j, k1])[1]);
+            for [ii, jj] in cols {
+                for kk in 0..g.nz {
+                    let [lo, hi] = range([ii, jj, kk]);
+                    if lo < bottom && hi > top && cpg.live([ii, jj, kk]) {
                         out.insert([ii, jj, kk]);
                     }
+                }
+            }
+            continue;
+        }
+        for kk in k0..=k1 {
+            for &[ii, jj] in &cols {
+                if cpg.live([ii, jj, kk]) {
+                    out.insert([ii, jj, kk]);
                 }
             }
         }
     }
     out
+}
+
+/// Whether a fault (a throw, or a face FAULTS names) bounds a column of
+/// the path's cells: its cavity then takes the columns around, which the
+/// fault crosses.
+fn beside_fault(cpg: &Cpg, path: &Path) -> bool {
+    path.cells
+        .iter()
+        .any(|&c| (0..4).any(|f| cpg.is_thrown([c[0], c[1]], f) || cpg.on_fault(c, f)))
 }
 
 /// Radial meshes up to this many of their head cell's shorter sides fit
@@ -65,6 +110,9 @@ pub(super) fn head_side(cpg: &Cpg, path: &Path) -> f64 {
 pub(super) fn reach(cpg: &Cpg, well: &Well3, path: &Path, opts: &Hybrid3Options) -> usize {
     if opts.outer <= OWN_COLUMN {
         return 0;
+    }
+    if beside_fault(cpg, path) {
+        return 1;
     }
     let cells = dilate(cpg, path, 1);
     let open: Vec<(usize, f64)> = path.open_faces().collect();
@@ -126,13 +174,16 @@ pub(super) fn sides(cpg: &Cpg, cells: &BTreeSet<Ijk>, open: &[(usize, f64)]) -> 
     let mut out = vec![];
     for &c in cells {
         for f in 0..6 {
-            let across = cpg.neighbour(c, f)?;
-            if across.is_some_and(|n| cells.contains(&n)) {
-                continue;
-            }
-            let q = cpg.face(c, f);
-            for p in pieces(&q) {
-                let points: Vec<[f64; 3]> = p.iter().map(|&n| q[n]).collect();
+            let fault = cpg.on_fault(c, f);
+            for part in cpg.parts(c, f)? {
+                let across = part.across;
+                // faces between the cavity's cells are none of its sides,
+                // but faults there are (from one side)
+                let inner = across.is_some_and(|n| cells.contains(&n));
+                if inner && !(part.thrown || fault) || across.is_some_and(|n| inner && n < c) {
+                    continue;
+                }
+                let points = part.points;
                 let on = open
                     .iter()
                     .find(|&&(ff, z)| {
@@ -143,6 +194,7 @@ pub(super) fn sides(cpg: &Cpg, cells: &BTreeSet<Ijk>, open: &[(usize, f64)]) -> 
                     points,
                     across,
                     open: on,
+                    inner,
                 });
             }
         }

@@ -24,6 +24,8 @@ pub(super) enum Across {
     Outside,
     /// Well `w` (of the cavity's), its cell (layer, ring, sector).
     Well(usize, [usize; 3]),
+    /// The transition itself: a fault inside the cavity.
+    Inner,
 }
 
 /// The transition's constraints and what each facet faces.
@@ -115,12 +117,12 @@ impl Transition {
             };
         for s in sides.iter().filter(|s| s.open.is_none()) {
             let ids = s.points.iter().map(|&p| pts.id(p)).collect();
-            facet(
-                &mut pts,
-                vec![ids],
-                vec![],
-                s.across.map_or(Across::Outside, Across::Cell),
-            );
+            let across = match (s.inner, s.across) {
+                (true, _) => Across::Inner,
+                (false, Some(c)) => Across::Cell(c),
+                (false, None) => Across::Outside,
+            };
+            facet(&mut pts, vec![ids], vec![], across);
         }
         // The grid's flat top and bottom: one facet per loop, with the
         // outlines of the wells open there as windows.
@@ -149,6 +151,18 @@ impl Transition {
                     if matches!(end, End::Open(_)) && inside_xy(&poly, axis) {
                         polygons.push((0..w.m).map(|s| pts.id(w.surface(s, k))).collect());
                         holes.push(axis);
+                    }
+                }
+                // faults inside the cavity meet the face in segments
+                let z = poly[0][2];
+                for s in sides.iter().filter(|s| s.inner) {
+                    let n = s.points.len();
+                    for k in 0..n {
+                        let (a, b) = (s.points[k], s.points[(k + 1) % n]);
+                        let mid: [f64; 3] = std::array::from_fn(|c| (a[c] + b[c]) / 2.0);
+                        if a[2] == z && b[2] == z && inside_xy(&poly, mid) {
+                            polygons.push(vec![pts.id(a), pts.id(b)]);
+                        }
                     }
                 }
                 open.push(pts.cx.facets.len() as u32);

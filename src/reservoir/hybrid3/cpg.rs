@@ -36,9 +36,112 @@ fn across(f: usize, c: usize) -> usize {
 /// The grid's cells as polyhedra.
 pub(super) struct Cpg<'g> {
     pub(super) g: &'g CornerPointGrid,
+    /// Per pillar (j (nx + 1) + i), the depths of every cell's corners on
+    /// it, sorted and distinct.
+    pub(super) pillars: Vec<Vec<f64>>,
+    /// Per column face, whether the cells on its two sides differ in a
+    /// corner there (a throw): the I faces (j (nx + 1) + i, between columns
+    /// i - 1 and i), then the J faces (nx (ny + 1) of them, j nx + i).
+    thrown: Vec<bool>,
+    /// The faces FAULTS names, (cell, face), from both sides.
+    faults: std::collections::BTreeSet<(Ijk, usize)>,
 }
 
 impl<'g> Cpg<'g> {
+    /// The grid's cells, with its pillars' depths and its throws.
+    pub(super) fn new(g: &'g CornerPointGrid) -> Cpg<'g> {
+        let (nx, ny, nz) = (g.nx, g.ny, g.nz);
+        let mut pillars = vec![vec![]; (nx + 1) * (ny + 1)];
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    for c in 0..8 {
+                        let (di, dj) = (c & 1, (c >> 1) & 1);
+                        pillars[(j + dj) * (nx + 1) + i + di].push(g.depth(i, j, k, c));
+                    }
+                }
+            }
+        }
+        for p in &mut pillars {
+            p.sort_by(f64::total_cmp);
+            p.dedup();
+        }
+        // the corners of the cells on either side of a column face that
+        // must agree: (this side's, that side's)
+        let differ = |a: [usize; 2], b: [usize; 2], mine: [usize; 4], theirs: [usize; 4]| {
+            (0..nz).any(|k| {
+                (0..4).any(|n| g.depth(a[0], a[1], k, mine[n]) != g.depth(b[0], b[1], k, theirs[n]))
+            })
+        };
+        let mut thrown = vec![false; (nx + 1) * ny + nx * (ny + 1)];
+        for j in 0..ny {
+            for i in 1..nx {
+                thrown[j * (nx + 1) + i] = differ([i - 1, j], [i, j], [1, 3, 5, 7], [0, 2, 4, 6]);
+            }
+        }
+        for j in 1..ny {
+            for i in 0..nx {
+                thrown[(nx + 1) * ny + j * nx + i] =
+                    differ([i, j - 1], [i, j], [2, 3, 6, 7], [0, 1, 4, 5]);
+            }
+        }
+        let mut faults = std::collections::BTreeSet::new();
+        for face in g.faults.iter().flat_map(|f| &f.faces) {
+            let f = match (face.axis, face.sign) {
+                ('X', 1) => 1,
+                ('X', _) => 0,
+                ('Y', 1) => 3,
+                ('Y', _) => 2,
+                ('Z', 1) => 5,
+                _ => 4,
+            };
+            for k in face.k[0]..=face.k[1].min(nz.saturating_sub(1)) {
+                for j in face.j[0]..=face.j[1].min(ny.saturating_sub(1)) {
+                    for i in face.i[0]..=face.i[1].min(nx.saturating_sub(1)) {
+                        faults.insert(([i, j, k], f));
+                        let (di, dj, dk) = [
+                            (-1, 0, 0),
+                            (1, 0, 0),
+                            (0, -1, 0),
+                            (0, 1, 0),
+                            (0, 0, -1),
+                            (0, 0, 1),
+                        ][f];
+                        let n = [i as i64 + di, j as i64 + dj, k as i64 + dk];
+                        if n.iter()
+                            .zip([nx, ny, nz])
+                            .all(|(&x, m)| x >= 0 && (x as usize) < m)
+                        {
+                            faults.insert((n.map(|x| x as usize), f ^ 1));
+                        }
+                    }
+                }
+            }
+        }
+        Cpg {
+            g,
+            pillars,
+            thrown,
+            faults,
+        }
+    }
+
+    /// Whether FAULTS names face f of cell c (from either side).
+    pub(super) fn on_fault(&self, c: Ijk, f: usize) -> bool {
+        self.faults.contains(&(c, f))
+    }
+
+    /// Whether column face f (0..4) of column (i, j) lies on a throw.
+    pub(super) fn is_thrown(&self, [i, j]: [usize; 2], f: usize) -> bool {
+        let nx = self.g.nx;
+        match f {
+            0 => self.thrown[j * (nx + 1) + i],
+            1 => self.thrown[j * (nx + 1) + i + 1],
+            2 => self.thrown[(nx + 1) * self.g.ny + j * nx + i],
+            _ => self.thrown[(nx + 1) * self.g.ny + (j + 1) * nx + i],
+        }
+    }
+
     /// Corner c of cell (i, j, k) in the mesh's frame.
     pub(super) fn corner(&self, [i, j, k]: Ijk, c: usize) -> [f64; 3] {
         let [x, y, depth] = self.g.corner(i, j, k, c);
@@ -84,7 +187,7 @@ impl<'g> Cpg<'g> {
     /// The live cell across face f, when the faces match exactly (past
     /// pinched-out cells across the top and bottom); None on the grid's
     /// boundary or beside an inactive cell; an error where the faces do not
-    /// match (a fault's throw).
+    /// match (a fault's throw, a gap between layers).
     pub(super) fn neighbour(&self, c: Ijk, f: usize) -> Result<Option<Ijk>> {
         let g = self.g;
         let step = |n: Ijk| -> Option<Ijk> {
@@ -110,12 +213,16 @@ impl<'g> Cpg<'g> {
             .iter()
             .all(|&m| self.corner(c, m) == self.corner(n, across(f, m)));
         if !matches {
-            // Between columns, a throw; across layers, a gap or an overlap.
+            // Between columns, a throw (`parts` cuts the face there);
+            // across layers, a gap or an overlap.
             return Err(Error::Usage(format!(
-                "cells {} and {} do not share their face (a fault's throw or a gap between \
-                 layers): the 3D hybrid needs matching faces around and inside its cavities",
+                "cells {} and {} do not share their face: {}",
                 one_based(c),
-                one_based(n)
+                one_based(n),
+                match f {
+                    0..4 => "a throw",
+                    _ => "a gap or an overlap between layers, which the 3D hybrid needs to meet around its cavities",
+                }
             )));
         }
         Ok(self.g.active(n[0], n[1], n[2]).then_some(n))
@@ -230,7 +337,7 @@ mod tests {
     #[test]
     fn a_box_has_six_whole_faces_and_matching_neighbours() {
         let g = CornerPointGrid::cartesian([2, 2, 2], [10.0, 10.0, 4.0]);
-        let cpg = Cpg { g: &g };
+        let cpg = Cpg::new(&g);
         for f in 0..6 {
             let q = cpg.face([0, 0, 0], f);
             assert_eq!(pieces(&q), vec![vec![0, 1, 2, 3]]);
@@ -254,7 +361,7 @@ mod tests {
     fn pinched_out_cells_are_skipped_across() {
         // layer 2 of 3 has no thickness: layers 1 and 3 meet across it
         let g = CornerPointGrid::layered([1, 1], [10.0, 10.0], &[0.0, 4.0, 4.0, 9.0]);
-        let cpg = Cpg { g: &g };
+        let cpg = Cpg::new(&g);
         assert!(cpg.pinched([0, 0, 1]) && !cpg.live([0, 0, 1]));
         assert_eq!(cpg.neighbour([0, 0, 0], 5).unwrap(), Some([0, 0, 2]));
         assert_eq!(cpg.neighbour([0, 0, 2], 4).unwrap(), Some([0, 0, 0]));
@@ -265,7 +372,7 @@ mod tests {
             gap.zcorn[2 * 4 + r] = 5.0; // (and layer 2 pinched there)
             gap.zcorn[3 * 4 + r] = 5.0;
         }
-        let e = Cpg { g: &gap }
+        let e = Cpg::new(&gap)
             .neighbour([0, 0, 0], 5)
             .unwrap_err()
             .to_string();

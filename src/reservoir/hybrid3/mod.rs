@@ -6,13 +6,16 @@
 //! cavity's sides and the wells' outer surfaces. The sides are the grid
 //! cells' faces, each kept whole where it is planar and convex, else two
 //! triangles along a diagonal that the reservoir cell across carries too
-//! (no hanging faces). A radial mesh ends open where it meets the grid's
-//! flat top or bottom (its outline a window in the face there, the
-//! transition cut at it), else closed by a cap inside the cavity. A
+//! (no hanging faces); at a fault's throw, cut into the overlaps with the
+//! cells across (`sheet`), which are constraint facets in a cavity, inside
+//! it where the fault crosses it. A radial mesh ends open where it meets
+//! its column's flat top or bottom (its outline a window in the face
+//! there, the transition cut at it), else closed by a plug inside the
+//! cavity. A
 //! vertical well's layers are horizontal, at its axis' crossings of the
 //! grid's layers; a deviated well's are slabs across its axis, exact
 //! rectangles on a lattice (`lattice`). Built in stages: the corner-point
-//! cells (`cpg`), each well's completed interval (`path`), the cavities
+//! cells (`cpg`, `sheet`), each well's completed interval (`path`), the cavities
 //! and the radial meshes in them (`cavity`, `radial`), each cavity's
 //! complex and certified transition (`complex`, in parallel), the
 //! assembly (`assembly`).
@@ -24,6 +27,7 @@ mod cpg;
 mod lattice;
 mod path;
 mod radial;
+mod sheet;
 
 use crate::backend::Backend;
 use crate::conform::{Report, D3};
@@ -228,7 +232,7 @@ pub fn build<B: Backend + ?Sized>(
     wells: &[Well3],
     opts: &Hybrid3Options,
 ) -> Result<Hybrid3> {
-    let cpg = cpg::Cpg { g };
+    let cpg = cpg::Cpg::new(g);
     if wells.is_empty() {
         return Err(Error::Usage("the 3D hybrid needs a well".into()));
     }

@@ -57,17 +57,22 @@ fn face_centre(cpg: &Cpg, c: Ijk, f: usize) -> [f64; 3] {
 fn flat(cpg: &Cpg, [i, j]: [usize; 2], f: usize, reach: usize) -> Option<f64> {
     let g = cpg.g;
     let k = if f == 4 { 0 } else { g.nz - 1 };
-    let mut z: Option<f64> = None;
+    // the column's own face flat, the others' at its level or inside
+    // (below the top, above the bottom: a throw's step)
+    let own = cpg.face([i, j, k], f);
+    let z = own[0][2];
+    if own.iter().any(|p| p[2] != z) {
+        return None;
+    }
+    let inside = |p: [f64; 3]| if f == 4 { p[2] <= z } else { p[2] >= z };
     for jj in j.saturating_sub(reach)..=(j + reach).min(g.ny - 1) {
         for ii in i.saturating_sub(reach)..=(i + reach).min(g.nx - 1) {
-            for p in cpg.face([ii, jj, k], f) {
-                if *z.get_or_insert(p[2]) != p[2] {
-                    return None;
-                }
+            if !cpg.face([ii, jj, k], f).into_iter().all(inside) {
+                return None;
             }
         }
     }
-    z
+    Some(z)
 }
 
 impl Path {
