@@ -23,8 +23,8 @@ pub(super) struct Path {
     /// Where the axis crosses from one completed layer to the next (along
     /// it from the head): a vertical well's layers are the grid's.
     pub(super) cuts: Vec<f64>,
-    /// Per end (top, bottom), the height of the grid's flat top or bottom
-    /// the end lies on, if it does.
+    /// Per end (top, bottom), the height of the grid's top or bottom the
+    /// end lies on, where it is flat (`flat`).
     pub(super) open: [Option<f64>; 2],
     /// Whether it follows a trajectory (its ends capped within its cells)
     /// rather than a column's completed layers.
@@ -52,8 +52,10 @@ fn face_centre(cpg: &Cpg, c: Ijk, f: usize) -> [f64; 3] {
     std::array::from_fn(|a| q.iter().map(|p| p[a]).sum::<f64>() / 4.0)
 }
 
-/// The height of the grid's top (f = 4) or bottom (f = 5) over the
-/// columns around (i, j) within `reach`, when it is one flat plane there.
+/// The height of the grid's top (f = 4) or bottom (f = 5) at column
+/// (i, j), when it is flat there and the columns around within `reach`
+/// lie at that height or inside it (below a top, above a bottom: the step
+/// of a throw): a plane the transition can be cut at.
 fn flat(cpg: &Cpg, [i, j]: [usize; 2], f: usize, reach: usize) -> Option<f64> {
     let g = cpg.g;
     let k = if f == 4 { 0 } else { g.nz - 1 };
