@@ -669,12 +669,9 @@ fn a_well_beside_a_fault_gets_a_cavity_the_fault_crosses() {
             ..well(0.0)
         };
         let h3 = lenient(&g, w);
-        // (with FAULTS' fault, vtk flags one of the 238 transition cells: a
-        // thin one between the fault and a face beside it, its edges
-        // meeting within vtk's tolerance)
-        if g.faults.is_empty() {
-            write("beside-throw", &h3);
-        }
+        // Not written for readers.py: beside the fault a few transition
+        // cells (1 to 2 of 240 to 290, by backend) have faces of 1e-9 m2
+        // or less, whose edges vtk takes for crossing (docs/limitations.md).
         let r = &h3.report;
         let t = &r.cavities[0].transition;
         // the transition cells' faces on the plane x = 50: both sides of
