@@ -325,6 +325,46 @@ fn thiem_3d(depths: &[f64], perm: &[f64]) -> (hybrid3::Hybrid3, Thiem) {
     (h, t)
 }
 
+/// A well beside a fault's throw (the corpus' 7 x 7 x 3 block, columns 6-7
+/// 1 m deeper; completed in layers 1-2, its cavity crossed by the fault),
+/// producing against the block's open sides: Flow runs it (decks.py).
+#[test]
+fn a_well_beside_a_throw_in_flow() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/corpus");
+    let grid = orthomesh::io::eclipse::read_grid(&dir.join("throw_7x7x3.grdecl")).unwrap();
+    let w = Well3 {
+        name: "W".into(),
+        i: 4,
+        j: 3,
+        k: Some([0, 1]),
+        radius: RW,
+        azimuth: 30.0,
+        ..Default::default()
+    };
+    let opts = Hybrid3Options {
+        allow_sites_outside: true,
+        ..Default::default()
+    };
+    let h = hybrid3::build(&default_backend(), &grid, &[w], &opts).unwrap();
+    assert!(h.report.conforms());
+    assert!(h.report.across_throws > 0);
+    let net = h.mesh.network();
+    let choices = orthomesh::reservoir::deck::DeckChoices {
+        aquifer: h.outer_cells(&grid),
+        ..Default::default()
+    };
+    let (text, _, _) =
+        orthomesh::io::deck::write("beside a throw", &net, &h.wellbore, &choices).unwrap();
+    let out = out_dir();
+    orthomesh::io::write_atomic(&out.join("beside-throw-3d.DATA"), text.as_bytes()).unwrap();
+    let sidecar = json!({ "nnc": net.connections.len(), "cells": net.elements.len(), "wells": 1, "days": 10.0 });
+    orthomesh::io::write_atomic(
+        &out.join("beside-throw-3d.json"),
+        sidecar.to_string().as_bytes(),
+    )
+    .unwrap();
+}
+
 /// The 3D hybrid of a layered block (50, 200 and 100 mD in layers of 4, 2
 /// and 6 m; tests/hybrid3.rs checks it with the crate's own solver), each
 /// cell with its host's permeability, for decks.py's Thiem check in Flow.

@@ -226,6 +226,20 @@ fn dist2_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     seg(a, b).min(seg(b, c)).min(seg(c, a))
 }
 
+/// Whether p lies on a side that is an open end (in map view, on or
+/// inside a piece there, exactly).
+fn on_open(p: [f64; 3], sides: &[Side]) -> bool {
+    let xy = |q: &[f64; 3]| [q[0], q[1]];
+    sides.iter().filter(|s| s.open.is_some()).any(|s| {
+        let n = s.points.len();
+        let turns: Vec<std::cmp::Ordering> = (0..n)
+            .map(|k| crate::geom::orient(xy(&s.points[k]), xy(&s.points[(k + 1) % n]), xy(&p)))
+            .collect();
+        p[2] == s.points[0][2]
+            && (turns.iter().all(|o| o.is_ge()) || turns.iter().all(|o| o.is_le()))
+    })
+}
+
 /// The distance from p to the nearest side that is not an open end.
 fn clearance(p: [f64; 3], sides: &[Side]) -> f64 {
     sides
@@ -387,9 +401,13 @@ pub(super) fn radials(
                         (k, [_, End::Open(_)]) => k + 1 == r.levels.len(),
                         _ => false,
                     };
-                    let inside = cpg.locate(p, cells.iter().copied()).is_some();
+                    // at an open end, on the cavity's face there
+                    let inside = match open {
+                        true => on_open(p, sides),
+                        false => cpg.locate(p, cells.iter().copied()).is_some(),
+                    };
                     let d = clearance(p, sides);
-                    (!(inside || open) || d < clear).then_some((k, inside || open, d))
+                    (!inside || d < clear).then_some((k, inside, d))
                 });
             match bad {
                 None => break r,

@@ -412,7 +412,8 @@ mod tests {
             for b in 0..2 {
                 for dj in 0..2 {
                     for di in 0..2 {
-                        g.zcorn[((((2 * k + b) * 1) * 2 + dj) * 2 + 1) * 2 + di] += 1.0;
+                        g.zcorn[(((2 * k + b) * 2 + dj) * 2 + 1) * 2 + di] += 1.0;
+                        // ny = 1, i = 1
                     }
                 }
             }
@@ -488,7 +489,7 @@ mod tests {
         for k in 0..3 {
             for b in 0..2 {
                 for di in 0..2 {
-                    g.zcorn[((((2 * k + b) * 1) * 2 + 1) * 2 + 1) * 2 + di] += 6.0;
+                    g.zcorn[(((2 * k + b) * 2 + 1) * 2 + 1) * 2 + di] += 6.0; // dj = 1, i = 1
                 }
             }
         }
