@@ -527,8 +527,8 @@ fn hybrid_3d_from_options() {
         std::fs::remove_file(f).unwrap();
     }
     // Bad requests: exit 1, a message, nothing written.
-    // trajectories: bent, leaving the grid, one point (the block is
-    // 70 x 70 m, 8 m thick)
+    // trajectories: turning back, leaving the grid, one point (the block
+    // is 70 x 70 m, 8 m thick)
     let path = |name: &str, text: &str| {
         let p = dir.join(name);
         std::fs::write(&p, text).unwrap();
@@ -536,12 +536,12 @@ fn hybrid_3d_from_options() {
     };
     let bent = format!(
         "--well-path=H:{}",
-        path("bent.txt", "5 35 4\n35 45 4\n65 35 4\n")
+        path("bent.txt", "5 35 4\n65 35 4\n5 40 4\n")
     );
     let out = format!("--well-path=H:{}", path("out.txt", "35 35 4\n95 35 4\n"));
     let one = format!("--well-path=H:{}", path("one.txt", "x y z\n35 35 4\n"));
     for (arg, says) in [
-        (&bent, "H: its path bends: point 2 is 10.000 off the line"),
+        (&bent, "H: its path turns by 175.2 degrees at point 2"),
         (&out, "H: its path leaves the grid"),
         (
             &one,

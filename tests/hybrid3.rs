@@ -573,6 +573,76 @@ fn a_pinched_out_layer_is_left_out() {
 /// layers, away from the well: the reservoir cells across it are linked
 /// by the overlaps of their faces, which add up to the fault's shared
 /// area, and the mesh away from the fault is as without it.
+/// An L-shaped trajectory (down 30 m, then 90 m along x) through a
+/// 15 x 7 x 7 box of 10 m cells: two straight legs, each with its radial
+/// mesh, stopping short of the bend; one well, linked along both.
+#[test]
+fn a_trajectory_that_bends_is_meshed_as_its_legs() {
+    let g = CornerPointGrid::cartesian([15, 7, 7], [10.0, 10.0, 10.0]);
+    let w = Well3 {
+        name: "L".into(),
+        radius: 0.1,
+        path: Some(vec![
+            [25.0, 35.0, 5.0],
+            [25.0, 35.0, 35.0],
+            [115.0, 35.0, 35.0],
+        ]),
+        ..Default::default()
+    };
+    let h = lenient(&g, w.clone());
+    write("bent", &h);
+    let r = &h.report;
+    println!(
+        "an L-shaped well: {} cavity, outer radii {:?}, {} of {} transition sites inside",
+        r.cavities.len(),
+        r.cavities[0].outer_radii,
+        r.cavities[0].transition.certificate.sites_inside,
+        r.cells[1]
+    );
+    assert!(r.conforms());
+    assert_eq!(r.cavities.len(), 1);
+    assert_eq!(r.cavities[0].wells, vec!["L".to_string()]);
+    assert_eq!(r.cavities[0].outer_radii.len(), 2);
+    // one well, linked along its vertical leg and along its horizontal one
+    assert_eq!(h.wellbore.len(), 1);
+    let sites: Vec<[f64; 3]> = h.wellbore[0]
+        .links
+        .iter()
+        .map(|&(c, _)| h.mesh.sites[c])
+        .collect();
+    assert!(sites
+        .iter()
+        .any(|p| (p[0] - 25.0).abs() < 5.0 && p[2] > -20.0));
+    assert!(sites
+        .iter()
+        .any(|p| p[0] > 50.0 && (p[2] + 35.0).abs() < 5.0));
+    // stopping short of the bend by r tan 45 + r / 4 + a plug (r = 10 m)
+    assert!(sites
+        .iter()
+        .all(|p| p[2] > -35.0 + 13.75 - 5.0 || p[0] > 25.0 + 13.75 - 5.0));
+    // a bend too sharp, a leg too short: errors naming the well
+    let b = &compiled()[0];
+    for (path, says) in [
+        (
+            vec![[25.0, 35.0, 5.0], [65.0, 35.0, 35.0], [25.0, 35.0, 45.0]],
+            "its path turns by",
+        ),
+        (
+            vec![[25.0, 35.0, 25.0], [25.0, 35.0, 35.0], [115.0, 35.0, 35.0]],
+            "its leg from point 1 to 2 is 10.000 long, too short",
+        ),
+    ] {
+        let bad = Well3 {
+            path: Some(path),
+            ..w.clone()
+        };
+        let e = build(&**b, &g, &[bad], &Hybrid3Options::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("well L: ") && e.contains(says), "{e}");
+    }
+}
+
 /// The 3D hybrid with the defaults, sites outside their cells allowed.
 fn lenient(g: &CornerPointGrid, w: Well3) -> Hybrid3 {
     let b = &compiled()[0];

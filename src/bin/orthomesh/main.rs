@@ -152,10 +152,11 @@ struct HybridArgs {
     /// A vertical well at map position X, Y.
     #[arg(long = "well-xy", value_name = "NAME:X:Y[:RADIUS]")]
     wells_xy: Vec<String>,
-    /// 3D: a well along a straight trajectory file (a point per line: x,
-    /// y, depth positive down, further columns such as measured depth
-    /// ignored; as xtgeo and RMS export them), completed over its whole
-    /// length; horizontal wells come this way.
+    /// 3D: a well along a trajectory file (a point per line: x, y, depth
+    /// positive down, further columns such as measured depth ignored; as
+    /// xtgeo and RMS export them), completed over its whole length;
+    /// horizontal wells come this way. Where it bends, it is meshed as its
+    /// straight legs, each stopping short of the bend (docs/reservoir.md).
     #[arg(
         long = "well-path",
         value_name = "NAME:FILE[:RADIUS]",

@@ -519,7 +519,14 @@ pub(super) fn well_links(
 }
 
 /// The 3D hybrid from its parts, with its report.
-pub(super) fn assemble(cpg: &Cpg, wells: &[super::Well3], built: Vec<Built>) -> super::Hybrid3 {
+/// `wells` are the paths' (a bent trajectory's legs apart), `well_of`
+/// per path its well.
+pub(super) fn assemble(
+    cpg: &Cpg,
+    wells: &[super::Well3],
+    well_of: &[usize],
+    built: Vec<Built>,
+) -> super::Hybrid3 {
     let mut a = Assembly::default();
     let owner: BTreeMap<Ijk, usize> = built
         .iter()
@@ -529,6 +536,7 @@ pub(super) fn assemble(cpg: &Cpg, wells: &[super::Well3], built: Vec<Built>) -> 
     a.reservoir(cpg, &|c| owner.contains_key(&c));
     let [unmatched, thrown] = a.reservoir_links(cpg);
     let mut names = vec![];
+    let mut owners = vec![];
     let mut radials: Vec<&Radial> = vec![];
     let mut firsts = vec![];
     let mut cavity_of = vec![];
@@ -538,6 +546,7 @@ pub(super) fn assemble(cpg: &Cpg, wells: &[super::Well3], built: Vec<Built>) -> 
         a.interfaces(b, first_t, &first_w);
         for (&w, r) in b.cells.wells.iter().zip(&b.radials) {
             names.push((wells[w].name.clone(), wells[w].radius));
+            owners.push(well_of[w]);
             radials.push(r);
         }
         firsts.extend(first_w);
@@ -545,7 +554,7 @@ pub(super) fn assemble(cpg: &Cpg, wells: &[super::Well3], built: Vec<Built>) -> 
     }
     let first_t = a.res_cell.len();
     let unpaired = a.between_cavities(&cavity_of, first_t);
-    let wellbore = well_links(&names, &radials, &firsts);
+    let wellbore = super::bend::merge_legs(well_links(&names, &radials, &firsts), &owners);
     let Assembly {
         mut out,
         region,
@@ -590,12 +599,15 @@ pub(super) fn assemble(cpg: &Cpg, wells: &[super::Well3], built: Vec<Built>) -> 
     let cavities: Vec<super::CavityReport> = built
         .into_iter()
         .map(|b| super::CavityReport {
-            wells: b
-                .cells
-                .wells
-                .iter()
-                .map(|&w| wells[w].name.clone())
-                .collect(),
+            wells: {
+                let mut names: Vec<String> = vec![];
+                for &w in &b.cells.wells {
+                    if !names.contains(&wells[w].name) {
+                        names.push(wells[w].name.clone());
+                    }
+                }
+                names
+            },
             grid_cells: b.cells.cells.len(),
             outer_radii: b.radials.iter().map(|r| r.outer).collect(),
             transition: b.outcome.report,

@@ -317,9 +317,12 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
                 plug: 0.125 * cell,
             },
         };
+        // short of a bend: the plug fills the room left there
+        let at_bend = |end: f64, plug: Option<f64>| plug.map(|plug| End::Cap { at: end, plug });
         return [
-            cap(0.0, first_layer, -1.0),
-            cap(path.length, last_layer, 1.0),
+            at_bend(0.0, path.bends[0]).unwrap_or_else(|| cap(0.0, first_layer, -1.0)),
+            at_bend(path.length, path.bends[1])
+                .unwrap_or_else(|| cap(path.length, last_layer, 1.0)),
         ];
     }
     [
@@ -365,7 +368,7 @@ pub(super) fn radials(
         let side = head_side(cpg, path);
         let mut outer = opts.outer * side;
         for (m, other) in paths.iter().enumerate() {
-            if m != n {
+            if m != n && !super::bend::adjacent(path, other) {
                 let apart = axes_apart(path, other);
                 if apart <= 2.0 * well.radius {
                     return Err(Error::Usage(format!(

@@ -21,6 +21,7 @@
 //! assembly (`assembly`).
 
 mod assembly;
+mod bend;
 mod cavity;
 mod complex;
 mod cpg;
@@ -236,10 +237,18 @@ pub fn build<B: Backend + ?Sized>(
     if wells.is_empty() {
         return Err(Error::Usage("the 3D hybrid needs a well".into()));
     }
-    let paths = wells
-        .iter()
-        .map(|w| path::Path::new(&cpg, w))
-        .collect::<Result<Vec<_>>>()?;
+    // one path per well, or per straight leg of a trajectory that bends
+    let mut owner = vec![];
+    let mut legs = vec![];
+    let mut paths = vec![];
+    for (n, w) in wells.iter().enumerate() {
+        for (leg, path) in bend::paths(&cpg, w, n, opts.outer)? {
+            owner.push(n);
+            legs.push(leg);
+            paths.push(path);
+        }
+    }
+    let wells = &legs;
     let reach: Vec<usize> = wells
         .par_iter()
         .zip(&paths)
@@ -276,5 +285,5 @@ pub fn build<B: Backend + ?Sized>(
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(assembly::assemble(&cpg, wells, built))
+    Ok(assembly::assemble(&cpg, wells, &owner, built))
 }

@@ -29,6 +29,11 @@ pub(super) struct Path {
     /// Whether it follows a trajectory (its ends capped within its cells)
     /// rather than a column's completed layers.
     pub(super) explicit: bool,
+    /// Where it is one leg of a trajectory that bends: its well (index)
+    /// and leg number (`bend`).
+    pub(super) leg: Option<(usize, usize)>,
+    /// Per end, the length of the plug that closes it short of a bend.
+    pub(super) bends: [Option<f64>; 2],
 }
 
 /// The completed layers: the given range, or every layer.
@@ -146,6 +151,8 @@ impl Path {
                 cuts,
                 open,
                 explicit: false,
+                leg: None,
+                bends: [None; 2],
             });
         }
         Path::walk(cpg, well, head, u, [first, last], open)
@@ -170,21 +177,12 @@ impl Path {
         }
         let u = d.map(|x| x / length);
         // straight: every point within 1% of the length of the chord
-        for (n, &p) in points.iter().enumerate() {
-            let q = frame(p);
-            let v: [f64; 3] = std::array::from_fn(|a| q[a] - head[a]);
-            let t: f64 = (0..3).map(|a| v[a] * u[a]).sum();
-            let off = (0..3)
-                .map(|a| (v[a] - t * u[a]).powi(2))
-                .sum::<f64>()
-                .sqrt();
-            if off > 0.01 * length {
-                return bad(format!(
-                    "its path bends: point {} is {off:.3} off the line from its first to its last \
-                     (the 3D hybrid takes straight well paths)",
-                    n + 1
-                ));
-            }
+        // (`bend` splits a trajectory into such legs first)
+        if let Some((n, off)) = super::bend::off_line(points) {
+            return bad(format!(
+                "its path bends: point {} is {off:.3} off the line from its first to its last",
+                n + 1
+            ));
         }
         let all = |g: &CornerPointGrid| {
             let (nx, ny, nz) = (g.nx, g.ny, g.nz);
@@ -338,6 +336,8 @@ impl Path {
             cuts,
             open: open.unwrap_or([None, None]),
             explicit: open.is_none(),
+            leg: None,
+            bends: [None; 2],
         }
     }
 }
