@@ -64,9 +64,10 @@ pub struct Well3 {
     pub dip: f64,
     /// Azimuth clockwise from +y (degrees).
     pub azimuth: f64,
-    /// A straight trajectory (x, y, depth as the grid has them), first
-    /// point to last, completed over its whole length: instead of the
-    /// column, layers, dip and azimuth. Horizontal wells come this way.
+    /// A trajectory (x, y, depth as the grid has them), first point to
+    /// last, completed over its whole length: instead of the column,
+    /// layers, dip and azimuth. Horizontal wells come this way; where it
+    /// bends, its straight legs are meshed (`bend`).
     pub path: Option<Vec<[f64; 3]>>,
 }
 

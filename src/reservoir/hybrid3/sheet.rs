@@ -230,8 +230,15 @@ impl Cpg<'_> {
                     here.extend(cross(l, m).filter(|p| strip.holds(p) && mine.holds(p)));
                 }
             }
-            let Some((poly, ears)) = polygon_pieces(here) else {
-                continue;
+            let (poly, ears) = match polygon_pieces(here) {
+                Pieces::Area(poly, ears) => (poly, ears),
+                Pieces::None => continue,
+                Pieces::Stuck => {
+                    return Err(Error::Usage(format!(
+                        "cell {}: its face {f} could not be cut where the cells across meet it",
+                        one_based(c)
+                    )))
+                }
             };
             let mapped: Vec<[f64; 3]> = poly.iter().map(|p| self.sheet_point(pillars, p)).collect();
             let pieces: Vec<Vec<[f64; 3]>> = if planar(&mapped) {
@@ -372,14 +379,22 @@ fn planar(poly: &[[f64; 3]]) -> bool {
         })
 }
 
+/// A region of a sheet: its polygon and ears, none (no area), or stuck
+/// (its points in turn make no simple polygon).
+enum Pieces {
+    Area(Vec<Pt>, Vec<[usize; 3]>),
+    None,
+    Stuck,
+}
+
 /// A convex region of a sheet from its points (on its sides): the points
 /// in turn around their mean, from the least, and its ears (s, depth).
-/// The same points give the same polygon and triangles; None without area.
-fn polygon_pieces(mut pts: Vec<Pt>) -> Option<(Vec<Pt>, Vec<[usize; 3]>)> {
+/// The same points give the same polygon and triangles.
+fn polygon_pieces(mut pts: Vec<Pt>) -> Pieces {
     pts.sort_by(|a, b| a.s.total_cmp(&b.s).then(a.d.total_cmp(&b.d)));
     pts.dedup_by(|a, b| a.s == b.s && a.d == b.d);
     if pts.len() < 3 {
-        return None;
+        return Pieces::None;
     }
     let n = pts.len() as f64;
     let (ms, md) = (
@@ -395,8 +410,11 @@ fn polygon_pieces(mut pts: Vec<Pt>) -> Option<(Vec<Pt>, Vec<[usize; 3]>)> {
         .unwrap_or(0);
     pts.rotate_left(at);
     let flat: Vec<[f64; 2]> = pts.iter().map(|p| [p.s, p.d]).collect();
-    let ears = ear_clip(&flat)?;
-    (!ears.is_empty()).then_some((pts, ears))
+    match ear_clip(&flat) {
+        Some(ears) if ears.is_empty() => Pieces::None,
+        Some(ears) => Pieces::Area(pts, ears),
+        None => Pieces::Stuck,
+    }
 }
 
 #[cfg(test)]
