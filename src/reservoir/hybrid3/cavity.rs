@@ -180,7 +180,7 @@ pub(super) fn sides(cpg: &Cpg, cells: &BTreeSet<Ijk>, open: &[(usize, f64)]) -> 
                 // faces between the cavity's cells are none of its sides,
                 // but faults there are (from one side)
                 let inner = across.is_some_and(|n| cells.contains(&n));
-                if inner && !(part.thrown || fault) || across.is_some_and(|n| inner && n < c) {
+                if inner && (!(part.thrown || fault) || across.is_some_and(|n| n < c)) {
                     continue;
                 }
                 let points = part.points;

@@ -99,20 +99,8 @@ impl<'g> Cpg<'g> {
                 for j in face.j[0]..=face.j[1].min(ny.saturating_sub(1)) {
                     for i in face.i[0]..=face.i[1].min(nx.saturating_sub(1)) {
                         faults.insert(([i, j, k], f));
-                        let (di, dj, dk) = [
-                            (-1, 0, 0),
-                            (1, 0, 0),
-                            (0, -1, 0),
-                            (0, 1, 0),
-                            (0, 0, -1),
-                            (0, 0, 1),
-                        ][f];
-                        let n = [i as i64 + di, j as i64 + dj, k as i64 + dk];
-                        if n.iter()
-                            .zip([nx, ny, nz])
-                            .all(|(&x, m)| x >= 0 && (x as usize) < m)
-                        {
-                            faults.insert((n.map(|x| x as usize), f ^ 1));
+                        if let Some(n) = next(g, [i, j, k], f) {
+                            faults.insert((n, f ^ 1));
                         }
                     }
                 }
@@ -189,18 +177,7 @@ impl<'g> Cpg<'g> {
     /// boundary or beside an inactive cell; an error where the faces do not
     /// match (a fault's throw, a gap between layers).
     pub(super) fn neighbour(&self, c: Ijk, f: usize) -> Result<Option<Ijk>> {
-        let g = self.g;
-        let step = |n: Ijk| -> Option<Ijk> {
-            let [i, j, k] = n;
-            match f {
-                0 => i.checked_sub(1).map(|i| [i, j, k]),
-                1 => (i + 1 < g.nx).then_some([i + 1, j, k]),
-                2 => j.checked_sub(1).map(|j| [i, j, k]),
-                3 => (j + 1 < g.ny).then_some([i, j + 1, k]),
-                4 => k.checked_sub(1).map(|k| [i, j, k]),
-                _ => (k + 1 < g.nz).then_some([i, j, k + 1]),
-            }
-        };
+        let step = |n: Ijk| next(self.g, n, f);
         let mut n = c;
         loop {
             let Some(next) = step(n) else { return Ok(None) };
@@ -260,6 +237,27 @@ impl<'g> Cpg<'g> {
     }
 }
 
+/// The cell across face f of cell c, if the grid has one there.
+pub(super) fn next(g: &CornerPointGrid, [i, j, k]: Ijk, f: usize) -> Option<Ijk> {
+    match f {
+        0 => i.checked_sub(1).map(|i| [i, j, k]),
+        1 => (i + 1 < g.nx).then_some([i + 1, j, k]),
+        2 => j.checked_sub(1).map(|j| [i, j, k]),
+        3 => (j + 1 < g.ny).then_some([i, j + 1, k]),
+        4 => k.checked_sub(1).map(|k| [i, j, k]),
+        _ => (k + 1 < g.nz).then_some([i, j, k + 1]),
+    }
+}
+
+/// Lexicographic order of points.
+pub(super) fn lex(a: &[f64; 3], b: &[f64; 3]) -> Ordering {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.total_cmp(y))
+        .find(|o| o.is_ne())
+        .unwrap_or(Ordering::Equal)
+}
+
 /// (i, j, k) 1-based for messages.
 pub(super) fn one_based([i, j, k]: Ijk) -> String {
     format!("({}, {}, {})", i + 1, j + 1, k + 1)
@@ -295,15 +293,7 @@ pub(super) fn pieces(q: &[[f64; 3]; 4]) -> Vec<Vec<usize>> {
             if planar && strictly_convex(q) {
                 return vec![vec![0, 1, 2, 3]];
             }
-            let least = (0..4)
-                .min_by(|&a, &b| {
-                    q[a].iter()
-                        .zip(&q[b])
-                        .map(|(x, y)| x.total_cmp(y))
-                        .find(|o| o.is_ne())
-                        .unwrap_or(Ordering::Equal)
-                })
-                .unwrap_or(0);
+            let least = (0..4).min_by(|&a, &b| lex(&q[a], &q[b])).unwrap_or(0);
             let (a, b, c, d) = (least, (least + 1) % 4, (least + 2) % 4, (least + 3) % 4);
             vec![vec![a, b, c], vec![a, c, d]]
                 .into_iter()

@@ -11,13 +11,13 @@
 //! it where the fault crosses it. A radial mesh ends open where it meets
 //! its column's flat top or bottom (its outline a window in the face
 //! there, the transition cut at it), else closed by a plug inside the
-//! cavity. A
-//! vertical well's layers are horizontal, at its axis' crossings of the
-//! grid's layers; a deviated well's are slabs across its axis, exact
-//! rectangles on a lattice (`lattice`). Built in stages: the corner-point
-//! cells (`cpg`, `sheet`), each well's completed interval (`path`), the cavities
-//! and the radial meshes in them (`cavity`, `radial`), each cavity's
-//! complex and certified transition (`complex`, in parallel), the
+//! cavity. A vertical well's layers are horizontal, at its axis' crossings
+//! of the grid's layers; a deviated well's are slabs across its axis,
+//! exact rectangles on a lattice (`lattice`); a trajectory that bends is
+//! meshed as its straight legs (`bend`). Built in stages: the corner-point
+//! cells (`cpg`, `sheet`), each well's completed interval (`path`), the
+//! cavities and the radial meshes in them (`cavity`, `radial`), each
+//! cavity's complex and certified transition (`complex`, in parallel), the
 //! assembly (`assembly`).
 
 mod assembly;

@@ -9,7 +9,7 @@
 //! depths at s = 0 and 1), and where two lines cross is computed one way
 //! whichever cell asks.
 
-use super::cpg::{one_based, pieces, Cpg, Ijk};
+use super::cpg::{lex, next, one_based, pieces, Cpg, Ijk};
 use crate::error::{Error, Result};
 use crate::geom::{ear_clip, newell, orient3, shoelace};
 use std::cmp::Ordering;
@@ -90,16 +90,6 @@ impl Cpg<'_> {
         [s[2 * b], s[2 * b + 1]].map(|n| self.g.depth(i, j, k, n))
     }
 
-    /// The column across face f (0..4) of column (i, j), if any.
-    fn column_across(&self, [i, j]: [usize; 2], f: usize) -> Option<[usize; 2]> {
-        match f {
-            0 => i.checked_sub(1).map(|i| [i, j]),
-            1 => (i + 1 < self.g.nx).then_some([i + 1, j]),
-            2 => j.checked_sub(1).map(|j| [i, j]),
-            _ => (j + 1 < self.g.ny).then_some([i, j + 1]),
-        }
-    }
-
     /// The pillars (i, j) of column face f of column (i, j): at s = 0, 1.
     fn sheet_pillars(&self, [i, j]: [usize; 2], f: usize) -> [[usize; 2]; 2] {
         SHEET[f][..2]
@@ -113,7 +103,7 @@ impl Cpg<'_> {
     /// The strips of the column across face f of cell c's column: each
     /// cell's, the gaps between layers, and above and below them all.
     fn strips(&self, c: Ijk, f: usize) -> Vec<Strip> {
-        let Some([a, b]) = self.column_across([c[0], c[1]], f) else {
+        let Some([a, b, _]) = next(self.g, c, f) else {
             return vec![Strip {
                 upper: None,
                 lower: None,
@@ -357,15 +347,6 @@ impl Cpg<'_> {
             })
             .collect())
     }
-}
-
-/// Lexicographic order of points.
-fn lex(a: &[f64; 3], b: &[f64; 3]) -> Ordering {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| x.total_cmp(y))
-        .find(|o| o.is_ne())
-        .unwrap_or(Ordering::Equal)
 }
 
 /// Whether a polygon's points lie in one plane, exactly.
