@@ -240,11 +240,12 @@ fn on_open(p: [f64; 3], sides: &[Side]) -> bool {
     })
 }
 
-/// The distance from p to the nearest side that is not an open end.
-fn clearance(p: [f64; 3], sides: &[Side]) -> f64 {
+/// The distance from p to the nearest side that is not an open end (only
+/// faults inside the cavity if `inner`).
+fn clearance(p: [f64; 3], sides: &[Side], inner: bool) -> f64 {
     sides
         .iter()
-        .filter(|s| s.open.is_none())
+        .filter(|s| s.open.is_none() && (s.inner || !inner))
         .flat_map(|s| (1..s.points.len() - 1).map(move |k| (s, k)))
         .map(|(s, k)| dist2_triangle(p, s.points[0], s.points[k], s.points[k + 1]))
         .fold(f64::INFINITY, f64::min)
@@ -409,8 +410,16 @@ pub(super) fn radials(
                         true => on_open(p, sides),
                         false => cpg.locate(p, cells.iter().copied()).is_some(),
                     };
-                    let d = clearance(p, sides);
+                    let d = clearance(p, sides, false);
                     (!inside || d < clear).then_some((k, inside, d))
+                })
+                .or_else(|| {
+                    // a fault inside the cavity may pass between the
+                    // outer surface's points: the disc must clear it
+                    (0..r.levels.len()).find_map(|k| {
+                        let d = clearance(r.axis_at(k), sides, true) - r.outer;
+                        (d < clear).then_some((k, true, d))
+                    })
                 });
             match bad {
                 None => break r,
