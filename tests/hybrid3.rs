@@ -739,9 +739,8 @@ fn a_well_beside_a_fault_gets_a_cavity_the_fault_crosses() {
             ..well(0.0)
         };
         let h3 = lenient(&g, w);
-        // Not written for readers.py: beside the fault a few transition
-        // cells (1 to 2 of 240 to 290, by backend) have faces of 1e-9 m2
-        // or less, whose edges vtk takes for crossing (docs/limitations.md).
+        // Not written for readers.py: beside the fault vtk flags up to 3
+        // transition cells, by backend (docs/limitations.md).
         let r = &h3.report;
         let t = &r.cavities[0].transition;
         // the transition cells' faces on the plane x = 50: both sides of

@@ -561,17 +561,34 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
     for (k, &v) in used.iter().enumerate() {
         id[v as usize] = merged.map[k];
     }
-    let points = merged.points;
+    // per domain cell, its faces (merged ids) and the site across each
+    let raw: Vec<Vec<(Vec<u32>, usize)>> = domain
+        .iter()
+        .map(|&x| {
+            let sides = d.cells[x].iter().flatten();
+            sides
+                .map(|side| {
+                    let f = d.faces.side(side).map(|v| id[v as usize]).collect();
+                    (f, side.other as usize)
+                })
+                .collect()
+        })
+        .collect();
+    let shapes: Vec<Vec<Vec<u32>>> = raw
+        .iter()
+        .map(|c| c.iter().map(|(f, _)| f.clone()).collect())
+        .collect();
+    let welded = crate::mesh::weld(&merged.points, &merged.fixed, &shapes);
+    for v in id.iter_mut().filter(|v| **v != u32::MAX) {
+        *v = welded.map[*v as usize];
+    }
+    let points = welded.points;
     let mut cells = vec![];
     let mut links = vec![];
-    for &x in &domain {
-        // domain sites have cells (`Diagram3::build`)
-        let Some(faces) = d.cells[x].as_ref() else {
-            continue;
-        };
+    for (&x, faces) in domain.iter().zip(raw) {
         let mut out = vec![];
-        for side in faces {
-            let mut f: Vec<u32> = d.faces.side(side).map(|v| id[v as usize]).collect();
+        for (f, o) in faces {
+            let mut f: Vec<u32> = f.iter().map(|&v| welded.map[v as usize]).collect();
             f.dedup();
             while f.len() > 1 && f.first() == f.last() {
                 f.pop();
@@ -579,7 +596,6 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
             if f.len() < 3 {
                 continue;
             }
-            let o = side.other as usize;
             if d.in_domain[o] && x < o {
                 let pts: Vec<[f64; 3]> = f.iter().map(|&v| points[v as usize]).collect();
                 let plane = Plane::of(&pts);
@@ -630,14 +646,32 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
             d: plane.distance(xyz(approx[x])),
         });
     }
+    // welded cells' volumes as written (their points moved by 1e-6 of the
+    // cell at most), the others' from the diagram
+    let mut shared = vec![0u32; points.len()];
+    for &v in &welded.map {
+        shared[v as usize] += 1;
+    }
+    let volumes = domain
+        .iter()
+        .zip(&cells)
+        .map(|(&x, c)| {
+            let moved = c.iter().flatten().any(|&v| shared[v as usize] > 1);
+            if moved {
+                crate::mesh::volume(&points, c)
+            } else {
+                d.volume(x)
+            }
+        })
+        .collect();
     Mesh3 {
         points,
+        volumes,
         facet_faces,
-        collapsed: merged.collapsed,
+        collapsed: merged.collapsed + welded.welded,
         cells,
         sites: domain.iter().map(|&x| xyz(approx[x])).collect(),
         weights: domain.iter().map(|&x| approx[x][3]).collect(),
-        volumes: domain.iter().map(|&x| d.volume(x)).collect(),
         site_inside: domain.iter().map(|&x| d.site_inside[x]).collect(),
         links,
     }
