@@ -646,8 +646,8 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
             d: plane.distance(xyz(approx[x])),
         });
     }
-    // welded cells' volumes as written (their points moved by 1e-6 of the
-    // cell at most), the others' from the diagram
+    // welded cells' volumes as written (their points moved by a few 1e-5
+    // of an edge beside at most), the others' from the diagram
     let mut shared = vec![0u32; points.len()];
     for &v in &welded.map {
         shared[v as usize] += 1;

@@ -1,13 +1,18 @@
 //! Welding a polyhedral mesh's vertices joined by edges far shorter than
-//! their cells. Sites moved close to where their dual ends leave exact
-//! power vertices a few 1e-6 of a cell apart around a constraint vertex;
-//! such edges are below what readers resolve (vtk takes them for
-//! coincident points and crossing edges), so they are collapsed when the
-//! mesh is written. Input vertices never move and never merge.
+//! the edges beside them. Sites whose power at a constraint vertex exceeds
+//! the vertex's by a hair leave exact power vertices a few 1e-6 of a cell
+//! apart around it; vtk takes the edges beside such an edge for crossing
+//! (its line test is relative to their length) and close points for
+//! coincident, so they are collapsed when the mesh is written. Input
+//! vertices never move and never merge.
 
-/// Edges shorter than this fraction of the smallest cell holding them
-/// (its bounding box's diagonal) are collapsed.
-pub const WELD: f64 = 1e-6;
+/// Edges shorter than this fraction of the longest edge at either end are
+/// collapsed.
+pub const WELD: f64 = 3e-5;
+
+/// A cluster is merged only if it is this much smaller than every other
+/// edge leaving it.
+const ISOLATION: f64 = 0.03;
 
 /// Vertices merged along short edges.
 pub struct Weld {
@@ -19,8 +24,7 @@ pub struct Weld {
     pub welded: usize,
 }
 
-/// A cluster of merged points: its box, the tolerance it was merged
-/// under, and its fixed point if any.
+/// A cluster of merged points: its box and its fixed point if any.
 #[derive(Clone)]
 struct Cluster {
     lo: [f64; 3],
@@ -28,31 +32,38 @@ struct Cluster {
     fixed: Option<u32>,
 }
 
-/// Merges the ends of edges shorter than `WELD` x the smallest cell
-/// holding them, shortest first, as long as a cluster stays within that
-/// tolerance and holds at most one fixed point. A cluster's point is its
-/// fixed point, else its points' mean.
+/// Merges the ends of edges shorter than `WELD` x the longest edge at
+/// either end (vtk takes the two edges beside such an edge for crossing),
+/// as clusters holding at most one fixed point, and only clusters far
+/// smaller than the other edges leaving them (`ISOLATION`: moving their
+/// points then bends no face). A cluster's point is its fixed point, else
+/// its points' mean.
 pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Weld {
     let dist = |a: u32, b: u32| {
         let (p, q) = (points[a as usize], points[b as usize]);
         (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
     };
-    let mut short: Vec<(f64, f64, u32, u32)> = vec![];
-    for cell in cells {
-        let tol = WELD * diagonal(cell.iter().flatten().map(|&v| points[v as usize]));
-        for face in cell {
-            for k in 0..face.len() {
-                let (a, b) = (face[k], face[(k + 1) % face.len()]);
-                let l = dist(a, b);
-                if a != b && l < tol {
-                    short.push((l, tol, a.min(b), a.max(b)));
-                }
-            }
+    let mut edges: Vec<(u32, u32)> = cells
+        .iter()
+        .flatten()
+        .flat_map(|f| (0..f.len()).map(move |k| (f[k], f[(k + 1) % f.len()])))
+        .filter(|(a, b)| a != b)
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    let lengths: Vec<f64> = edges.iter().map(|&(a, b)| dist(a, b)).collect();
+    let mut longest = vec![0.0f64; points.len()];
+    for (&(a, b), &l) in edges.iter().zip(&lengths) {
+        for v in [a, b] {
+            longest[v as usize] = longest[v as usize].max(l);
         }
     }
-    // shortest first; an edge of two cells is tried under the smaller one's
-    // tolerance first
-    short.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    let tiny: Vec<bool> = edges
+        .iter()
+        .zip(&lengths)
+        .map(|(&(a, b), &l)| l < WELD * longest[a as usize].max(longest[b as usize]))
+        .collect();
     let mut parent: Vec<u32> = (0..points.len() as u32).collect();
     let mut cluster: Vec<Cluster> = points
         .iter()
@@ -72,14 +83,13 @@ pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Wel
         }
         x
     }
-    let mut welded = 0usize;
-    for &(_, tol, a, b) in &short {
+    let mut order: Vec<usize> = (0..edges.len()).filter(|&e| tiny[e]).collect();
+    order.sort_by(|&x, &y| lengths[x].total_cmp(&lengths[y]));
+    for e in order {
+        let (a, b) = edges[e];
         let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-        if ra == rb {
-            continue;
-        }
         let (ca, cb) = (&cluster[ra as usize], &cluster[rb as usize]);
-        if ca.fixed.is_some() && cb.fixed.is_some() {
+        if ra == rb || (ca.fixed.is_some() && cb.fixed.is_some()) {
             continue;
         }
         let merged = Cluster {
@@ -87,40 +97,68 @@ pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Wel
             hi: std::array::from_fn(|k| ca.hi[k].max(cb.hi[k])),
             fixed: ca.fixed.or(cb.fixed),
         };
-        if diagonal([merged.lo, merged.hi].into_iter()) >= tol {
-            continue;
-        }
         parent[rb as usize] = ra;
         cluster[ra as usize] = merged;
-        welded += 1;
     }
-    // compact: one point per cluster, in the order of first appearance
+    // the shortest edge other than tiny ones leaving each cluster
+    let roots: Vec<u32> = (0..points.len() as u32)
+        .map(|v| root(&mut parent, v))
+        .collect();
+    let mut leaving = vec![f64::INFINITY; points.len()];
+    for (e, &(a, b)) in edges.iter().enumerate() {
+        let (ra, rb) = (roots[a as usize], roots[b as usize]);
+        if ra != rb && !tiny[e] {
+            for r in [ra, rb] {
+                leaving[r as usize] = leaving[r as usize].min(lengths[e]);
+            }
+        }
+    }
+    // per point, its group: its cluster's root if the cluster is kept
+    let group: Vec<usize> = roots
+        .iter()
+        .enumerate()
+        .map(|(v, &r)| {
+            let c = &cluster[r as usize];
+            let kept = diagonal([c.lo, c.hi].into_iter()) <= ISOLATION * leaving[r as usize];
+            if kept {
+                r as usize
+            } else {
+                v
+            }
+        })
+        .collect();
+    // compact: one point per group, in the order of first appearance
     let mut out = Weld {
         points: vec![],
         map: vec![u32::MAX; points.len()],
-        welded,
+        welded: 0,
     };
-    let mut sum: Vec<([f64; 3], usize)> = vec![];
+    let mut sum: Vec<([f64; 3], usize, Option<usize>)> = vec![];
     let mut slot = vec![u32::MAX; points.len()];
-    for v in 0..points.len() as u32 {
-        let r = root(&mut parent, v) as usize;
-        if slot[r] == u32::MAX {
-            slot[r] = sum.len() as u32;
-            sum.push(([0.0; 3], 0));
+    for (v, &g) in group.iter().enumerate() {
+        if slot[g] == u32::MAX {
+            slot[g] = sum.len() as u32;
+            sum.push(([0.0; 3], 0, None));
+        } else {
+            out.welded += 1;
         }
-        let s = &mut sum[slot[r] as usize];
-        for (acc, x) in s.0.iter_mut().zip(points[v as usize]) {
+        let s = &mut sum[slot[g] as usize];
+        for (acc, x) in s.0.iter_mut().zip(points[v]) {
             *acc += x;
         }
         s.1 += 1;
-        out.map[v as usize] = slot[r];
-    }
-    out.points = sum.iter().map(|(s, n)| s.map(|x| x / *n as f64)).collect();
-    for (r, c) in cluster.iter().enumerate() {
-        if let (Some(f), true) = (c.fixed, slot[r] != u32::MAX) {
-            out.points[slot[r] as usize] = points[f as usize];
+        if fixed[v] {
+            s.2 = Some(v);
         }
+        out.map[v] = slot[g];
     }
+    out.points = sum
+        .iter()
+        .map(|(s, n, f)| match f {
+            Some(f) => points[*f],
+            None => s.map(|x| x / *n as f64),
+        })
+        .collect();
     out
 }
 
@@ -163,22 +201,18 @@ pub fn volume(points: &[[f64; 3]], faces: &[Vec<u32>]) -> f64 {
 mod tests {
     use super::*;
 
-    /// A unit cube whose corner (1,1,1) is split into three points 1e-7
-    /// apart, joined by a tiny triangle: they weld into one, the input
-    /// corner (0,0,0) never moves, and the volume is the cube's.
-    #[test]
-    fn a_split_corner_welds_back() {
-        let e = 1e-7;
+    /// A unit cube whose corner (1,1,1) is cut off e wide by a triangle
+    /// (points 7, 8, 9 on its edges along y, z, x), faces outward.
+    fn cut_cube(e: f64) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
         let mut pts: Vec<[f64; 3]> = (0..7)
             .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
             .collect();
-        // 7, 8, 9: the corner (1,1,1) cut off on its edges along y, z, x
         pts.extend([
             [1.0, 1.0 - e, 1.0],
             [1.0, 1.0, 1.0 - e],
             [1.0 - e, 1.0, 1.0],
         ]);
-        let cube: Vec<Vec<u32>> = vec![
+        let faces = vec![
             vec![0, 2, 3, 1],
             vec![0, 1, 5, 4],
             vec![0, 4, 6, 2],
@@ -187,6 +221,15 @@ mod tests {
             vec![4, 5, 7, 9, 6],
             vec![7, 8, 9],
         ];
+        (pts, faces)
+    }
+
+    /// The cut 1e-7 wide welds back into one corner, the input corner
+    /// (0,0,0) never moves, and the volume is the cube's.
+    #[test]
+    fn a_split_corner_welds_back() {
+        let e = 1e-7;
+        let (pts, cube) = cut_cube(e);
         let mut fixed = vec![false; pts.len()];
         fixed[0] = true;
         let w = weld(&pts, &fixed, std::slice::from_ref(&cube));
@@ -207,6 +250,19 @@ mod tests {
             .collect();
         assert_eq!(faces.len(), 6);
         assert!((volume(&w.points, &faces) - 1.0).abs() < 1e-6);
+    }
+
+    /// The same corner cut off 1e-5 wide, with a cube edge beside it
+    /// shortened to 1e-4: merging the cut would bend the faces along that
+    /// edge by a tenth, so nothing merges.
+    #[test]
+    fn a_cluster_beside_a_short_edge_stays() {
+        let e = 1e-5;
+        let (mut pts, cube) = cut_cube(e);
+        pts[3][2] = 1.0 - e - 1e-4;
+        let w = weld(&pts, &vec![false; pts.len()], &[cube]);
+        assert_eq!(w.welded, 0);
+        assert_eq!(w.points, pts);
     }
 
     /// Two fixed points never merge, however close.
