@@ -10,6 +10,10 @@
 /// collapsed.
 pub const WELD: f64 = 3e-5;
 
+/// Nor longer than this fraction of the smallest cell holding them: a
+/// small cell beside long edges keeps its shape.
+const CELL: f64 = 1e-3;
+
 /// A cluster is merged only if it is this much smaller than every other
 /// edge leaving it.
 const ISOLATION: f64 = 0.03;
@@ -43,15 +47,22 @@ pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Wel
         let (p, q) = (points[a as usize], points[b as usize]);
         (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
     };
-    let mut edges: Vec<(u32, u32)> = cells
-        .iter()
-        .flatten()
-        .flat_map(|f| (0..f.len()).map(move |k| (f[k], f[(k + 1) % f.len()])))
-        .filter(|(a, b)| a != b)
-        .map(|(a, b)| (a.min(b), a.max(b)))
-        .collect();
-    edges.sort_unstable();
-    edges.dedup();
+    // each edge once, with the smallest cell holding it (its box's diagonal)
+    let mut held: Vec<((u32, u32), f64)> = vec![];
+    for cell in cells {
+        let size = diagonal(cell.iter().flatten().map(|&v| points[v as usize]));
+        for f in cell {
+            for k in 0..f.len() {
+                let (a, b) = (f[k], f[(k + 1) % f.len()]);
+                if a != b {
+                    held.push(((a.min(b), a.max(b)), size));
+                }
+            }
+        }
+    }
+    held.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    held.dedup_by_key(|e| e.0);
+    let edges: Vec<(u32, u32)> = held.iter().map(|e| e.0).collect();
     let lengths: Vec<f64> = edges.iter().map(|&(a, b)| dist(a, b)).collect();
     let mut longest = vec![0.0f64; points.len()];
     for (&(a, b), &l) in edges.iter().zip(&lengths) {
@@ -62,7 +73,10 @@ pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Wel
     let tiny: Vec<bool> = edges
         .iter()
         .zip(&lengths)
-        .map(|(&(a, b), &l)| l < WELD * longest[a as usize].max(longest[b as usize]))
+        .zip(&held)
+        .map(|((&(a, b), &l), e)| {
+            l < WELD * longest[a as usize].max(longest[b as usize]) && l < CELL * e.1
+        })
         .collect();
     let mut parent: Vec<u32> = (0..points.len() as u32).collect();
     let mut cluster: Vec<Cluster> = points
@@ -113,19 +127,40 @@ pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Wel
             }
         }
     }
-    // per point, its group: its cluster's root if the cluster is kept
-    let group: Vec<usize> = roots
-        .iter()
-        .enumerate()
-        .map(|(v, &r)| {
-            let c = &cluster[r as usize];
-            let kept = diagonal([c.lo, c.hi].into_iter()) <= ISOLATION * leaving[r as usize];
-            if kept {
-                r as usize
-            } else {
-                v
-            }
+    // kept clusters: far smaller than the edges leaving them, and leaving
+    // every cell they touch at least four faces
+    let mut kept: Vec<bool> = (0..points.len())
+        .map(|r| {
+            let c = &cluster[r];
+            diagonal([c.lo, c.hi].into_iter()) <= ISOLATION * leaving[r]
         })
+        .collect();
+    let group_of = |v: u32, kept: &[bool]| {
+        let r = roots[v as usize];
+        if kept[r as usize] {
+            r
+        } else {
+            v
+        }
+    };
+    for cell in cells {
+        let faces = cell
+            .iter()
+            .filter(|f| {
+                let mut g: Vec<u32> = f.iter().map(|&v| group_of(v, &kept)).collect();
+                g.sort_unstable();
+                g.dedup();
+                g.len() >= 3
+            })
+            .count();
+        if faces < 4 {
+            for &v in cell.iter().flatten() {
+                kept[roots[v as usize] as usize] = false;
+            }
+        }
+    }
+    let group: Vec<usize> = (0..points.len() as u32)
+        .map(|v| group_of(v, &kept) as usize)
         .collect();
     // compact: one point per group, in the order of first appearance
     let mut out = Weld {
@@ -263,6 +298,25 @@ mod tests {
         let w = weld(&pts, &vec![false; pts.len()], &[cube]);
         assert_eq!(w.welded, 0);
         assert_eq!(w.points, pts);
+    }
+
+    /// The corner cut off 1e-7 wide as a cell of its own: its edges are
+    /// not short for it, so it keeps them, and its volume.
+    #[test]
+    fn a_tiny_cell_keeps_its_shape() {
+        let e = 1e-7;
+        let (mut pts, cube) = cut_cube(e);
+        pts.push([1.0; 3]);
+        let corner = vec![
+            vec![7, 10, 8],
+            vec![8, 10, 9],
+            vec![9, 10, 7],
+            vec![7, 8, 9],
+        ];
+        let w = weld(&pts, &vec![false; pts.len()], &[cube, corner.clone()]);
+        assert_eq!(w.welded, 0);
+        let tet = volume(&w.points, &corner).abs();
+        assert!((tet - e * e * e / 6.0).abs() < 1e-3 * tet, "{tet}");
     }
 
     /// Two fixed points never merge, however close.
