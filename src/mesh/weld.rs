@@ -43,41 +43,7 @@ struct Cluster {
 /// points then bends no face). A cluster's point is its fixed point, else
 /// its points' mean.
 pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Weld {
-    let dist = |a: u32, b: u32| {
-        let (p, q) = (points[a as usize], points[b as usize]);
-        (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
-    };
-    // each edge once, with the smallest cell holding it (its box's diagonal)
-    let mut held: Vec<((u32, u32), f64)> = vec![];
-    for cell in cells {
-        let size = diagonal(cell.iter().flatten().map(|&v| points[v as usize]));
-        for f in cell {
-            for k in 0..f.len() {
-                let (a, b) = (f[k], f[(k + 1) % f.len()]);
-                if a != b {
-                    held.push(((a.min(b), a.max(b)), size));
-                }
-            }
-        }
-    }
-    held.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
-    held.dedup_by_key(|e| e.0);
-    let edges: Vec<(u32, u32)> = held.iter().map(|e| e.0).collect();
-    let lengths: Vec<f64> = edges.iter().map(|&(a, b)| dist(a, b)).collect();
-    let mut longest = vec![0.0f64; points.len()];
-    for (&(a, b), &l) in edges.iter().zip(&lengths) {
-        for v in [a, b] {
-            longest[v as usize] = longest[v as usize].max(l);
-        }
-    }
-    let tiny: Vec<bool> = edges
-        .iter()
-        .zip(&lengths)
-        .zip(&held)
-        .map(|((&(a, b), &l), e)| {
-            l < WELD * longest[a as usize].max(longest[b as usize]) && l < CELL * e.1
-        })
-        .collect();
+    let (edges, lengths, tiny) = edges(points, cells);
     let mut parent: Vec<u32> = (0..points.len() as u32).collect();
     let mut cluster: Vec<Cluster> = points
         .iter()
@@ -195,6 +161,47 @@ pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Wel
         })
         .collect();
     out
+}
+
+/// Each edge of the cells once (ends in order), its length, and whether it
+/// is short enough to collapse (`WELD`, `CELL`).
+fn edges(points: &[[f64; 3]], cells: &[Vec<Vec<u32>>]) -> (Vec<(u32, u32)>, Vec<f64>, Vec<bool>) {
+    let dist = |a: u32, b: u32| {
+        let (p, q) = (points[a as usize], points[b as usize]);
+        (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
+    };
+    // each edge once, with the smallest cell holding it (its box's diagonal)
+    let mut held: Vec<((u32, u32), f64)> = vec![];
+    for cell in cells {
+        let size = diagonal(cell.iter().flatten().map(|&v| points[v as usize]));
+        for f in cell {
+            for k in 0..f.len() {
+                let (a, b) = (f[k], f[(k + 1) % f.len()]);
+                if a != b {
+                    held.push(((a.min(b), a.max(b)), size));
+                }
+            }
+        }
+    }
+    held.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    held.dedup_by_key(|e| e.0);
+    let edges: Vec<(u32, u32)> = held.iter().map(|e| e.0).collect();
+    let lengths: Vec<f64> = edges.iter().map(|&(a, b)| dist(a, b)).collect();
+    let mut longest = vec![0.0f64; points.len()];
+    for (&(a, b), &l) in edges.iter().zip(&lengths) {
+        for v in [a, b] {
+            longest[v as usize] = longest[v as usize].max(l);
+        }
+    }
+    let tiny: Vec<bool> = edges
+        .iter()
+        .zip(&lengths)
+        .zip(&held)
+        .map(|((&(a, b), &l), e)| {
+            l < WELD * longest[a as usize].max(longest[b as usize]) && l < CELL * e.1
+        })
+        .collect();
+    (edges, lengths, tiny)
 }
 
 /// The diagonal of the points' bounding box (0 for none).

@@ -16,6 +16,20 @@ pub struct FaultFace {
     pub sign: i8,
 }
 
+impl FaultFace {
+    /// The face of its cells it names: 0 to 5 for I-, I+, J-, J+, K-, K+.
+    pub fn side(&self) -> usize {
+        match (self.axis, self.sign) {
+            ('X', 1) => 1,
+            ('X', _) => 0,
+            ('Y', 1) => 3,
+            ('Y', _) => 2,
+            ('Z', 1) => 5,
+            _ => 4,
+        }
+    }
+}
+
 /// A named fault.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Fault {

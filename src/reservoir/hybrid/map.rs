@@ -207,11 +207,11 @@ pub(super) fn fault_edges(g: &CornerPointGrid, k: usize, view: &MapView) -> Vec<
             for j in face.j[0]..=face.j[1] {
                 for i in face.i[0]..=face.i[1] {
                     // the side of column (i, j) the face names, and the column across
-                    let (di, dj) = match (face.axis, face.sign) {
-                        ('X', 1) => (1, 0),
-                        ('X', _) => (-1, 0),
-                        ('Y', 1) => (0, 1),
-                        ('Y', _) => (0, -1),
+                    let (di, dj) = match face.side() {
+                        1 => (1, 0),
+                        0 => (-1, 0),
+                        3 => (0, 1),
+                        2 => (0, -1),
                         _ => continue, // Z faces have no trace in map view
                     };
                     let across = ((i as i64 + di) as usize, (j as i64 + dj) as usize);

@@ -8,6 +8,7 @@ use super::cpg::{pieces, Cpg, Ijk};
 use super::lattice::{find_face, orient_faces};
 use super::radial::Radial;
 use crate::conform::{Outcome, D3};
+use crate::error::Result;
 use crate::geom::{newell, volume, Plane};
 use crate::mesh::{Link3, Mesh3};
 use crate::reservoir::deck::WellLinks;
@@ -59,13 +60,15 @@ fn mean_plane(pts: &[[f64; 3]]) -> Plane {
 fn plane_of_pieces(pieces: &[Vec<[f64; 3]>]) -> Plane {
     let (mut n, mut area, mut o) = ([0.0; 3], 0.0, [0.0; 3]);
     for p in pieces {
-        let pl = mean_plane(p);
+        // each piece's area and centroid as mean_plane has them, from one
+        // Newell vector
         let m = newell(p);
+        let a = m.iter().map(|x| x * x).sum::<f64>().sqrt() / 2.0;
         for k in 0..3 {
             n[k] += m[k];
-            o[k] += pl.area * pl.origin[k];
+            o[k] += a * (p.iter().map(|q| q[k]).sum::<f64>() / p.len() as f64);
         }
-        area += pl.area;
+        area += a;
     }
     let len = n.iter().map(|x| x * x).sum::<f64>().sqrt();
     Plane {
@@ -135,7 +138,7 @@ impl Assembly {
     /// cells across faults). Returns the faces left unconnected (a throw
     /// with nothing across, a gap between layers) and the links across
     /// throws.
-    pub(super) fn reservoir_links(&mut self, cpg: &Cpg) -> [usize; 2] {
+    pub(super) fn reservoir_links(&mut self, cpg: &Cpg) -> Result<[usize; 2]> {
         let cells: Vec<(Ijk, usize)> = self.res_cell.iter().map(|(&c, &a)| (c, a)).collect();
         let (mut unmatched, mut thrown) = (0, 0);
         for (c, a) in cells {
@@ -144,7 +147,7 @@ impl Assembly {
                     Ok(Some(n)) => n,
                     Ok(None) => continue,
                     Err(_) if f < 4 => {
-                        let [links, none] = self.across_throw(cpg, c, a, f);
+                        let [links, none] = self.across_throw(cpg, c, a, f)?;
                         unmatched += none;
                         thrown += links;
                         continue;
@@ -171,15 +174,15 @@ impl Assembly {
                 self.link(a, b, face, mean_plane(&pts));
             }
         }
-        [unmatched, thrown]
+        Ok([unmatched, thrown])
     }
 
     /// Links from reservoir cell c (mesh cell a) across its face f on a
     /// throw: one to each reservoir cell across, by the pieces they share.
     /// Returns the links made, and 1 where no live cell is across.
-    fn across_throw(&mut self, cpg: &Cpg, c: Ijk, a: usize, f: usize) -> [usize; 2] {
+    fn across_throw(&mut self, cpg: &Cpg, c: Ijk, a: usize, f: usize) -> Result<[usize; 2]> {
         let mut by_cell: BTreeMap<Ijk, Vec<Vec<[f64; 3]>>> = BTreeMap::new();
-        for p in cpg.parts(c, f).unwrap_or_default() {
+        for p in cpg.parts(c, f)? {
             if let Some(n) = p.across {
                 by_cell.entry(n).or_default().push(p.points);
             }
@@ -197,7 +200,7 @@ impl Assembly {
                 made += 1;
             }
         }
-        [made, none]
+        Ok([made, none])
     }
 
     /// A link across a face between cells a and b.
@@ -526,7 +529,7 @@ pub(super) fn assemble(
     wells: &[super::Well3],
     well_of: &[usize],
     built: Vec<Built>,
-) -> super::Hybrid3 {
+) -> Result<super::Hybrid3> {
     let mut a = Assembly::default();
     let owner: BTreeMap<Ijk, usize> = built
         .iter()
@@ -534,7 +537,7 @@ pub(super) fn assemble(
         .flat_map(|(n, b)| b.cells.cells.iter().map(move |&c| (c, n)))
         .collect();
     a.reservoir(cpg, &|c| owner.contains_key(&c));
-    let [unmatched, thrown] = a.reservoir_links(cpg);
+    let [unmatched, thrown] = a.reservoir_links(cpg)?;
     let mut names = vec![];
     let mut owners = vec![];
     let mut radials: Vec<&Radial> = vec![];
@@ -634,14 +637,14 @@ pub(super) fn assemble(
         non_orthogonal: by_regions.values().map(|c| c.non_orthogonal).sum(),
         by_regions,
     };
-    super::Hybrid3 {
+    Ok(super::Hybrid3 {
         mesh: out,
         region,
         ijk,
         host,
         wellbore,
         report,
-    }
+    })
 }
 
 /// Per cell, the grid cell whose rock it takes: a reservoir cell its own;

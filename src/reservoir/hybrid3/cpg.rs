@@ -87,14 +87,7 @@ impl<'g> Cpg<'g> {
         }
         let mut faults = std::collections::BTreeSet::new();
         for face in g.faults.iter().flat_map(|f| &f.faces) {
-            let f = match (face.axis, face.sign) {
-                ('X', 1) => 1,
-                ('X', _) => 0,
-                ('Y', 1) => 3,
-                ('Y', _) => 2,
-                ('Z', 1) => 5,
-                _ => 4,
-            };
+            let f = face.side();
             for k in face.k[0]..=face.k[1].min(nz.saturating_sub(1)) {
                 for j in face.j[0]..=face.j[1].min(ny.saturating_sub(1)) {
                     for i in face.i[0]..=face.i[1].min(nx.saturating_sub(1)) {

@@ -286,5 +286,5 @@ pub fn build<B: Backend + ?Sized>(
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(assembly::assemble(&cpg, wells, &owner, built))
+    assembly::assemble(&cpg, wells, &owner, built)
 }
