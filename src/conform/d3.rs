@@ -561,22 +561,15 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
     for (k, &v) in used.iter().enumerate() {
         id[v as usize] = merged.map[k];
     }
-    // per domain cell, its faces (merged ids) and the site across each
-    let raw: Vec<Vec<(Vec<u32>, usize)>> = domain
+    // per domain cell, its faces (merged ids), and the site across each
+    let sides = |x: usize| d.cells[x].iter().flatten();
+    let shapes: Vec<Vec<Vec<u32>>> = domain
         .iter()
         .map(|&x| {
-            let sides = d.cells[x].iter().flatten();
-            sides
-                .map(|side| {
-                    let f = d.faces.side(side).map(|v| id[v as usize]).collect();
-                    (f, side.other as usize)
-                })
+            sides(x)
+                .map(|side| d.faces.side(side).map(|v| id[v as usize]).collect())
                 .collect()
         })
-        .collect();
-    let shapes: Vec<Vec<Vec<u32>>> = raw
-        .iter()
-        .map(|c| c.iter().map(|(f, _)| f.clone()).collect())
         .collect();
     let welded = crate::mesh::weld(&merged.points, &merged.fixed, &shapes);
     for v in id.iter_mut().filter(|v| **v != u32::MAX) {
@@ -585,9 +578,10 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
     let points = welded.points;
     let mut cells = vec![];
     let mut links = vec![];
-    for (&x, faces) in domain.iter().zip(raw) {
+    for (&x, faces) in domain.iter().zip(&shapes) {
         let mut out = vec![];
-        for (f, o) in faces {
+        for (f, side) in faces.iter().zip(sides(x)) {
+            let o = side.other as usize;
             let mut f: Vec<u32> = f.iter().map(|&v| welded.map[v as usize]).collect();
             f.dedup();
             while f.len() > 1 && f.first() == f.last() {
@@ -658,7 +652,7 @@ fn mesh(d: &Diagram3, s: &Sites3, wt: &weights::Weights3) -> Mesh3 {
         .map(|(&x, c)| {
             let moved = c.iter().flatten().any(|&v| shared[v as usize] > 1);
             if moved {
-                crate::mesh::volume(&points, c)
+                crate::geom::volume(c, &points)
             } else {
                 d.volume(x)
             }

@@ -12,4 +12,4 @@ pub use cells::{CellArray, CellMesh, Cells, Values};
 pub use d2::{Collapsed, Mesh};
 pub use d3::{FacetFace, Link3, Mesh3};
 pub use network::{Connection, Element, Network};
-pub use weld::{volume, weld};
+pub use weld::weld;

@@ -221,24 +221,6 @@ fn diagonal(pts: impl Iterator<Item = [f64; 3]>) -> f64 {
     (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
 }
 
-/// A closed polyhedron's volume from its faces (counter-clockwise seen
-/// from outside), by the divergence theorem about its first point.
-pub fn volume(points: &[[f64; 3]], faces: &[Vec<u32>]) -> f64 {
-    let Some(&first) = faces.first().and_then(|f| f.first()) else {
-        return 0.0;
-    };
-    let o = points[first as usize];
-    let p = |v: u32| -> [f64; 3] { std::array::from_fn(|i| points[v as usize][i] - o[i]) };
-    faces
-        .iter()
-        .map(|f| {
-            (1..f.len().saturating_sub(1))
-                .map(|k| crate::geom::det3_f(p(f[0]), p(f[k]), p(f[k + 1])) / 6.0)
-                .sum::<f64>()
-        })
-        .sum()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -291,7 +273,7 @@ mod tests {
             .filter(|g| g.len() >= 3)
             .collect();
         assert_eq!(faces.len(), 6);
-        assert!((volume(&w.points, &faces) - 1.0).abs() < 1e-6);
+        assert!((crate::geom::volume(&faces, &w.points) - 1.0).abs() < 1e-6);
     }
 
     /// The same corner cut off 1e-5 wide, with a cube edge beside it
@@ -322,7 +304,7 @@ mod tests {
         ];
         let w = weld(&pts, &vec![false; pts.len()], &[cube, corner.clone()]);
         assert_eq!(w.welded, 0);
-        let tet = volume(&w.points, &corner).abs();
+        let tet = crate::geom::volume(&corner, &w.points).abs();
         assert!((tet - e * e * e / 6.0).abs() < 1e-3 * tet, "{tet}");
     }
 
