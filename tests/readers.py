@@ -164,13 +164,46 @@ def check_polyhedra(path):
         c = (all_pts.min(0) + all_pts.max(0)) / 2
         return (p - c) @ ROTATION.T
     flagged = valid_reframed(path, grid, rotate, "a rotated frame")
+    volumes_agree(path, grid)
+    return n, len(flagged)
+
+def volumes_agree(path, grid):
+    """The volumes from the faces as vtk reads them are the file's
+    `volume` array, and pyvista reads as many cells."""
+    n = grid.GetNumberOfCells()
     volume = vtk_to_numpy(grid.GetCellData().GetArray("volume"))
     for c in range(n):
         total = face_volume(grid, grid.GetCell(c))
         assert abs(total - volume[c]) <= 1e-9 * max(volume[c], 1e-300), f"{path}: cell {c}: volume from the faces vtk reads {total}, ours {volume[c]}"
     m = pv.read(path)
     assert m.n_cells == n, f"{path}: pyvista reads {m.n_cells} cells, vtk {n}"
-    return n, len(flagged)
+
+def check_faulted(path):
+    """3D hybrids beside faults (`faulted3-*`): as check_polyhedra, except
+    that vtkCellValidator does not pass every cell there yet
+    (docs/limitations.md). With the points centred and rotated and slivers
+    left out, the cells it still flags are counted by region (reservoir,
+    transition, well) and returned as (flagged, cells) pairs. Every well
+    cell must pass, and all but 3% of the transition cells (0 to 4 of 170 to
+    300 are flagged in these meshes). Reservoir cells
+    are flagged where the grid's own faces are twisted (leaning pillars,
+    dipping layers), as the grid's cells are."""
+    grid = read_vtu(path)
+    types = {grid.GetCellType(i) for i in range(grid.GetNumberOfCells())}
+    assert types == {42}, f"{path}: cell types {types}"
+    volumes_agree(path, grid)
+    p = vtk_to_numpy(grid.GetPoints().GetData()).copy()
+    p = (p - (p.min(0) + p.max(0)) / 2) @ ROTATION.T
+    pts = vtk.vtkPoints()
+    pts.SetData(numpy_to_vtk(p, deep=1))
+    grid.SetPoints(pts)
+    s = validity(grid)
+    region = vtk_to_numpy(grid.GetCellData().GetArray("region"))
+    flagged = [c for c in np.nonzero(s)[0] if not sliver(grid, c)]
+    counts = [(int(sum(region[c] == r for c in flagged)), int(np.sum(region == r))) for r in range(3)]
+    assert counts[2][0] == 0, f"{path}: vtkCellValidator flags {counts[2][0]} well cells"
+    assert counts[1][0] <= 0.03 * counts[1][1], f"{path}: vtkCellValidator flags {counts[1][0]} of {counts[1][1]} transition cells"
+    return counts
 
 def check_grid(path):
     from resdata.grid import Grid
@@ -254,7 +287,10 @@ def main(folder):
     for f in sorted(p for pat in ("conform3-*.vtu", "hybrid3-*.vtu") for p in pathlib.Path(folder).rglob(pat)):
         n, flagged = check_polyhedra(f)
         print(f"vtk validates: {f.name}: {n} polyhedra, state 0 ({flagged} of them only in a rotated frame), volumes agree")
-    files = sorted(f for f in pathlib.Path(folder).rglob("*.vtu") if not f.name.startswith(("layers-", "conform3-", "hybrid3-")))
+    for f in sorted(pathlib.Path(folder).rglob("faulted3-*.vtu")):
+        (r, nr), (t, nt), (w, nw) = check_faulted(f)
+        print(f"vtk beside faults: {f.name}: flags {t} of {nt} transition cells, {w} of {nw} well cells, {r} of {nr} reservoir cells (centred, rotated, slivers left out); volumes agree")
+    files = sorted(f for f in pathlib.Path(folder).rglob("*.vtu") if not f.name.startswith(("layers-", "conform3-", "hybrid3-", "faulted3-")))
     assert files, f"no .vtu files under {folder}: did the Rust tests run?"
     for f in files:
         print(f"readers ok: {f.name}: {check(f)} cells")
