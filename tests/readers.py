@@ -184,8 +184,8 @@ def check_faulted(path):
     (docs/limitations.md). With the points centred and rotated and slivers
     left out, the cells it still flags are counted by region (reservoir,
     transition, well) and returned as (flagged, cells) pairs. Every well
-    cell must pass, and all but 3% of the transition cells (0 to 4 of 170 to
-    300 are flagged in these meshes). Reservoir cells
+    cell must pass, and all but 3% of the transition cells (1 to 4 of 172
+    are flagged in emerald's). Reservoir cells
     are flagged where the grid's own faces are twisted (leaning pillars,
     dipping layers), as the grid's cells are."""
     grid = read_vtu(path)

@@ -20,6 +20,8 @@ pub(super) struct Side {
     pub(super) open: Option<usize>,
     /// Whether the cell across is the cavity's too: a fault inside it.
     pub(super) inner: bool,
+    /// Whether it is on a fault (with throw, or one `FAULTS` names).
+    pub(super) fault: bool,
 }
 
 /// The cells of a cavity and the wells (indices) it holds.
@@ -195,6 +197,7 @@ pub(super) fn sides(cpg: &Cpg, cells: &BTreeSet<Ijk>, open: &[(usize, f64)]) -> 
                     across,
                     open: on,
                     inner,
+                    fault: part.thrown || fault,
                 });
             }
         }

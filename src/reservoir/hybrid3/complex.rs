@@ -6,6 +6,7 @@
 use super::cavity::Side;
 use super::cpg::Ijk;
 use super::radial::{End, Radial};
+use super::refine;
 use super::Hybrid3Options;
 use crate::backend::Backend;
 use crate::complex::{Complex3, Facet};
@@ -102,8 +103,15 @@ fn inside_xy(poly: &[[f64; 3]], p: [f64; 3]) -> bool {
 }
 
 impl Transition {
-    /// The complex of a cavity's sides and wells.
-    pub(super) fn new(sides: &[Side], wells: &[Radial]) -> Transition {
+    /// The complex of a cavity's sides and wells; with `cut`, faults
+    /// inside it and sides facing nothing near a well cut to about the
+    /// wells' outer radius (`refine`).
+    pub(super) fn new<B: Backend + ?Sized>(
+        backend: &B,
+        sides: &[Side],
+        wells: &[Radial],
+        cut: bool,
+    ) -> Result<Transition> {
         let mut pts = Points::default();
         let mut across = vec![];
         let mut facet =
@@ -115,14 +123,30 @@ impl Transition {
                 });
                 across.push(a);
             };
-        for s in sides.iter().filter(|s| s.open.is_none()) {
-            let ids = s.points.iter().map(|&p| pts.id(p)).collect();
+        let h = wells.iter().map(|w| w.outer).fold(f64::INFINITY, f64::min);
+        let near = |poly: &[[f64; 3]]| wells.iter().any(|w| w.reaches(poly));
+        let (cuts, whole) = match cut {
+            true => refine::faults(backend, sides, h, &near)?,
+            false => refine::faults(backend, sides, h, &|_| false)?,
+        };
+        for (s, cut) in sides.iter().zip(cuts).filter(|(s, _)| s.open.is_none()) {
             let across = match (s.inner, s.across) {
                 (true, _) => Across::Inner,
                 (false, Some(c)) => Across::Cell(c),
                 (false, None) => Across::Outside,
             };
-            facet(&mut pts, vec![ids], vec![], across);
+            match cut {
+                Some(triangles) => {
+                    for t in triangles {
+                        let ids = t.iter().map(|&p| pts.id(p)).collect();
+                        facet(&mut pts, vec![ids], vec![], across);
+                    }
+                }
+                None => {
+                    let ids = s.points.iter().map(|&p| pts.id(p)).collect();
+                    facet(&mut pts, vec![ids], vec![], across);
+                }
+            }
         }
         // The grid's flat top and bottom: one facet per loop, with the
         // outlines of the wells open there as windows.
@@ -139,7 +163,19 @@ impl Transition {
             for rim in loops(&pieces) {
                 let poly: Vec<[f64; 3]> =
                     rim.iter().map(|&v| local.cx.points[v as usize]).collect();
-                let rim = poly.iter().map(|&p| pts.id(p)).collect();
+                // with the points of the cut facets beside it
+                let n = poly.len();
+                let rim = (0..n)
+                    .flat_map(|k| {
+                        let (a, b) = (poly[k], poly[(k + 1) % n]);
+                        let m = match whole.contains(&refine::key(a, b)) {
+                            true => 1,
+                            false => refine::pieces(a, b, h),
+                        };
+                        refine::edge_points(a, b, m).into_iter().take(m)
+                    })
+                    .map(|p| pts.id(p))
+                    .collect();
                 let mut polygons = vec![rim];
                 let mut holes = vec![];
                 for w in wells {
@@ -161,7 +197,15 @@ impl Transition {
                         let (a, b) = (s.points[k], s.points[(k + 1) % n]);
                         let mid: [f64; 3] = std::array::from_fn(|c| (a[c] + b[c]) / 2.0);
                         if a[2] == z && b[2] == z && inside_xy(&poly, mid) {
-                            polygons.push(vec![pts.id(a), pts.id(b)]);
+                            // in the pieces the fault's refined facet has there
+                            let m = match whole.contains(&refine::key(a, b)) {
+                                true => 1,
+                                false => refine::pieces(a, b, h),
+                            };
+                            let cut = refine::edge_points(a, b, m);
+                            for e in cut.windows(2) {
+                                polygons.push(vec![pts.id(e[0]), pts.id(e[1])]);
+                            }
                         }
                     }
                 }
@@ -179,11 +223,11 @@ impl Transition {
             let mid = w.at(0.0, 0.0, w.mid[w.nl / 2]);
             pts.cx.holes.push(mid);
         }
-        Transition {
+        Ok(Transition {
             cx: pts.cx,
             across,
             open,
-        }
+        })
     }
 
     /// The certified transition mesh: cut at the grid's flat top and bottom
@@ -225,6 +269,44 @@ impl Transition {
             run(vec![])
         }
     }
+}
+
+/// How many times the facets the cut complex may have (`mesh`).
+const CUT_MAX: f64 = 6.0;
+
+/// A cavity's transition and its mesh. Beside a fault, also with the
+/// faults and the sides facing nothing near its wells cut smaller
+/// (`refine`), unless that makes over `CUT_MAX` times the facets: kept
+/// when that keeps more polygons whole (their links to the reservoir and
+/// the wells orthogonal), or when only it meshes.
+pub(super) fn mesh<B: Backend + ?Sized>(
+    backend: &B,
+    sides: &[Side],
+    wells: &[Radial],
+    opts: &Hybrid3Options,
+) -> Result<(Transition, Result<Outcome<D3>>)> {
+    let plain = Transition::new(backend, sides, wells, false)?;
+    let first = plain.mesh(backend, opts);
+    if !sides.iter().any(|s| s.fault) {
+        return Ok((plain, first));
+    }
+    let cut = Transition::new(backend, sides, wells, true)?;
+    // (emerald's 360 m throw cut at its 134 m outer radius: 8 times the
+    // facets, and HiGHS takes minutes)
+    let more = cut.cx.facets.len() as f64 / plain.cx.facets.len() as f64;
+    if more == 1.0 || more > CUT_MAX {
+        return Ok((plain, first));
+    }
+    let whole = |o: &Result<Outcome<D3>>| {
+        o.as_ref()
+            .map_or(None, |o| Some(o.report.input.whole_polygons))
+    };
+    let second = cut.mesh(backend, opts);
+    Ok(match (whole(&first), whole(&second)) {
+        (None, Some(_)) => (cut, second),
+        (Some(a), Some(b)) if b > a => (cut, second),
+        _ => (plain, first),
+    })
 }
 
 type AddFacet<'a> = dyn FnMut(&mut Points, Vec<Vec<u32>>, Vec<[f64; 3]>, Across) + 'a;

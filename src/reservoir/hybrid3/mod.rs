@@ -28,6 +28,7 @@ mod cpg;
 mod lattice;
 mod path;
 mod radial;
+mod refine;
 mod sheet;
 
 use crate::backend::Backend;
@@ -266,8 +267,8 @@ pub fn build<B: Backend + ?Sized>(
             let open: Vec<(usize, f64)> = ps.iter().flat_map(|p| p.open_faces()).collect();
             let sides = cavity::sides(&cpg, &cells.cells, &open)?;
             let radials = cavity::radials(&cpg, &ws, &ps, &cells.cells, &sides, opts)?;
-            let transition = complex::Transition::new(&sides, &radials);
-            let outcome = transition.mesh(backend, opts).map_err(|e| {
+            let (transition, outcome) = complex::mesh(backend, &sides, &radials, opts)?;
+            let outcome = outcome.map_err(|e| {
                 let names: Vec<&str> = ws.iter().map(|w| w.name.as_str()).collect();
                 Error::Within {
                     part: format!("the cavity of well(s) {}", names.join(", ")),

@@ -298,6 +298,27 @@ impl Radial {
         }
     }
 
+    /// Whether a polygon's ball (about its vertices' mean, through its
+    /// farthest vertex) reaches the outer surface: its facet then takes
+    /// in points of this mesh unless cut smaller.
+    pub(super) fn reaches(&self, poly: &[[f64; 3]]) -> bool {
+        let c: [f64; 3] =
+            std::array::from_fn(|k| poly.iter().map(|p| p[k]).sum::<f64>() / poly.len() as f64);
+        let dist =
+            |p: [f64; 3], q: [f64; 3]| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
+        let radius = poly.iter().map(|&p| dist(p, c)).fold(0.0, f64::max);
+        // the distance from c to the axis between the first and last levels
+        let (a, b) = (self.axis_at(0), self.axis_at(self.levels.len() - 1));
+        let d: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
+        let dd: f64 = (0..3).map(|k| d[k] * d[k]).sum();
+        let t = match dd > 0.0 {
+            true => ((0..3).map(|k| (c[k] - a[k]) * d[k]).sum::<f64>() / dd).clamp(0.0, 1.0),
+            false => 0.0,
+        };
+        let foot: [f64; 3] = std::array::from_fn(|k| a[k] + t * d[k]);
+        dist(c, foot) < 2.0 * (radius + self.outer)
+    }
+
     /// Whether layer k is a plug of sector wedges (an end closed inside
     /// the cavity).
     pub(super) fn is_plug(&self, k: usize) -> bool {
