@@ -298,9 +298,12 @@ impl Radial {
         }
     }
 
-    /// Whether a polygon's ball (about its vertices' mean, through its
-    /// farthest vertex) reaches the outer surface: its facet then takes
-    /// in points of this mesh unless cut smaller.
+    /// Whether a polygon is near this mesh: its vertices' mean within
+    /// twice its ball's radius (through its farthest vertex) plus the outer
+    /// radius of the axis. Its facet may then take in points of the outer
+    /// surface, or keep the LP from keeping the sides whole, unless cut
+    /// smaller (with the ball alone, faces beside a fault's nearest one
+    /// were left whole, and no side was kept whole).
     pub(super) fn reaches(&self, poly: &[[f64; 3]]) -> bool {
         let c: [f64; 3] =
             std::array::from_fn(|k| poly.iter().map(|p| p[k]).sum::<f64>() / poly.len() as f64);

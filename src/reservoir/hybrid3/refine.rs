@@ -6,7 +6,9 @@
 //! whole (their links to the reservoir orthogonal), and drops them all.
 //! Transition cells lie on both sides of such a face, so nothing needs it
 //! whole: it is cut into triangles of about that radius, its edges on the
-//! cavity's sides kept whole (the reservoir cells across have them).
+//! cavity's sides kept whole (the reservoir cells across have them). So
+//! are the sides facing nothing (a throw's step). `complex::mesh` keeps
+//! the cut complex only where it keeps more polygons whole.
 
 use super::cavity::Side;
 use crate::backend::Backend;
