@@ -203,7 +203,7 @@ fn untouched(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<bool> {
 
 /// Per facet, whether it is kept whole: one strictly convex polygon of 4
 /// to `MAX_WHOLE` vertices, no holes, its vertices exactly cocircular.
-fn kept_whole(cx: &Complex3) -> Vec<bool> {
+pub fn kept_whole(cx: &Complex3) -> Vec<bool> {
     let p = |v: u32| cx.points[v as usize];
     cx.facets
         .iter()

@@ -13,7 +13,7 @@ mod zero3;
 
 pub use crate::lp::WeightsReport;
 pub use d2::{solve, Weights};
-pub use d3::{face_centre, solve as solve3, Face, Weights3};
+pub use d3::{face_centre, kept_whole, solve as solve3, Face, Weights3};
 pub(crate) use d3::{fan, sorted3};
 
 /// How whole polygons keep their lifts coplanar.

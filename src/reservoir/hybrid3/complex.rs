@@ -276,9 +276,10 @@ const CUT_MAX: f64 = 6.0;
 
 /// A cavity's transition and its mesh. Beside a fault, also with the
 /// faults and the sides facing nothing near its wells cut smaller
-/// (`refine`), unless that makes over `CUT_MAX` times the facets: kept
-/// when that keeps more polygons whole (their links to the reservoir and
-/// the wells orthogonal), or when only it meshes.
+/// (`refine`) when some polygons that could be whole are not, unless that
+/// makes over `CUT_MAX` times the facets: kept when that keeps more
+/// polygons whole (their links to the reservoir and the wells
+/// orthogonal), or when only it meshes.
 pub(super) fn mesh<B: Backend + ?Sized>(
     backend: &B,
     sides: &[Side],
@@ -287,7 +288,16 @@ pub(super) fn mesh<B: Backend + ?Sized>(
 ) -> Result<(Transition, Result<Outcome<D3>>)> {
     let plain = Transition::new(backend, sides, wells, false)?;
     let first = plain.mesh(backend, opts);
-    if !sides.iter().any(|s| s.fault) {
+    let whole = |o: &Result<Outcome<D3>>| {
+        o.as_ref()
+            .map_or(None, |o| Some(o.report.input.whole_polygons))
+    };
+    // (all that could be whole are: leaning pillars' sides never are)
+    let could = crate::weights::kept_whole(&plain.cx)
+        .iter()
+        .filter(|&&w| w)
+        .count();
+    if !sides.iter().any(|s| s.fault) || whole(&first) == Some(could) {
         return Ok((plain, first));
     }
     let cut = Transition::new(backend, sides, wells, true)?;
@@ -297,10 +307,6 @@ pub(super) fn mesh<B: Backend + ?Sized>(
     if more == 1.0 || more > CUT_MAX {
         return Ok((plain, first));
     }
-    let whole = |o: &Result<Outcome<D3>>| {
-        o.as_ref()
-            .map_or(None, |o| Some(o.report.input.whole_polygons))
-    };
     let second = cut.mesh(backend, opts);
     Ok(match (whole(&first), whole(&second)) {
         (None, Some(_)) => (cut, second),
