@@ -167,12 +167,9 @@ impl Transition {
                 let n = poly.len();
                 let rim = (0..n)
                     .flat_map(|k| {
-                        let (a, b) = (poly[k], poly[(k + 1) % n]);
-                        let m = match whole.contains(&refine::key(a, b)) {
-                            true => 1,
-                            false => refine::pieces(a, b, h),
-                        };
-                        refine::edge_points(a, b, m).into_iter().take(m)
+                        let mut e = refine::split(poly[k], poly[(k + 1) % n], h, &whole);
+                        e.pop();
+                        e
                     })
                     .map(|p| pts.id(p))
                     .collect();
@@ -198,12 +195,7 @@ impl Transition {
                         let mid: [f64; 3] = std::array::from_fn(|c| (a[c] + b[c]) / 2.0);
                         if a[2] == z && b[2] == z && inside_xy(&poly, mid) {
                             // in the pieces the fault's refined facet has there
-                            let m = match whole.contains(&refine::key(a, b)) {
-                                true => 1,
-                                false => refine::pieces(a, b, h),
-                            };
-                            let cut = refine::edge_points(a, b, m);
-                            for e in cut.windows(2) {
+                            for e in refine::split(a, b, h, &whole).windows(2) {
                                 polygons.push(vec![pts.id(e[0]), pts.id(e[1])]);
                             }
                         }
@@ -288,10 +280,7 @@ pub(super) fn mesh<B: Backend + ?Sized>(
 ) -> Result<(Transition, Result<Outcome<D3>>)> {
     let plain = Transition::new(backend, sides, wells, false)?;
     let first = plain.mesh(backend, opts);
-    let whole = |o: &Result<Outcome<D3>>| {
-        o.as_ref()
-            .map_or(None, |o| Some(o.report.input.whole_polygons))
-    };
+    let whole = |o: &Result<Outcome<D3>>| o.as_ref().ok().map(|o| o.report.input.whole_polygons);
     // (all that could be whole are: leaning pillars' sides never are)
     let could = crate::weights::kept_whole(&plain.cx)
         .iter()

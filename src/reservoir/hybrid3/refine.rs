@@ -23,7 +23,7 @@ pub(super) type Triangles = Vec<[[f64; 3]; 3]>;
 pub(super) type Edge = [[u64; 3]; 2];
 
 /// Edge p-q's key, whichever way it is walked.
-pub(super) fn key(p: [f64; 3], q: [f64; 3]) -> Edge {
+fn key(p: [f64; 3], q: [f64; 3]) -> Edge {
     let (a, b) = (p.map(f64::to_bits), q.map(f64::to_bits));
     if q < p {
         [b, a]
@@ -33,8 +33,7 @@ pub(super) fn key(p: [f64; 3], q: [f64; 3]) -> Edge {
 }
 
 /// Per side, its triangles when it is cut to about h (`refine`): a fault
-/// inside the cavity or a side facing nothing, whose smallest enclosing
-/// ball about its centroid reaches a well's outer surface (`near`); and
+/// inside the cavity or a side facing nothing, near a well (`near`); and
 /// the edges that stay whole: those of the sides not cut, those that
 /// cannot be (not convex) included, so that the sides beside them keep
 /// their points there too.
@@ -82,15 +81,25 @@ pub(super) fn faults<B: Backend + ?Sized>(
     }
 }
 
+/// Edge p-q's points, ends included: in pieces of about h unless it is in
+/// `whole`, as the cut facet beside it has them.
+pub(super) fn split(p: [f64; 3], q: [f64; 3], h: f64, whole: &BTreeSet<Edge>) -> Vec<[f64; 3]> {
+    let m = match whole.contains(&key(p, q)) {
+        true => 1,
+        false => pieces(p, q, h),
+    };
+    edge_points(p, q, m)
+}
+
 /// How many pieces edge p-q takes at spacing h (at least one).
-pub(super) fn pieces(p: [f64; 3], q: [f64; 3], h: f64) -> usize {
+fn pieces(p: [f64; 3], q: [f64; 3], h: f64) -> usize {
     let d = (0..3).map(|c| (p[c] - q[c]).powi(2)).sum::<f64>().sqrt();
     ((d / h).ceil() as usize).max(1)
 }
 
 /// The points of edge p-q in n pieces, ends included, computed from its
 /// lesser end: the facets on either side of the edge get the same bits.
-pub(super) fn edge_points(p: [f64; 3], q: [f64; 3], n: usize) -> Vec<[f64; 3]> {
+fn edge_points(p: [f64; 3], q: [f64; 3], n: usize) -> Vec<[f64; 3]> {
     let flip = q.partial_cmp(&p) == Some(std::cmp::Ordering::Less);
     let (a, b) = if flip { (q, p) } else { (p, q) };
     let mut out: Vec<[f64; 3]> = (0..=n)
@@ -110,8 +119,8 @@ pub(super) fn edge_points(p: [f64; 3], q: [f64; 3], n: usize) -> Vec<[f64; 3]> {
 }
 
 /// A planar convex polygon as triangles of about h: its edges split by
-/// `edge_points` except those in `keep`, points on a square grid of
-/// spacing h inside it (at least 0.4 h from its edges), and the Delaunay
+/// `edge_points` except those in `keep`, points of a triangular lattice
+/// of spacing h inside it (at least 0.4 h from its edges), and the Delaunay
 /// triangulation of them all in its plane. None when it is not convex
 /// (it is then kept as it is).
 pub(super) fn refine<B: Backend + ?Sized>(
