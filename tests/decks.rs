@@ -757,6 +757,13 @@ fn spe9_in_3d_deck() {
     let text = orthomesh::io::deck::to_string(&d).unwrap();
     let dir = out_dir();
     orthomesh::io::write_atomic(&dir.join("spe9-3d.DATA"), text.as_bytes()).unwrap();
+    // the mesh for tests/readers.py (check_field), named by backend
+    let vtu = format!(
+        "field3-spe9-{}.vtu",
+        orthomesh::Backend::name(&default_backend())
+    );
+    let cells = orthomesh::io::vtu::to_string(&h.cells());
+    orthomesh::io::write_atomic(&dir.join(vtu), cells.as_bytes()).unwrap();
     let mut scheduled = serde_json::Map::new();
     for (n, c) in controls {
         let c = match c {

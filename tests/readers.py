@@ -167,14 +167,14 @@ def check_polyhedra(path):
     volumes_agree(path, grid)
     return n, len(flagged)
 
-def volumes_agree(path, grid):
+def volumes_agree(path, grid, rel=1e-9):
     """The volumes from the faces as vtk reads them are the file's
-    `volume` array, and pyvista reads as many cells."""
+    `volume` array (within `rel`), and pyvista reads as many cells."""
     n = grid.GetNumberOfCells()
     volume = vtk_to_numpy(grid.GetCellData().GetArray("volume"))
     for c in range(n):
         total = face_volume(grid, grid.GetCell(c))
-        assert abs(total - volume[c]) <= 1e-9 * max(volume[c], 1e-300), f"{path}: cell {c}: volume from the faces vtk reads {total}, ours {volume[c]}"
+        assert abs(total - volume[c]) <= rel * max(volume[c], 1e-300), f"{path}: cell {c}: volume from the faces vtk reads {total}, ours {volume[c]}"
     m = pv.read(path)
     assert m.n_cells == n, f"{path}: pyvista reads {m.n_cells} cells, vtk {n}"
 
@@ -204,6 +204,68 @@ def check_faulted(path):
     assert counts[2][0] == 0, f"{path}: vtkCellValidator flags {counts[2][0]} well cells"
     assert counts[1][0] <= 0.03 * counts[1][1], f"{path}: vtkCellValidator flags {counts[1][0]} of {counts[1][1]} transition cells"
     return counts
+
+def check_field(path):
+    """3D hybrids at a field's coordinates (`field3-*`, SPE9 at 9,000 to
+    10,600 ft depth): as check_polyhedra, but vtkCellValidator's line test
+    takes two segments within about 1.7e-6 of the coordinates' magnitude
+    for crossing (0.018 ft at SPE9's 10,583 ft; `vtk_line_tolerance`
+    measures it),
+    whatever their lengths, and the transition has exact edges that short.
+    So each cell flagged as written is validated again alone, centred on
+    itself and rotated (a rigid motion: its shape is unchanged); the cells
+    flagged there too are counted by region. Every reservoir and well cell
+    must pass as written, and all but 0.5% of the transition cells in
+    their own frame (25 of SPE9's 6,208 are not: faces the welding of
+    short edges bent, docs/limitations.md)."""
+    grid = read_vtu(path)
+    n = grid.GetNumberOfCells()
+    types = {grid.GetCellType(i) for i in range(n)}
+    assert types == {42}, f"{path}: cell types {types}"
+    # faces the welding bent (by up to 6e-4 ft) leave their cells' volume
+    # depending on where a face's fan starts: 1.5e-6 of it in 2 of SPE9's
+    volumes_agree(path, grid, rel=1e-5)
+    s = validity(grid)
+    region = vtk_to_numpy(grid.GetCellData().GetArray("region"))
+    written = [c for c in np.nonzero(s)[0]]
+    assert all(region[c] == 1 for c in written), f"{path}: vtkCellValidator flags reservoir or well cells {[c for c in written if region[c] != 1][:10]}"
+    own = [c for c in written if alone(grid, c) != 0]
+    nt = int(np.sum(region == 1))
+    assert len(own) <= 0.005 * nt, f"{path}: {len(own)} of {nt} transition cells flagged in their own frame"
+    scale = np.abs(vtk_to_numpy(grid.GetPoints().GetData())).max()
+    return len(written), len(own), nt, n, scale
+
+def alone(grid, c):
+    """vtkCellValidator's state for cell c alone, centred on itself and
+    rotated."""
+    cell = grid.GetCell(c)
+    faces = [[cell.GetFace(f).GetPointId(k) for k in range(cell.GetFace(f).GetNumberOfPoints())] for f in range(cell.GetNumberOfFaces())]
+    ids = sorted({v for f in faces for v in f})
+    local = {v: i for i, v in enumerate(ids)}
+    p = np.array([grid.GetPoint(v) for v in ids])
+    p = (p - p.mean(0)) @ ROTATION.T
+    one = vtk.vtkUnstructuredGrid()
+    pts = vtk.vtkPoints()
+    pts.SetData(numpy_to_vtk(p, deep=1))
+    one.SetPoints(pts)
+    stream = vtk.vtkIdList()
+    stream.InsertNextId(len(faces))
+    for f in faces:
+        stream.InsertNextId(len(f))
+        for v in f:
+            stream.InsertNextId(local[v])
+    one.InsertNextCell(42, stream)
+    return int(validity(one)[0])
+
+def vtk_line_tolerance(at):
+    """The largest distance between two unit segments (crossing at right
+    angles in projection) that vtkLine.Intersection takes for crossing,
+    with both at coordinates of magnitude `at`."""
+    def crossing(d):
+        t = np.full(3, at)
+        u, v = vtk.reference(0.0), vtk.reference(0.0)
+        return vtk.vtkLine.Intersection(t, t + [1, 0, 0], t + [0.5, -0.5, d], t + [0.5, 0.5, d], u, v) == 2
+    return max((d for d in np.logspace(-12, 0, 241) if crossing(d)), default=0.0)
 
 def check_grid(path):
     from resdata.grid import Grid
@@ -290,7 +352,11 @@ def main(folder):
     for f in sorted(pathlib.Path(folder).rglob("faulted3-*.vtu")):
         (r, nr), (t, nt), (w, nw) = check_faulted(f)
         print(f"vtk beside faults: {f.name}: flags {t} of {nt} transition cells, {w} of {nw} well cells, {r} of {nr} reservoir cells (centred, rotated, slivers left out); volumes agree")
-    files = sorted(f for f in pathlib.Path(folder).rglob("*.vtu") if not f.name.startswith(("layers-", "conform3-", "hybrid3-", "faulted3-")))
+    for f in sorted(pathlib.Path(folder).rglob("field3-*.vtu")):
+        written, own, nt, n, scale = check_field(f)
+        tol = vtk_line_tolerance(scale)
+        print(f"vtk at a field's coordinates: {f.name}: {n} polyhedra, flags {written} transition cells as written (its line test takes segments {tol:.1e} apart for crossing at coordinates of {scale:.0f}), {own} of {nt} in their own frame; reservoir and well cells pass; volumes agree")
+    files = sorted(f for f in pathlib.Path(folder).rglob("*.vtu") if not f.name.startswith(("layers-", "conform3-", "hybrid3-", "faulted3-", "field3-")))
     assert files, f"no .vtu files under {folder}: did the Rust tests run?"
     for f in files:
         print(f"readers ok: {f.name}: {check(f)} cells")
