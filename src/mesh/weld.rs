@@ -18,6 +18,13 @@ const CELL: f64 = 1e-3;
 /// edge leaving it.
 const ISOLATION: f64 = 0.03;
 
+/// Nor merged into a point off the plane of a face through it by more
+/// than this fraction of the face's size: such a face bends, and vtk's
+/// local convexity test, which compares nearly coplanar faces' centroids,
+/// then calls its cell nonconvex (SPE9's bend by 1e-5 to 1e-4, emerald's
+/// welds that help by less).
+const FLAT: f64 = 1e-5;
+
 /// Vertices merged along short edges.
 pub struct Weld {
     /// The points left.
@@ -39,9 +46,9 @@ struct Cluster {
 /// Merges the ends of edges shorter than `WELD` x the longest edge at
 /// either end (vtk takes the two edges beside such an edge for crossing),
 /// as clusters holding at most one fixed point, and only clusters far
-/// smaller than the other edges leaving them (`ISOLATION`: moving their
-/// points then bends no face). A cluster's point is its fixed point, else
-/// its points' mean.
+/// smaller than the other edges leaving them (`ISOLATION`), whose point
+/// bends no face through them (`FLAT`). A cluster's point is its fixed
+/// point, else its points' mean.
 pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Weld {
     let (edges, lengths, tiny) = edges(points, cells);
     let mut parent: Vec<u32> = (0..points.len() as u32).collect();
@@ -109,6 +116,10 @@ pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Wel
             v
         }
     };
+    let at = merged_points(points, fixed, &roots);
+    for f in cells.iter().flatten() {
+        flat(points, f, &at, &roots, &mut kept);
+    }
     for cell in cells {
         let faces = cell
             .iter()
@@ -134,16 +145,29 @@ pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Wel
         map: vec![u32::MAX; points.len()],
         welded: 0,
     };
-    let mut sum: Vec<([f64; 3], usize, Option<usize>)> = vec![];
     let mut slot = vec![u32::MAX; points.len()];
     for (v, &g) in group.iter().enumerate() {
         if slot[g] == u32::MAX {
-            slot[g] = sum.len() as u32;
-            sum.push(([0.0; 3], 0, None));
+            slot[g] = out.points.len() as u32;
+            out.points.push(if kept[g] && roots[g] as usize == g {
+                at[g]
+            } else {
+                points[g]
+            });
         } else {
             out.welded += 1;
         }
-        let s = &mut sum[slot[g] as usize];
+        out.map[v] = slot[g];
+    }
+    out
+}
+
+/// Per root, the point its cluster would merge into: its fixed point, else
+/// its points' mean.
+fn merged_points(points: &[[f64; 3]], fixed: &[bool], roots: &[u32]) -> Vec<[f64; 3]> {
+    let mut sum = vec![([0.0; 3], 0usize, None); points.len()];
+    for (v, &r) in roots.iter().enumerate() {
+        let s = &mut sum[r as usize];
         for (acc, x) in s.0.iter_mut().zip(points[v]) {
             *acc += x;
         }
@@ -151,16 +175,55 @@ pub fn weld(points: &[[f64; 3]], fixed: &[bool], cells: &[Vec<Vec<u32>>]) -> Wel
         if fixed[v] {
             s.2 = Some(v);
         }
-        out.map[v] = slot[g];
     }
-    out.points = sum
-        .iter()
+    sum.iter()
         .map(|(s, n, f)| match f {
             Some(f) => points[*f],
-            None => s.map(|x| x / *n as f64),
+            None => s.map(|x| x / (*n).max(1) as f64),
+        })
+        .collect()
+}
+
+/// Unkeeps the clusters of face `f` whose merged point lies off the face's
+/// plane by more than `FLAT` of its size.
+fn flat(points: &[[f64; 3]], f: &[u32], at: &[[f64; 3]], roots: &[u32], kept: &mut [bool]) {
+    let moving: Vec<u32> = f
+        .iter()
+        .map(|&v| roots[v as usize])
+        .filter(|&r| kept[r as usize])
+        .collect();
+    // a face left with three corners or fewer stays planar (or goes)
+    let mut corners: Vec<u32> = f
+        .iter()
+        .map(|&v| match kept[roots[v as usize] as usize] {
+            true => roots[v as usize],
+            false => v,
         })
         .collect();
-    out
+    corners.sort_unstable();
+    corners.dedup();
+    if moving.is_empty() || corners.len() < 4 {
+        return;
+    }
+    // about its first point: Newell's sums lose far coordinates' digits
+    let o = points[f[0] as usize];
+    let pts: Vec<[f64; 3]> = f
+        .iter()
+        .map(|&v| std::array::from_fn(|k| points[v as usize][k] - o[k]))
+        .collect();
+    let n = crate::geom::newell(&pts);
+    let len = (0..3).map(|k| n[k] * n[k]).sum::<f64>().sqrt();
+    let size = diagonal(pts.iter().copied());
+    if len == 0.0 || size == 0.0 {
+        return;
+    }
+    for r in moving {
+        let m = at[r as usize];
+        let off = (0..3).map(|k| n[k] * (m[k] - o[k])).sum::<f64>().abs() / len;
+        if off > FLAT * size {
+            kept[r as usize] = false;
+        }
+    }
 }
 
 /// Each edge of the cells once (ends in order), its length, and whether it
@@ -285,6 +348,17 @@ mod tests {
         let (mut pts, cube) = cut_cube(e);
         pts[3][2] = 1.0 - e - 1e-4;
         let w = weld(&pts, &vec![false; pts.len()], &[cube]);
+        assert_eq!(w.welded, 0);
+        assert_eq!(w.points, pts);
+    }
+
+    /// The corner cut off 2e-5 wide: its edges are short enough to
+    /// collapse, but the mean of its points lies 7e-6 off the cube's faces
+    /// through it (5e-6 of their size), which would bend them: it stays.
+    #[test]
+    fn a_cut_that_would_bend_faces_stays() {
+        let (pts, cube) = cut_cube(2e-5);
+        let w = weld(&pts, &vec![false; pts.len()], std::slice::from_ref(&cube));
         assert_eq!(w.welded, 0);
         assert_eq!(w.points, pts);
     }
