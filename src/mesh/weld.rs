@@ -352,15 +352,26 @@ mod tests {
         assert_eq!(w.points, pts);
     }
 
-    /// The corner cut off 2e-5 wide: its edges are short enough to
-    /// collapse, but the mean of its points lies 7e-6 off the cube's faces
-    /// through it (5e-6 of their size), which would bend them: it stays.
+    /// A unit square whose corner (1,1,0) is a cluster with a point h
+    /// above it: merging into their mean would lift the corner h/2 off
+    /// the square's plane. At h = 1e-4 (3.5e-5 of the square's size) the
+    /// cluster is unkept, at h = 1e-6 it stays.
     #[test]
-    fn a_cut_that_would_bend_faces_stays() {
-        let (pts, cube) = cut_cube(2e-5);
-        let w = weld(&pts, &vec![false; pts.len()], std::slice::from_ref(&cube));
-        assert_eq!(w.welded, 0);
-        assert_eq!(w.points, pts);
+    fn a_merge_that_would_bend_a_face_is_refused() {
+        for (h, stays) in [(1e-4, false), (1e-6, true)] {
+            let pts = [
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [1.0, 1.0, h],
+            ];
+            let roots = [0, 1, 2, 3, 2];
+            let at = merged_points(&pts, &[false; 5], &roots);
+            let mut kept = [true; 5];
+            flat(&pts, &[0, 1, 2, 3], &at, &roots, &mut kept);
+            assert_eq!(kept[2], stays, "h = {h}");
+        }
     }
 
     /// The corner cut off 1e-7 wide as a cell of its own: its edges are
