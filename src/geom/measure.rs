@@ -27,6 +27,11 @@ pub fn shoelace(n: usize, at: impl Fn(usize) -> [f64; 2]) -> f64 {
         / 2.0
 }
 
+/// Distance between two points in doubles.
+pub fn dist_f(p: [f64; 3], q: [f64; 3]) -> f64 {
+    (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
+}
+
 /// Dot product in doubles.
 pub fn dot_f(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]

@@ -211,15 +211,12 @@ fn flat(points: &[[f64; 3]], f: &[u32], at: &[[f64; 3]], roots: &[u32], kept: &m
         .iter()
         .map(|&v| std::array::from_fn(|k| points[v as usize][k] - o[k]))
         .collect();
-    let n = crate::geom::newell(&pts);
-    let len = (0..3).map(|k| n[k] * n[k]).sum::<f64>().sqrt();
+    let plane = crate::geom::Plane::of(&pts);
     let size = diagonal(pts.iter().copied());
-    if len == 0.0 || size == 0.0 {
-        return;
-    }
     for r in moving {
         let m = at[r as usize];
-        let off = (0..3).map(|k| n[k] * (m[k] - o[k])).sum::<f64>().abs() / len;
+        // (NaN for a face without area: never off)
+        let off = plane.distance(std::array::from_fn(|k| m[k] - o[k]));
         if off > FLAT * size {
             kept[r as usize] = false;
         }
@@ -229,10 +226,7 @@ fn flat(points: &[[f64; 3]], f: &[u32], at: &[[f64; 3]], roots: &[u32], kept: &m
 /// Each edge of the cells once (ends in order), its length, and whether it
 /// is short enough to collapse (`WELD`, `CELL`).
 fn edges(points: &[[f64; 3]], cells: &[Vec<Vec<u32>>]) -> (Vec<(u32, u32)>, Vec<f64>, Vec<bool>) {
-    let dist = |a: u32, b: u32| {
-        let (p, q) = (points[a as usize], points[b as usize]);
-        (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
-    };
+    let dist = |a: u32, b: u32| crate::geom::dist_f(points[a as usize], points[b as usize]);
     // each edge once, with the smallest cell holding it (its box's diagonal)
     let mut held: Vec<((u32, u32), f64)> = vec![];
     for cell in cells {
@@ -281,7 +275,7 @@ fn diagonal(pts: impl Iterator<Item = [f64; 3]>) -> f64 {
     if !any {
         return 0.0;
     }
-    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+    crate::geom::dist_f(hi, lo)
 }
 
 #[cfg(test)]

@@ -109,7 +109,7 @@ fn gap(cx: &Complex3, w: &[Q], v: u32, walls: &[u32], o: [f64; 3]) -> f64 {
         .iter()
         .map(|&u| {
             let pu = cx.points[u as usize];
-            let d: f64 = (0..3).map(|k| (pu[k] - pv[k]).powi(2)).sum::<f64>().sqrt();
+            let d = crate::geom::dist_f(pu, pv);
             (power(u, o) - power(v, o)) / (2.0 * d)
         })
         .fold(f64::INFINITY, f64::min)

@@ -497,7 +497,7 @@ pub(super) fn wellbore(w: &Radial, first_w: usize) -> Vec<(usize, f64)> {
         .filter(|&k| !w.is_plug(k))
         .flat_map(|k| {
             let (a, b) = (w.axis_at(k), w.axis_at(k + 1));
-            let length = (0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt();
+            let length = crate::geom::dist_f(b, a);
             (0..m).map(move |s| (first_w + w.cell(k, 0, s), theta * length / log))
         })
         .collect()

@@ -267,7 +267,7 @@ fn axes_apart(a: &Path, b: &Path) -> f64 {
         let pa = at(a, x as f64 / n as f64);
         for y in 0..=n {
             let pb = at(b, y as f64 / n as f64);
-            let d = (0..3).map(|k| (pa[k] - pb[k]).powi(2)).sum::<f64>().sqrt();
+            let d = crate::geom::dist_f(pa, pb);
             best = best.min(d);
         }
     }

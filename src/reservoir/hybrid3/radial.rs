@@ -307,8 +307,7 @@ impl Radial {
     pub(super) fn reaches(&self, poly: &[[f64; 3]]) -> bool {
         let c: [f64; 3] =
             std::array::from_fn(|k| poly.iter().map(|p| p[k]).sum::<f64>() / poly.len() as f64);
-        let dist =
-            |p: [f64; 3], q: [f64; 3]| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
+        let dist = crate::geom::dist_f;
         let radius = poly.iter().map(|&p| dist(p, c)).fold(0.0, f64::max);
         // the distance from c to the axis between the first and last levels
         let (a, b) = (self.axis_at(0), self.axis_at(self.levels.len() - 1));

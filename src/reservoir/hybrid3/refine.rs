@@ -13,7 +13,7 @@
 use super::cavity::Side;
 use crate::backend::Backend;
 use crate::error::Result;
-use crate::geom::{cross_f, dot_f, newell};
+use crate::geom::{cross_f, dist_f, dot_f, newell};
 use std::collections::BTreeSet;
 
 /// A cut polygon's triangles.
@@ -93,8 +93,7 @@ pub(super) fn split(p: [f64; 3], q: [f64; 3], h: f64, whole: &BTreeSet<Edge>) ->
 
 /// How many pieces edge p-q takes at spacing h (at least one).
 fn pieces(p: [f64; 3], q: [f64; 3], h: f64) -> usize {
-    let d = (0..3).map(|c| (p[c] - q[c]).powi(2)).sum::<f64>().sqrt();
-    ((d / h).ceil() as usize).max(1)
+    ((dist_f(p, q) / h).ceil() as usize).max(1)
 }
 
 /// The points of edge p-q in n pieces, ends included, computed from its
