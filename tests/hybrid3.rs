@@ -653,6 +653,43 @@ fn a_trajectory_that_bends_is_meshed_as_its_legs() {
     }
 }
 
+/// A build section as trajectory files give it: down 10 m, a quarter
+/// circle of 45 m radius, then along x, a point every 5 m (30 points).
+/// Its legs are a few at the radial mesh's scale (each point within a
+/// tenth of its outer radius of its leg's line), not one per point, each
+/// too short for its bends.
+#[test]
+fn a_sampled_build_section_is_meshed_as_a_few_legs() {
+    let g = CornerPointGrid::cartesian([15, 7, 7], [10.0, 10.0, 10.0]);
+    let r = 45.0;
+    let arc = (1..=14).map(|k| {
+        let a = k as f64 / 14.0 * std::f64::consts::FRAC_PI_2;
+        [25.0 + r * (1.0 - a.cos()), 35.0, 15.0 + r * a.sin()]
+    });
+    let along = (1..=13).map(|k| [70.0 + 5.0 * k as f64, 35.0, 60.0]);
+    let path: Vec<[f64; 3]> = [[25.0, 35.0, 5.0], [25.0, 35.0, 10.0], [25.0, 35.0, 15.0]]
+        .into_iter()
+        .chain(arc)
+        .chain(along)
+        .collect();
+    let w = Well3 {
+        name: "B".into(),
+        radius: 0.1,
+        path: Some(path),
+        ..Default::default()
+    };
+    let h = lenient(&g, w);
+    let r = &h.report;
+    let legs = r.cavities[0].outer_radii.len();
+    println!(
+        "a build section of 30 points: {legs} legs, {} of {} transition sites inside",
+        r.cavities[0].transition.certificate.sites_inside, r.cells[1]
+    );
+    assert!(r.conforms());
+    assert_eq!((r.cavities.len(), h.wellbore.len()), (1, 1));
+    assert!((3..=8).contains(&legs), "{legs} legs");
+}
+
 /// The 3D hybrid with the defaults, sites outside their cells allowed.
 fn lenient(g: &CornerPointGrid, w: Well3) -> Hybrid3 {
     let b = &compiled()[0];

@@ -156,7 +156,8 @@ struct HybridArgs {
     /// positive down, further columns such as measured depth ignored; as
     /// xtgeo and RMS export them), completed over its whole length;
     /// horizontal wells come this way. Where it bends, it is meshed as its
-    /// straight legs, each stopping short of the bend (docs/reservoir.md).
+    /// straight legs (points within a tenth of the outer radius of them),
+    /// each stopping short of the bend (docs/reservoir.md).
     #[arg(
         long = "well-path",
         value_name = "NAME:FILE[:RADIUS]",

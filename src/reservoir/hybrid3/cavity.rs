@@ -97,7 +97,12 @@ pub(super) const OWN_COLUMN: f64 = 0.4;
 
 /// The shorter side of a well's head cell's top, in map view.
 pub(super) fn head_side(cpg: &Cpg, path: &Path) -> f64 {
-    let top = cpg.face(path.head_cell, 4);
+    cell_side(cpg, path.head_cell)
+}
+
+/// The shorter side of a cell's top, in map view.
+pub(super) fn cell_side(cpg: &Cpg, c: Ijk) -> f64 {
+    let top = cpg.face(c, 4);
     (0..4)
         .map(|k| {
             let (a, b) = (top[k], top[(k + 1) % 4]);

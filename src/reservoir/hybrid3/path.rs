@@ -178,7 +178,7 @@ impl Path {
         let u = d.map(|x| x / length);
         // straight: every point within 1% of the length of the chord
         // (`bend` splits a trajectory into such legs first)
-        if let Some((n, off)) = super::bend::off_line(points) {
+        if let Some((n, off)) = super::bend::off_line(points, 0.0) {
             return bad(format!(
                 "its path bends: point {} is {off:.3} off the line from its first to its last",
                 n + 1
