@@ -585,7 +585,7 @@ fn a_pinched_out_layer_is_left_out() {
 /// area, and the mesh away from the fault is as without it.
 /// An L-shaped trajectory (down 30 m, then 90 m along x) through a
 /// 15 x 7 x 7 box of 10 m cells: two straight legs, each with its radial
-/// mesh, stopping short of the bend; one well, linked along both.
+/// mesh, joined in a mitred knee; one well, linked along both.
 #[test]
 fn a_trajectory_that_bends_is_meshed_as_its_legs() {
     let g = CornerPointGrid::cartesian([15, 7, 7], [10.0, 10.0, 10.0]);
@@ -603,16 +603,18 @@ fn a_trajectory_that_bends_is_meshed_as_its_legs() {
     write("bent", &h);
     let r = &h.report;
     println!(
-        "an L-shaped well: {} cavity, outer radii {:?}, {} of {} transition sites inside",
+        "an L-shaped well: {} cavity, outer radii {:?}, {} of {} transition sites inside, links \
+         {:?}",
         r.cavities.len(),
         r.cavities[0].outer_radii,
         r.cavities[0].transition.certificate.sites_inside,
-        r.cells[1]
+        r.cells[1],
+        r.by_regions
     );
     assert!(r.conforms());
     assert_eq!(r.cavities.len(), 1);
     assert_eq!(r.cavities[0].wells, vec!["L".to_string()]);
-    assert_eq!(r.cavities[0].outer_radii.len(), 2);
+    assert_eq!(r.cavities[0].outer_radii, vec![10.0, 10.0]);
     // one well, linked along its vertical leg and along its horizontal one
     assert_eq!(h.wellbore.len(), 1);
     let sites: Vec<[f64; 3]> = h.wellbore[0]
@@ -626,10 +628,33 @@ fn a_trajectory_that_bends_is_meshed_as_its_legs() {
     assert!(sites
         .iter()
         .any(|p| p[0] > 50.0 && (p[2] + 35.0).abs() < 5.0));
-    // stopping short of the bend by r tan 45 + r / 4 + a plug (r = 10 m)
-    assert!(sites
+    // no gap at the knee: both legs' layers there reach the mitre (their
+    // sites half of 2 r tan 45 + r / 4 from the knee's point, r = 10 m)
+    let knee = [25.0, 35.0, -35.0];
+    let nearest = sites
         .iter()
-        .all(|p| p[2] > -35.0 + 13.75 - 5.0 || p[0] > 25.0 + 13.75 - 5.0));
+        .map(|p| (0..3).map(|k| (p[k] - knee[k]).powi(2)).sum::<f64>().sqrt())
+        .fold(f64::INFINITY, f64::min);
+    assert!((11.25..11.26).contains(&nearest), "{nearest}");
+    // the layers at the knee mirror each other across it: each ring cell
+    // of one linked to its image, orthogonally; only the far plugs' links
+    // are not
+    let mirror = |p: [f64; 3]| [knee[0] + p[2] - knee[2], p[1], knee[2] + p[0] - knee[0]];
+    let well = |c: usize| h.region[c] == Region::Well;
+    let across = h
+        .mesh
+        .links
+        .iter()
+        .filter(|l| l.cells.iter().all(|&c| well(c)))
+        .filter(|l| {
+            let [a, b] = l.cells.map(|c| h.mesh.sites[c]);
+            (0..3).all(|k| (mirror(a)[k] - b[k]).abs() < 1e-9)
+        })
+        .count();
+    let opts = Hybrid3Options::default();
+    assert_eq!(across, opts.rings * opts.sectors);
+    let ww = &r.by_regions["well-well"];
+    assert_eq!(ww.non_orthogonal, 2 * opts.rings * opts.sectors);
     // a bend too sharp, a leg too short: errors naming the well
     let b = &compiled()[0];
     for (path, says) in [
@@ -657,7 +682,7 @@ fn a_trajectory_that_bends_is_meshed_as_its_legs() {
 /// circle of 45 m radius, then along x, a point every 5 m (30 points).
 /// Its legs are a few at the radial mesh's scale (each point within a
 /// tenth of its outer radius of its leg's line), not one per point, each
-/// too short for its bends.
+/// too short for its knees, and their knees are mitred.
 #[test]
 fn a_sampled_build_section_is_meshed_as_a_few_legs() {
     let g = CornerPointGrid::cartesian([15, 7, 7], [10.0, 10.0, 10.0]);
@@ -688,6 +713,15 @@ fn a_sampled_build_section_is_meshed_as_a_few_legs() {
     assert!(r.conforms());
     assert_eq!((r.cavities.len(), h.wellbore.len()), (1, 1));
     assert!((3..=8).contains(&legs), "{legs} legs");
+    // one radius along the chain of knees, each knee's links orthogonal:
+    // only the plugs at the two far ends' are not
+    let radii = &r.cavities[0].outer_radii;
+    assert!(radii.iter().all(|&x| x == radii[0]));
+    let opts = Hybrid3Options::default();
+    assert_eq!(
+        r.by_regions["well-well"].non_orthogonal,
+        2 * opts.rings * opts.sectors
+    );
 }
 
 /// The 3D hybrid with the defaults, sites outside their cells allowed.

@@ -157,7 +157,7 @@ struct HybridArgs {
     /// xtgeo and RMS export them), completed over its whole length;
     /// horizontal wells come this way. Where it bends, it is meshed as its
     /// straight legs (points within a tenth of the outer radius of them),
-    /// each stopping short of the bend (docs/reservoir.md).
+    /// joined by mitred knees (docs/reservoir.md).
     #[arg(
         long = "well-path",
         value_name = "NAME:FILE[:RADIUS]",

@@ -6,7 +6,7 @@ use super::cavity::CavityCells;
 use super::complex::{Across, Transition};
 use super::cpg::{pieces, Cpg, Ijk};
 use super::lattice::{find_face, orient_faces};
-use super::radial::Radial;
+use super::radial::{End, Radial};
 use crate::conform::{Outcome, D3};
 use crate::error::Result;
 use crate::geom::{newell, volume, Plane};
@@ -287,7 +287,7 @@ impl Assembly {
                         vec![v[1], v[2], v[6], v[5]],
                     ];
                     // on the sector's mid-angle ray at the layer's mid-level
-                    let site = w.at(rho_q, TAU * (s as f64 + 0.5) / m as f64, mid_k);
+                    let site = w.at(rho_q, w.mid_angle(s), mid_k);
                     let faces = orient_faces(faces, &self.out.points, site);
                     self.push_cell(faces, site, Region::Well, None);
                 }
@@ -319,7 +319,7 @@ impl Assembly {
                 vec![cf, of, on, cn],
                 vec![cf, of1, on1, cn],
             ];
-            let site = w.at(rho, TAU * (s as f64 + 0.5) / w.m as f64, w.mid[k]);
+            let site = w.at(rho, w.mid_angle(s), w.mid[k]);
             let faces = orient_faces(faces, &self.out.points, site);
             self.push_cell(faces, site, Region::Well, None);
         }
@@ -359,6 +359,36 @@ impl Assembly {
                             let pl = Plane::of(&pts);
                             self.link(a, b, face, pl);
                         }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Links across the knees between a cavity's legs (`bend::chain`):
+    /// each ring cell of a leg's last layer to its mirror image, the leg
+    /// after's in its first layer, across the face they share.
+    fn knees(&mut self, radials: &[Radial], first_w: &[usize]) {
+        for (a, w) in radials.iter().enumerate() {
+            let Some((well, leg)) = w.leg else { continue };
+            let Some(b) = radials.iter().position(|v| v.leg == Some((well, leg + 1))) else {
+                continue;
+            };
+            if !matches!(w.ends[1], End::Knee(_)) {
+                continue;
+            }
+            let (v, last) = (&radials[b], w.nl - 1);
+            for q in 0..w.rings {
+                for s in 0..w.m {
+                    let (x, y) = (
+                        first_w[a] + w.cell(last, q, s),
+                        first_w[b] + v.cell(0, q, s),
+                    );
+                    let face = find_face(&self.out.cells[x], &self.out.cells[y]);
+                    let pts: Vec<[f64; 3]> =
+                        face.iter().map(|&p| self.out.points[p as usize]).collect();
+                    if pts.len() >= 3 {
+                        self.link(x, y, face, Plane::of(&pts));
                     }
                 }
             }
@@ -546,6 +576,7 @@ pub(super) fn assemble(
     for (n, b) in built.iter().enumerate() {
         let first_t = a.transition(&b.outcome);
         let first_w: Vec<usize> = b.radials.iter().map(|w| a.well(w)).collect();
+        a.knees(&b.radials, &first_w);
         a.interfaces(b, first_t, &first_w);
         for (&w, r) in b.cells.wells.iter().zip(&b.radials) {
             names.push((wells[w].name.clone(), wells[w].radius));

@@ -1,16 +1,18 @@
 //! Trajectories that bend: split into straight legs (runs of points
 //! within 1% of their chord's length of it, or within `STRAY` of the
 //! radial mesh's outer radius: a sampled curve becomes a few legs at the
-//! radial mesh's scale), each meshed as a straight path. At a bend both legs stop short, each by what keeps its radial
-//! mesh on its side of the bend's bisector plane, a margin and a plug;
-//! the wellbore there has no radial cells. The legs' links to the
+//! radial mesh's scale), each meshed as a straight path. At a bend the
+//! legs meet in a knee (`chain`): mitred, each leg's layer there the
+//! other's mirror image, the wellbore whole. The legs' links to the
 //! wellbore are one well's (`merge_legs`).
 
 use super::cavity::{cell_side, head_side};
 use super::cpg::Cpg;
 use super::path::Path;
-use super::Well3;
+use super::radial::{frame, After, End, Knee, Radial};
+use super::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
+use crate::geom::dist_f;
 use crate::reservoir::deck::WellLinks;
 
 /// How far off its leg's line a point of a trajectory may lie, in outer
@@ -58,9 +60,10 @@ fn legs(points: &[[f64; 3]], stray: impl Fn([f64; 3]) -> f64) -> (Vec<[f64; 3]>,
     (pts, out)
 }
 
-/// A well's paths: one, or for a trajectory that bends one per leg, each
-/// shortened at its bends and marked as leg `(n, leg)` of well n. Radial
-/// meshes reach at most `outer` head-cell sides from their axis.
+/// A well's paths: one, or for a trajectory that bends one per leg, from
+/// bend to bend, each marked as leg `(n, leg)` of well n with the half
+/// turn at each of its knees. Radial meshes reach at most `outer`
+/// head-cell sides from their axis.
 pub(super) fn paths(cpg: &Cpg, well: &Well3, n: usize, outer: f64) -> Result<Vec<(Well3, Path)>> {
     let one = || Ok(vec![(well.clone(), Path::new(cpg, well)?)]);
     let Some(points) = &well.path else {
@@ -75,14 +78,14 @@ pub(super) fn paths(cpg: &Cpg, well: &Well3, n: usize, outer: f64) -> Result<Vec
         path: Some(vec![pts[r[0]], pts[r[1]]]),
         ..well.clone()
     };
-    let whole = ranges
+    let mut out = ranges
         .iter()
-        .map(|&r| Path::new(cpg, &leg(r)))
+        .map(|&r| Ok((leg(r), Path::new(cpg, &leg(r))?)))
         .collect::<Result<Vec<_>>>()?;
-    // per leg and end: how far it stops short of the bend, its plug's length
-    let mut short = vec![[(0.0, None); 2]; ranges.len()];
+    // per leg and end: the half turn there, and how far its knee reaches
+    let mut reach = vec![[0.0; 2]; ranges.len()];
     for a in 0..ranges.len() - 1 {
-        let (p, q) = (&whole[a], &whole[a + 1]);
+        let (p, q) = (&out[a].1, &out[a + 1].1);
         let cos: f64 = (0..3).map(|k| p.u[k] * q.u[k]).sum();
         let half = cos.clamp(-1.0, 1.0).acos() / 2.0;
         if half > 60f64.to_radians() {
@@ -95,38 +98,96 @@ pub(super) fn paths(cpg: &Cpg, well: &Well3, n: usize, outer: f64) -> Result<Vec
             )));
         }
         let r = outer * head_side(cpg, p).max(head_side(cpg, q));
-        let plug = 0.125 * r;
-        // beyond the bisector plane by a quarter radius, then the plug
-        let t = r * half.tan() + 0.25 * r + plug;
-        short[a][1] = (t, Some(plug));
-        short[a + 1][0] = (t, Some(plug));
+        out[a].1.bends[1] = Some(half);
+        out[a + 1].1.bends[0] = Some(half);
+        reach[a][1] = depth(r, half);
+        reach[a + 1][0] = depth(r, half);
     }
-    let mut out = vec![];
-    for (a, &[s, e]) in ranges.iter().enumerate() {
-        let (first, last) = (pts[s], pts[e]);
-        let d: [f64; 3] = std::array::from_fn(|k| last[k] - first[k]);
-        let length = d.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let [(t0, p0), (t1, p1)] = short[a];
-        let plugs = p0.unwrap_or(0.0) + p1.unwrap_or(0.0);
-        if length - t0 - t1 <= plugs {
+    for (a, (_, path)) in out.iter_mut().enumerate() {
+        let [s, e] = ranges[a];
+        if path.length <= reach[a][0] + reach[a][1] {
             return Err(Error::Usage(format!(
-                "well {}: its leg from point {} to {} is {length:.3} long, too short for the \
-                 bends at its ends ({:.3}, with the radial meshes' plugs)",
+                "well {}: its leg from point {} to {} is {:.3} long, too short for the knees \
+                 at its ends ({:.3})",
                 well.name,
                 s + 1,
                 e + 1,
-                t0 + t1 + plugs
+                path.length,
+                reach[a][0] + reach[a][1]
             )));
         }
-        let at = |t: f64| -> [f64; 3] { std::array::from_fn(|k| first[k] + t / length * d[k]) };
-        let w = Well3 {
-            path: Some(vec![at(t0), at(length - t1)]),
-            ..well.clone()
-        };
-        let mut path = Path::new(cpg, &w)?;
         path.leg = Some((n, a));
-        path.bends = [p0, p1];
-        out.push((w, path));
+    }
+    Ok(out)
+}
+
+/// How far along its axis a leg's layer at a knee reaches from the knee's
+/// point, for outer radius r and half turn `half`: twice the mitre's
+/// slant on the outer surface and a quarter radius, so that the layer's
+/// sites (halfway) lie inside it, mirrored across the mitre.
+pub(super) fn depth(r: f64, half: f64) -> f64 {
+    2.0 * r * half.tan() + 0.25 * r
+}
+
+/// A chain of legs' radial meshes (a well's consecutive legs in one
+/// cavity, in order, with their ends) at one outer radius: the mitre
+/// plane at each knee halves the turn between the legs' rounded axes,
+/// through the end of the leg before's, where the leg after starts, its
+/// sectors turned to mirror the leg before's and its first level's points
+/// taken from it. Both layers at the knee are then mirror images: their
+/// links across it orthogonal, and the wellbore has no gap.
+pub(super) fn chain(
+    legs: &[(&Well3, &Path, [End; 2])],
+    opts: &Hybrid3Options,
+    outer: f64,
+) -> Result<Vec<Radial>> {
+    let axes: Vec<[f64; 3]> = legs
+        .iter()
+        .map(|&(_, p, ends)| Radial::lattice(p, outer, ends).map_or(p.u, |l| l.axis()))
+        .collect();
+    let mut out: Vec<Radial> = vec![];
+    let mut after: Option<After> = None;
+    let mut before: Option<Knee> = None;
+    for (a, &(well, path, mut ends)) in legs.iter().enumerate() {
+        if let (Some(k), End::Knee(_)) = (before, ends[0]) {
+            ends[0] = End::Knee(k);
+        }
+        let head = after.as_ref().map_or(path.head, |x| x.head);
+        let knee = (a + 1 < legs.len() && matches!(ends[1], End::Knee(_))).then(|| {
+            let (u, v) = (axes[a], axes[a + 1]);
+            let sum: [f64; 3] = std::array::from_fn(|k| u[k] + v[k]);
+            let cos: f64 = (0..3).map(|k| u[k] * v[k]).sum();
+            Knee {
+                point: std::array::from_fn(|k| head[k] + path.length * u[k]),
+                normal: sum.map(|x| x / dist_f(sum, [0.0; 3])),
+                depth: depth(outer, cos.clamp(-1.0, 1.0).acos() / 2.0),
+            }
+        });
+        if let Some(k) = knee {
+            ends[1] = End::Knee(k);
+        }
+        let r = Radial::new(well, path, opts, outer, ends, after.as_ref())?;
+        after = knee.map(|k| {
+            // the leg before's sector 0, mirrored, in the leg after's frame
+            let [e1, e2] = r.across();
+            let (c, s) = (r.angle(0).cos(), r.angle(0).sin());
+            let d: [f64; 3] = std::array::from_fn(|i| c * e1[i] + s * e2[i]);
+            let dn: f64 = (0..3).map(|i| d[i] * k.normal[i]).sum();
+            let m: [f64; 3] = std::array::from_fn(|i| d[i] - 2.0 * dn * k.normal[i]);
+            let [f1, f2] = frame(axes[a + 1]);
+            let dot = |x: [f64; 3], y: [f64; 3]| (0..3).map(|i| x[i] * y[i]).sum::<f64>();
+            let last = r.levels.len() - 1;
+            After {
+                head: k.point,
+                phase: dot(m, f2).atan2(dot(m, f1)),
+                points: (0..=r.rings)
+                    .flat_map(|q| (0..r.m).map(move |s| (q, s)))
+                    .map(|(q, s)| r.point(q, s, last))
+                    .collect(),
+            }
+        });
+        before = knee;
+        out.push(r);
     }
     Ok(out)
 }

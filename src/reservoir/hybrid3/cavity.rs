@@ -6,7 +6,7 @@
 
 use super::cpg::{one_based, Cpg, Ijk};
 use super::path::Path;
-use super::radial::{End, Radial};
+use super::radial::{End, Knee, Radial};
 use super::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
 use std::collections::{BTreeMap, BTreeSet};
@@ -160,6 +160,13 @@ pub(super) fn cavities(cpg: &Cpg, paths: &[Path], reach: &[usize]) -> Vec<Cavity
         }
         for &c in set {
             owner.entry(c).or_insert(w);
+        }
+    }
+    // a bent well's legs meet at their knees: one cavity
+    for w in 1..paths.len() {
+        if super::bend::adjacent(&paths[w - 1], &paths[w]) {
+            let (a, b) = (find(&mut root, w - 1), find(&mut root, w));
+            root[a.max(b)] = a.min(b);
         }
     }
     let mut groups: BTreeMap<usize, CavityCells> = BTreeMap::new();
@@ -326,8 +333,8 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
                 plug: 0.125 * cell,
             },
         };
-        // short of a bend: the plug fills the room left there
-        let at_bend = |end: f64, plug: Option<f64>| plug.map(|plug| End::Cap { at: end, plug });
+        // a knee at a bend (placed with the leg across, `bend::chain`)
+        let at_bend = |_: f64, half: Option<f64>| half.map(|_| End::Knee(Knee::default()));
         return [
             at_bend(0.0, path.bends[0]).unwrap_or_else(|| cap(0.0, first_layer, -1.0)),
             at_bend(path.length, path.bends[1])
@@ -364,6 +371,7 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
 /// the head column's shorter side, at most 0.3 of the way to another
 /// well's axis, shrunk until the outer surface stays inside the cavity a
 /// quarter of the thinnest completed layer (or half side) from its sides.
+/// A bent well's legs here are one chain at one radius (`bend::chain`).
 pub(super) fn radials(
     cpg: &Cpg,
     wells: &[&Well3],
@@ -372,66 +380,30 @@ pub(super) fn radials(
     sides: &[Side],
     opts: &Hybrid3Options,
 ) -> Result<Vec<Radial>> {
-    let mut out = vec![];
-    for (n, (well, path)) in wells.iter().zip(paths).enumerate() {
-        let side = head_side(cpg, path);
-        let mut outer = opts.outer * side;
-        for (m, other) in paths.iter().enumerate() {
-            if m != n && !super::bend::adjacent(path, other) {
-                let apart = axes_apart(path, other);
-                if apart <= 2.0 * well.radius {
-                    return Err(Error::Usage(format!(
-                        "wells {} and {}: their axes pass within {apart:.6} of each other: their \
-                         radial meshes would overlap",
-                        well.name, wells[m].name
-                    )));
-                }
-                outer = outer.min(0.3 * apart);
-            }
+    let mut out: Vec<Option<Radial>> = (0..wells.len()).map(|_| None).collect();
+    for chain in chains(paths) {
+        let mut outer = f64::INFINITY;
+        let mut clear = f64::INFINITY;
+        for &n in &chain {
+            let (o, c) = room(cpg, wells, paths, n, opts)?;
+            outer = outer.min(o);
+            clear = clear.min(c);
         }
-        // the thinnest completed cell, by its corners' thicknesses (those
-        // pinched to nothing left out: the clearance must be positive)
-        let thinnest = path
-            .cells
+        let legs: Vec<(&Well3, &Path, [End; 2])> = chain
             .iter()
-            .flat_map(|&c| (0..4).map(move |n| cpg.corner(c, n)[2] - cpg.corner(c, n + 4)[2]))
-            .filter(|&t| t > 0.0)
-            .fold(side / 2.0, f64::min);
-        let clear = 0.25 * (side / 2.0).min(thinnest);
-        let ends = ends(cpg, path, cells);
+            .map(|&n| (wells[n], paths[n], ends(cpg, paths[n], cells)))
+            .collect();
         let mut tries = 0;
-        let radial = loop {
-            let r = Radial::new(well, path, opts, outer, ends)?;
-            // the first point of the outer surface outside the cavity or
-            // too near its sides: (level, inside, its distance to them)
-            let bad = (0..r.levels.len())
-                .flat_map(|k| (0..r.m).map(move |s| (k, s)))
-                .find_map(|(k, s)| {
-                    let p = r.surface(s, k);
-                    let open = match (k, ends) {
-                        (0, [End::Open(_), _]) => true,
-                        (k, [_, End::Open(_)]) => k + 1 == r.levels.len(),
-                        _ => false,
-                    };
-                    // at an open end, on the cavity's face there
-                    let inside = match open {
-                        true => on_open(p, sides),
-                        false => cpg.locate(p, cells.iter().copied()).is_some(),
-                    };
-                    let d = clearance(p, sides, false);
-                    (!inside || d < clear).then_some((k, inside, d))
-                })
-                .or_else(|| {
-                    // a fault inside the cavity may pass between the
-                    // outer surface's points: the disc must clear it
-                    (0..r.levels.len()).find_map(|k| {
-                        let d = clearance(r.axis_at(k), sides, true) - r.outer;
-                        (d < clear).then_some((k, true, d))
-                    })
-                });
+        let built = loop {
+            let rs = super::bend::chain(&legs, opts, outer)?;
+            let bad = rs.iter().zip(&chain).find_map(|(r, &n)| {
+                misfit(cpg, r, cells, sides, clear).map(|b| (n, r.levels.len(), b))
+            });
             match bad {
-                None => break r,
-                Some((k, inside, d)) if tries >= 40 || outer * 0.8 <= 2.0 * well.radius => {
+                None => break rs,
+                Some((n, levels, (k, inside, d)))
+                    if tries >= 40 || outer * 0.8 <= 2.0 * wells[n].radius =>
+                {
                     let how = match inside {
                         true => format!(
                             "comes within {d:.6} of the cavity's sides (it must keep {clear:.6} away)"
@@ -442,10 +414,10 @@ pub(super) fn radials(
                         "well {}: its radial mesh does not fit in its cavity (around cell {}): at \
                          level {} of {}, its outer surface {how}, even at an outer radius of \
                          {outer:.6}",
-                        well.name,
-                        one_based(path.head_cell),
+                        wells[n].name,
+                        one_based(paths[n].head_cell),
                         k + 1,
-                        r.levels.len(),
+                        levels,
                     )));
                 }
                 Some(_) => {
@@ -454,7 +426,104 @@ pub(super) fn radials(
                 }
             }
         };
-        out.push(radial);
+        for (n, r) in chain.into_iter().zip(built) {
+            out[n] = Some(r);
+        }
     }
-    Ok(out)
+    Ok(out.into_iter().flatten().collect())
+}
+
+/// The wells in a cavity as chains: a bent well's consecutive legs
+/// together, in order; every other well alone.
+fn chains(paths: &[&Path]) -> Vec<Vec<usize>> {
+    let mut out: Vec<Vec<usize>> = vec![];
+    for (n, p) in paths.iter().enumerate() {
+        match out.last_mut() {
+            Some(c) if super::bend::adjacent(paths[c[c.len() - 1]], p) => c.push(n),
+            _ => out.push(vec![n]),
+        }
+    }
+    out
+}
+
+/// A well's room: the outer radius it may start from (its head column's
+/// shorter side times `outer`, at most 0.3 of the way to another well's
+/// axis, 0.45 to its own legs beyond the next) and the clearance its outer surface keeps from the cavity's
+/// sides (a quarter of the thinnest completed cell, or of half a side).
+fn room(
+    cpg: &Cpg,
+    wells: &[&Well3],
+    paths: &[&Path],
+    n: usize,
+    opts: &Hybrid3Options,
+) -> Result<(f64, f64)> {
+    let (well, path) = (wells[n], paths[n]);
+    let side = head_side(cpg, path);
+    let mut outer = opts.outer * side;
+    for (m, other) in paths.iter().enumerate() {
+        if m != n && !super::bend::adjacent(path, other) {
+            let apart = axes_apart(path, other);
+            if apart <= 2.0 * well.radius {
+                return Err(Error::Usage(format!(
+                    "wells {} and {}: their axes pass within {apart:.6} of each other: their \
+                     radial meshes would overlap",
+                    well.name, wells[m].name
+                )));
+            }
+            // (a leg of the same well further on: only apart, the legs
+            // between fill the room)
+            let share = match (path.leg, other.leg) {
+                (Some((a, _)), Some((b, _))) if a == b => 0.45,
+                _ => 0.3,
+            };
+            outer = outer.min(share * apart);
+        }
+    }
+    // the thinnest completed cell, by its corners' thicknesses (those
+    // pinched to nothing left out: the clearance must be positive)
+    let thinnest = path
+        .cells
+        .iter()
+        .flat_map(|&c| (0..4).map(move |n| cpg.corner(c, n)[2] - cpg.corner(c, n + 4)[2]))
+        .filter(|&t| t > 0.0)
+        .fold(side / 2.0, f64::min);
+    Ok((outer, 0.25 * (side / 2.0).min(thinnest)))
+}
+
+/// Where a radial mesh does not fit: the first point of its outer surface
+/// outside the cavity or nearer its sides than `clear` (its level, whether
+/// inside, its distance to them).
+fn misfit(
+    cpg: &Cpg,
+    r: &Radial,
+    cells: &BTreeSet<Ijk>,
+    sides: &[Side],
+    clear: f64,
+) -> Option<(usize, bool, f64)> {
+    let ends = r.ends;
+    (0..r.levels.len())
+        .flat_map(|k| (0..r.m).map(move |s| (k, s)))
+        .find_map(|(k, s)| {
+            let p = r.surface(s, k);
+            let open = match (k, ends) {
+                (0, [End::Open(_), _]) => true,
+                (k, [_, End::Open(_)]) => k + 1 == r.levels.len(),
+                _ => false,
+            };
+            // at an open end, on the cavity's face there
+            let inside = match open {
+                true => on_open(p, sides),
+                false => cpg.locate(p, cells.iter().copied()).is_some(),
+            };
+            let d = clearance(p, sides, false);
+            (!inside || d < clear).then_some((k, inside, d))
+        })
+        .or_else(|| {
+            // a fault inside the cavity may pass between the
+            // outer surface's points: the disc must clear it
+            (0..r.levels.len()).find_map(|k| {
+                let d = clearance(r.axis_at(k), sides, true) - r.outer;
+                (d < clear).then_some((k, true, d))
+            })
+        })
 }

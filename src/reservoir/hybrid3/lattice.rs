@@ -139,12 +139,14 @@ impl Lattice {
     }
 }
 
-/// Where a point of the well's surfaces is: on a horizontal plane, or on a
-/// plane across the axis (at a distance along it from the head).
+/// Where a point of the well's surfaces is: on a horizontal plane, on a
+/// plane across the axis (at a distance along it from the head), or on a
+/// knee's mitre plane (a point on it, its unit normal).
 #[derive(Clone, Copy)]
 pub(super) enum Level {
     Height(f64),
     Along(f64),
+    Mitre([f64; 3], [f64; 3]),
 }
 
 /// The faces turned so that each is counter-clockwise seen from outside

@@ -14,7 +14,7 @@
 //! cavity. A vertical well's layers are horizontal, at its axis' crossings
 //! of the grid's layers; a deviated well's are slabs across its axis,
 //! exact rectangles on a lattice (`lattice`); a trajectory that bends is
-//! meshed as its straight legs (`bend`). Built in stages: the corner-point
+//! meshed as its straight legs joined by mitred knees (`bend`). Built in stages: the corner-point
 //! cells (`cpg`, `sheet`), each well's completed interval (`path`), the
 //! cavities and the radial meshes in them (`cavity`, `radial`), each
 //! cavity's complex and certified transition (`complex`, in parallel), the
@@ -68,7 +68,7 @@ pub struct Well3 {
     /// A trajectory (x, y, depth as the grid has them), first point to
     /// last, completed over its whole length: instead of the column,
     /// layers, dip and azimuth. Horizontal wells come this way; where it
-    /// bends, its straight legs are meshed (`bend`).
+    /// bends, its straight legs are meshed, joined by mitred knees (`bend`).
     pub path: Option<Vec<[f64; 3]>>,
 }
 

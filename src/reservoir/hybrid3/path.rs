@@ -32,7 +32,7 @@ pub(super) struct Path {
     /// Where it is one leg of a trajectory that bends: its well (index)
     /// and leg number (`bend`).
     pub(super) leg: Option<(usize, usize)>,
-    /// Per end, the length of the plug that closes it short of a bend.
+    /// Per end, where it is a knee (`bend`): half the turn there.
     pub(super) bends: [Option<f64>; 2],
 }
 

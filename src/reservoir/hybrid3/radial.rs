@@ -1,7 +1,8 @@
 //! The well's radial mesh in space: its axis (rounded onto a lattice when
 //! deviated), the levels its layers are cut at, its two ends (open on a
-//! flat top or bottom of the grid, or closed by a cap inside the cavity),
-//! and the points of its rings and outer surface.
+//! flat top or bottom of the grid, closed by a cap inside the cavity, or
+//! a knee where a bent trajectory's next leg goes on), and the points of
+//! its rings and outer surface.
 
 use super::lattice::{Lattice, Level};
 use super::path::Path;
@@ -27,6 +28,30 @@ pub(super) enum End {
         /// The plug's length along the axis.
         plug: f64,
     },
+    /// A knee (`bend`): the rings go on into the next (or previous) leg,
+    /// mirrored about the mitre plane through the axes' meeting point.
+    Knee(Knee),
+}
+
+/// A knee between two legs: their axes meet at `point` (the end of the
+/// leg before, the head of the leg after), `normal` is the mitre plane's
+/// (the sum of the axes, unit), and each leg's last (first) layer reaches
+/// `depth` along its axis from the point, past its mitre's slant.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub(super) struct Knee {
+    pub(super) point: [f64; 3],
+    pub(super) normal: [f64; 3],
+    pub(super) depth: f64,
+}
+
+/// How a leg after a knee is placed: its head at the knee's point, its
+/// sectors turned by `phase` (so that they mirror the leg before's), and
+/// the points of its first level as the leg before has them (q * m + s).
+#[derive(Clone, Debug, Default)]
+pub(super) struct After {
+    pub(super) head: [f64; 3],
+    pub(super) phase: f64,
+    pub(super) points: Vec<[f64; 3]>,
 }
 
 /// The well's radial mesh.
@@ -56,6 +81,12 @@ pub(super) struct Radial {
     /// The first level across the axis, and the outline's lattice points there.
     t1: f64,
     base: Vec<[i64; 3]>,
+    /// The sectors' turn about the axis, and the points of the first level
+    /// where it is a knee (`After`).
+    phase: f64,
+    knee_points: Vec<[f64; 3]>,
+    /// Its well and leg, for a leg of a trajectory that bends.
+    pub(super) leg: Option<(usize, usize)>,
 }
 
 /// The levels of a deviated well between its ends: slabs across its axis
@@ -74,6 +105,8 @@ fn slabs(
     let t_of = |e: End, top: bool| match e {
         End::Open(z) => (z - path.head[2]) / u[2] + if top { slant } else { -slant },
         End::Cap { at, .. } => at,
+        End::Knee(k) if top => k.depth,
+        End::Knee(k) => path.length - k.depth,
     };
     let (ta, tb) = (t_of(ends[0], true), t_of(ends[1], false));
     let n = (path.cuts.len() + 1).max(2);
@@ -81,6 +114,18 @@ fn slabs(
         (End::Open(a), End::Open(b)) => (a - b) / -u[2],
         _ => tb - ta,
     };
+    let knee = ends.map(|e| match e {
+        End::Knee(k) => Some(k),
+        _ => None,
+    });
+    if knee.iter().any(Option::is_some) && tb - ta <= 0.0 {
+        return Err(Error::Usage(format!(
+            "well {}: its leg is {:.3} long, too short for the knees at its ends ({:.3})",
+            well.name,
+            path.length,
+            path.length - (tb - ta)
+        )));
+    }
     // (NaN lengths fail too)
     let enough = tb - ta >= 0.1 * span;
     if !enough {
@@ -93,11 +138,15 @@ fn slabs(
     let mut t: Vec<f64> = (0..=n)
         .map(|k| ta + (tb - ta) * k as f64 / n as f64)
         .collect();
-    if let End::Cap { plug, .. } = ends[0] {
-        t.insert(0, ta - plug);
+    match ends[0] {
+        End::Cap { plug, .. } => t.insert(0, ta - plug),
+        End::Knee(_) => t.insert(0, 0.0),
+        _ => {}
     }
-    if let End::Cap { plug, .. } = ends[1] {
-        t.push(tb + plug);
+    match ends[1] {
+        End::Cap { plug, .. } => t.push(tb + plug),
+        End::Knee(_) => t.push(path.length),
+        _ => {}
     }
     let last = t.len() - 1;
     let open = [
@@ -107,8 +156,13 @@ fn slabs(
     if let Some(l) = lattice {
         // the planes across the axis a whole number of lattice steps from
         // the first
-        let first = usize::from(open[0]);
-        let end = if open[1] { last - 1 } else { last };
+        // (a knee's mitre is no plane across the axis)
+        let first = usize::from(open[0] || knee[0].is_some());
+        let end = if open[1] || knee[1].is_some() {
+            last - 1
+        } else {
+            last
+        };
         for k in first + 1..=end {
             t[k] = t[first] + l.steps(t[k] - t[first]) as f64 * l.step();
         }
@@ -116,12 +170,27 @@ fn slabs(
     let level = |k: usize| match (k, ends[0], ends[1]) {
         (0, End::Open(z), _) => Level::Height(z),
         (k, _, End::Open(z)) if k == last => Level::Height(z),
+        (0, End::Knee(n), _) => Level::Mitre(n.point, n.normal),
+        (k, _, End::Knee(n)) if k == last => Level::Mitre(n.point, n.normal),
         _ => Level::Along(t[k]),
     };
     let levels = (0..=last).map(level).collect();
-    // the ends' sites on one slab across the axis, past the slant
-    let mid = (0..last).map(|k| Level::Along((t[k] + t[k + 1]) / 2.0));
+    // the ends' sites on one slab across the axis, past the slant; a
+    // knee's half its depth from the point, as the other leg's (mirrored)
+    let mid = (0..last).map(|k| match (k, knee) {
+        (0, [Some(n), _]) => Level::Along(n.depth / 2.0),
+        (k, [_, Some(n)]) if k + 1 == last => Level::Along(path.length - n.depth / 2.0),
+        _ => Level::Along((t[k] + t[k + 1]) / 2.0),
+    });
     Ok((levels, mid.collect()))
+}
+
+/// Two unit vectors across a deviated axis u: the first horizontal (at
+/// the azimuth's right angle), the second u x the first.
+pub(super) fn frame(u: [f64; 3]) -> [[f64; 3]; 2] {
+    let az = u[0].atan2(u[1]);
+    let e1 = [az.cos(), -az.sin(), 0.0];
+    [e1, cross_f(u, e1)]
 }
 
 impl Radial {
@@ -133,6 +202,7 @@ impl Radial {
         opts: &Hybrid3Options,
         outer: f64,
         ends: [End; 2],
+        after: Option<&After>,
     ) -> Result<Radial> {
         let (m, rings) = (opts.sectors, opts.rings);
         if m < 3 || rings < 1 || well.radius.is_nan() || well.radius <= 0.0 {
@@ -148,32 +218,26 @@ impl Radial {
         }
         let vertical = well.path.is_none() && well.dip == 0.0;
         let az = well.azimuth.to_radians();
-        let head = path.head;
-        // A deviated well's axis rounded onto a lattice, for exact rectangles:
-        // its coordinate along the axis' largest component is exact up to
-        // the ends' (and the outer radius beyond).
-        let end = match ends[1] {
-            End::Open(z) => (z - head[2]) / path.u[2],
-            End::Cap { at, plug } => at + plug,
-        };
-        let a = (0..3)
-            .max_by(|&x, &y| path.u[x].abs().total_cmp(&path.u[y].abs()))
-            .unwrap_or(2);
-        let far = match (a, ends[1]) {
-            (2, End::Open(z)) => z,
-            _ => head[a] + end * path.u[a],
-        };
-        let extent = head[a].abs().max(far.abs()) + outer;
-        let lattice = (!vertical).then(|| Lattice::new(path.u, extent)).flatten();
+        let lattice = (!vertical)
+            .then(|| Self::lattice(path, outer, ends))
+            .flatten();
+        // after a knee, from the knee's point (the leg before's axis end)
+        let head = after.map_or(path.head, |a| a.head);
         let u = lattice.as_ref().map_or(path.u, Lattice::axis);
-        let az = if vertical { az } else { u[0].atan2(u[1]) };
-        let e1 = [az.cos(), -az.sin(), 0.0];
-        let e2 = cross_f(u, e1);
+        let [e1, e2] = match vertical {
+            true => [
+                [az.cos(), -az.sin(), 0.0],
+                cross_f(u, [az.cos(), -az.sin(), 0.0]),
+            ],
+            false => frame(u),
+        };
         let r = ring_radii(well.radius, outer, rings);
         let (levels, mid) = if vertical {
+            // (knees are trajectories': never a vertical well's)
             let z = |e: End| match e {
                 End::Open(z) => z,
                 End::Cap { at, .. } => head[2] - at,
+                End::Knee(k) => k.point[2],
             };
             let mut zs = vec![z(ends[0])];
             zs.extend(path.cuts.iter().map(|t| head[2] - t));
@@ -220,6 +284,9 @@ impl Radial {
             plug: ends.map(|e| matches!(e, End::Cap { .. })),
             t1: 0.0,
             base: vec![],
+            phase: after.map_or(0.0, |a| a.phase),
+            knee_points: after.map_or(vec![], |a| a.points.clone()),
+            leg: path.leg,
         };
         // The outline's points at the levels across the axis: on the lattice,
         // translates of the first such level's (exact rectangles between).
@@ -235,6 +302,28 @@ impl Radial {
         Ok(w)
     }
 
+    /// A deviated well's axis rounded onto a lattice, for exact
+    /// rectangles: its coordinate along the axis' largest component is
+    /// exact up to the ends' (and the outer radius beyond). Taken from
+    /// the path alone, so that a knee's legs know each other's axes.
+    pub(super) fn lattice(path: &Path, outer: f64, ends: [End; 2]) -> Option<Lattice> {
+        let head = path.head;
+        let end = match ends[1] {
+            End::Open(z) => (z - head[2]) / path.u[2],
+            End::Cap { at, plug } => at + plug,
+            End::Knee(_) => path.length,
+        };
+        let a = (0..3)
+            .max_by(|&x, &y| path.u[x].abs().total_cmp(&path.u[y].abs()))
+            .unwrap_or(2);
+        let far = match (a, ends[1]) {
+            (2, End::Open(z)) => z,
+            _ => head[a] + end * path.u[a],
+        };
+        let extent = head[a].abs().max(far.abs()) + outer;
+        Lattice::new(path.u, extent)
+    }
+
     /// The point of the cylinder of radius r at angle a on a level.
     pub(super) fn at(&self, r: f64, a: f64, level: Level) -> [f64; 3] {
         let (e1, e2, head, u) = (self.e1, self.e2, self.head, self.u);
@@ -242,22 +331,39 @@ impl Radial {
         let s = match level {
             Level::Height(z) => (z - head[2] - off[2]) / u[2],
             Level::Along(t) => t,
+            Level::Mitre(o, n) => {
+                let dot = |v: [f64; 3]| (0..3).map(|k| v[k] * n[k]).sum::<f64>();
+                dot(std::array::from_fn(|k| o[k] - head[k] - off[k])) / dot(u)
+            }
         };
         let p: [f64; 3] = std::array::from_fn(|k| head[k] + off[k] + s * u[k]);
         match level {
             Level::Height(z) => [p[0], p[1], z],
-            Level::Along(_) => p,
+            Level::Along(_) | Level::Mitre(..) => p,
         }
     }
 
     /// The angle of sector boundary s.
     pub(super) fn angle(&self, s: usize) -> f64 {
-        TAU * (s % self.m) as f64 / self.m as f64
+        self.phase + TAU * (s % self.m) as f64 / self.m as f64
+    }
+
+    /// The angle of sector s's middle (its sites').
+    pub(super) fn mid_angle(&self, s: usize) -> f64 {
+        self.phase + TAU * (s as f64 + 0.5) / self.m as f64
+    }
+
+    /// The unit vectors across the axis.
+    pub(super) fn across(&self) -> [[f64; 3]; 2] {
+        [self.e1, self.e2]
     }
 
     /// Point s of the outer surface at level k: on the lattice, translates
     /// of the first level across the axis (exact rectangles between).
     pub(super) fn surface(&self, s: usize, k: usize) -> [f64; 3] {
+        if k == 0 && !self.knee_points.is_empty() {
+            return self.knee_points[self.rings * self.m + s % self.m];
+        }
         match (&self.lattice, self.levels[k]) {
             (Some(l), Level::Along(t)) if !self.base.is_empty() => {
                 l.point(l.translate(self.base[s % self.m], l.steps(t - self.t1)))
@@ -270,6 +376,9 @@ impl Radial {
     /// sector boundary s, level k.
     pub(super) fn point(&self, q: usize, s: usize, k: usize) -> [f64; 3] {
         let p = |q: usize| self.at(self.r[q], self.angle(s), self.levels[k]);
+        if k == 0 && !self.knee_points.is_empty() {
+            return self.knee_points[q * self.m + s % self.m];
+        }
         match (q == self.rings, &self.lattice) {
             (true, _) => self.surface(s, k),
             // on a level across the axis, on the lattice's plane there (a
