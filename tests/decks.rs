@@ -341,28 +341,62 @@ fn a_well_beside_a_throw_in_flow() {
         azimuth: 30.0,
         ..Default::default()
     };
+    let h = lenient(&grid, w);
+    assert!(h.report.across_throws > 0);
+    open_sides_deck("beside-throw-3d", "beside a throw", &h, &grid);
+}
+
+/// The 3D hybrid of one well, sites outside their cells allowed, certified.
+fn lenient(grid: &CornerPointGrid, w: Well3) -> hybrid3::Hybrid3 {
     let opts = Hybrid3Options {
         allow_sites_outside: true,
         ..Default::default()
     };
-    let h = hybrid3::build(&default_backend(), &grid, &[w], &opts).unwrap();
+    let h = hybrid3::build(&default_backend(), grid, &[w], &opts).unwrap();
     assert!(h.report.conforms());
-    assert!(h.report.across_throws > 0);
+    h
+}
+
+/// A 3D hybrid's deck, its one well producing against the grid's open
+/// sides for 10 days, and its sidecar, for decks.py.
+fn open_sides_deck(stem: &str, title: &str, h: &hybrid3::Hybrid3, grid: &CornerPointGrid) {
     let net = h.mesh.network();
     let choices = orthomesh::reservoir::deck::DeckChoices {
-        aquifer: h.outer_cells(&grid),
+        aquifer: h.outer_cells(grid),
         ..Default::default()
     };
-    let (text, _, _) =
-        orthomesh::io::deck::write("beside a throw", &net, &h.wellbore, &choices).unwrap();
+    let (text, _, _) = orthomesh::io::deck::write(title, &net, &h.wellbore, &choices).unwrap();
     let out = out_dir();
-    orthomesh::io::write_atomic(&out.join("beside-throw-3d.DATA"), text.as_bytes()).unwrap();
+    orthomesh::io::write_atomic(&out.join(format!("{stem}.DATA")), text.as_bytes()).unwrap();
     let sidecar = json!({ "nnc": net.connections.len(), "cells": net.elements.len(), "wells": 1, "days": 10.0 });
     orthomesh::io::write_atomic(
-        &out.join("beside-throw-3d.json"),
+        &out.join(format!("{stem}.json")),
         sidecar.to_string().as_bytes(),
     )
     .unwrap();
+}
+
+/// An L-shaped well (down 30 m from 5 m deep, then 60 m along x; its
+/// legs joined by a mitred knee) in a 9 x 5 x 5 block of 10 m cells whose
+/// top is at depth 0, producing against the block's open sides: Flow runs
+/// it (decks.py). Sites mirrored above the top put the datum above depth
+/// 0, where the default contacts would leave it in a gas zone.
+#[test]
+fn a_bent_well_in_flow() {
+    let grid = CornerPointGrid::cartesian([9, 5, 5], [10.0, 10.0, 10.0]);
+    let w = Well3 {
+        name: "L".into(),
+        radius: RW,
+        path: Some(vec![
+            [25.0, 25.0, 5.0],
+            [25.0, 25.0, 35.0],
+            [85.0, 25.0, 35.0],
+        ]),
+        ..Default::default()
+    };
+    let h = lenient(&grid, w);
+    assert_eq!(h.report.cavities[0].outer_radii.len(), 2);
+    open_sides_deck("bent-3d", "a bent well", &h, &grid);
 }
 
 /// The 3D hybrid of a layered block (50, 200 and 100 mD in layers of 4, 2

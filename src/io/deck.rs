@@ -241,7 +241,16 @@ fn props(s: &mut String, deck: &Deck) {
                     .fold(f64::INFINITY, f64::min)
             };
             let datum = deck.datum.unwrap_or_else(shallowest);
-            let _ = writeln!(s, "EQUIL\n {} {} /\n", num(datum), num(deck.pressure));
+            let _ = write!(s, "EQUIL\n {} {}", num(datum), num(deck.pressure));
+            // The contacts default to depth 0: a datum at or above it (a
+            // site mirrored above a grid whose top is at 0) would lie in a
+            // gas or oil zone, which Flow refuses without those phases, so
+            // they are written a metre above it.
+            if datum <= 0.0 {
+                let above = num(datum - 1.0);
+                let _ = write!(s, " {above} 0 {above} 0");
+            }
+            s.push_str(" /\n\n");
         }
     }
     s.push_str("SUMMARY\n\nFPR\n\n");
