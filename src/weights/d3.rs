@@ -21,10 +21,9 @@
 //! vertices of polygons joined at vertices one weight, which puts each
 //! polygon's power centre at its circumcentre (orthogonal links to cells
 //! centred on it, as the hybrid's walls need). When whole polygons leave no
-//! solution, fewer are kept (`whole`) and the LP tried again.
+//! solution, fewer are kept and the LP tried again.
 
 use super::coplanar::Relations;
-use super::whole::{direct, kept_whole, untouched};
 use super::Keep;
 use crate::backend::{Backend, Tetrahedralisation};
 use crate::error::{Error, Result};
@@ -41,6 +40,10 @@ use crate::{
 use std::collections::{BTreeSet, HashSet};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+
+/// Polygons with more vertices than this are triangulated (the exact check
+/// of a whole polygon looks at every triple of its vertices).
+const MAX_WHOLE: usize = 12;
 
 /// A maximal face of the complex: it must be a face of the regular
 /// triangulation, and of the power diagram of the sites.
@@ -112,11 +115,7 @@ pub fn solve<B: Backend + ?Sized>(
 /// Whole polygons fix the shape of the regular triangulation in every
 /// plane where their vertices lie (they are Delaunay there), which the
 /// triangles of other facets may contradict: then only the whole polygons
-/// with no vertex on a triangle or segment are kept whole (`direct`),
-/// then those whose shared-weight class has none (`untouched`), then none.
-/// (A well's outer rectangles in dipping layers: those of its plugs touch
-/// the caps' triangles and go, the ring layers' stay whole; measured on
-/// SPE9.)
+/// whose vertices are on no triangle or segment are kept whole, then none.
 fn solve_kept<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex3,
@@ -125,7 +124,7 @@ fn solve_kept<B: Backend + ?Sized>(
     (all, cut): (&[bool], &[u32]),
     way: Keep,
 ) -> Result<Weights3> {
-    let first = direct(cx, sc, all);
+    let first = untouched(cx, sc, all);
     let (mut out, mut whole) = if first != all {
         // The retry runs beside the first attempt, cancelled when that
         // succeeds: the same results, and on TetGen's example (the first
@@ -154,7 +153,7 @@ fn solve_kept<B: Backend + ?Sized>(
             all.to_vec(),
         )
     };
-    for retry in [untouched(cx, sc, all), vec![false; all.len()]] {
+    for retry in [first, vec![false; all.len()]] {
         if !mended(&out) {
             break;
         }
@@ -182,10 +181,92 @@ fn no_solution(out: &Result<Weights3>) -> bool {
     )
 }
 
-/// The maximal faces: polygons kept whole (`whole`, by facet), triangles
-/// of the other facets, dangling segments, then points on no triangle or
-/// segment; those of the facets `cut` need not cross their duals.
-pub(super) fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool], cut: &[u32]) -> Vec<Face> {
+/// The whole polygons whose shared-weight class (polygons joined through
+/// common vertices) has no vertex on a triangle or segment.
+fn untouched(cx: &Complex3, sc: &Simplices3, whole: &[bool]) -> Vec<bool> {
+    let fs = faces(cx, sc, whole, &[]);
+    let tie = ties(cx.points.len(), &fs);
+    let mut touched = vec![false; cx.points.len()];
+    for f in fs.iter().filter(|f| (2..=3).contains(&f.vertices.len())) {
+        f.vertices
+            .iter()
+            .for_each(|&v| touched[tie[v as usize] as usize] = true);
+    }
+    let mut out = whole.to_vec();
+    for f in fs.iter().filter(|f| f.vertices.len() > 3) {
+        if touched[tie[f.vertices[0] as usize] as usize] {
+            out[f.facet.expect("polygons have a facet") as usize] = false;
+        }
+    }
+    out
+}
+
+/// Per facet, whether it is kept whole: one strictly convex polygon of 4
+/// to `MAX_WHOLE` vertices, no holes, its vertices exactly cocircular.
+pub fn kept_whole(cx: &Complex3) -> Vec<bool> {
+    let p = |v: u32| cx.points[v as usize];
+    cx.facets
+        .iter()
+        .map(|f| {
+            let [poly] = f.polygons.as_slice() else {
+                return false;
+            };
+            if poly.len() < 4 || poly.len() > MAX_WHOLE || !f.holes.is_empty() {
+                return false;
+            }
+            let Some(axis) = plane_axis(p(poly[0]), p(poly[1]), p(poly[2])) else {
+                return false;
+            };
+            let flat = |v: u32| drop_axis(axis, p(v));
+            let m = poly.len();
+            let turn = |k: usize| {
+                crate::geom::orient(
+                    flat(poly[k]),
+                    flat(poly[(k + 1) % m]),
+                    flat(poly[(k + 2) % m]),
+                )
+            };
+            // A simple polygon (validated) turning one way at every vertex
+            // is strictly convex.
+            let first = turn(0);
+            first != std::cmp::Ordering::Equal
+                && (1..m).all(|k| turn(k) == first)
+                && poly[3..]
+                    .iter()
+                    .all(|&d| cocircular(cx, axis, poly[0], poly[1], poly[2], d))
+        })
+        .collect()
+}
+
+/// Whether d, coplanar with a, b, c, lies on their circle: with one
+/// weight for all four, whether their lifts are coplanar. In affine
+/// coordinates d = a + s (b - a) + t (c - a) (a coordinate projection
+/// keeps them), the lift must be the same combination:
+/// D (|d|^2 - |a|^2) = S (|b|^2 - |a|^2) + T (|c|^2 - |a|^2), s = S / D.
+pub(super) fn cocircular(cx: &Complex3, axis: usize, a: u32, b: u32, c: u32, d: u32) -> bool {
+    let p = |v: u32| cx.points[v as usize];
+    let f = |v: u32| drop_axis(axis, p(v)).map(q);
+    let (fa, fb, fc, fd) = (f(a), f(b), f(c), f(d));
+    let det = |x: &[Q; 2], y: &[Q; 2], o: &[Q; 2]| {
+        (&x[0] - &o[0]) * (&y[1] - &o[1]) - (&x[1] - &o[1]) * (&y[0] - &o[0])
+    };
+    let big_d = det(&fb, &fc, &fa);
+    let s = det(&fd, &fc, &fa);
+    let t = det(&fb, &fd, &fa);
+    let n2 = |v: u32| {
+        p(v).iter()
+            .map(|&x| q(x) * q(x))
+            .fold(Q::from(0), |acc, x| acc + x)
+    };
+    let na = n2(a);
+    big_d * (n2(d) - &na) == s * (n2(b) - &na) + t * (n2(c) - &na)
+}
+
+/// The maximal faces: whole polygons, the triangles of the other facets,
+/// dangling segments, then points on no triangle or segment.
+/// The maximal faces: polygons kept whole (`whole`, by facet), triangles,
+/// segments and points; those of the facets `cut` need not cross their duals.
+fn faces(cx: &Complex3, sc: &Simplices3, whole: &[bool], cut: &[u32]) -> Vec<Face> {
     let mut out: Vec<Face> = vec![];
     for (f, _) in whole.iter().enumerate().filter(|w| *w.1) {
         out.push(Face {

@@ -9,14 +9,12 @@ mod coplanar;
 mod d2;
 mod d3;
 mod rows3;
-mod whole;
 mod zero3;
 
 pub use crate::lp::WeightsReport;
 pub use d2::{solve, Weights};
-pub use d3::{face_centre, solve as solve3, Face, Weights3};
+pub use d3::{face_centre, kept_whole, solve as solve3, Face, Weights3};
 pub(crate) use d3::{fan, sorted3};
-pub use whole::kept_whole;
 
 /// How whole polygons keep their lifts coplanar.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]

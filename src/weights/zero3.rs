@@ -65,7 +65,7 @@ fn on_circles(cx: &Complex3, faces: &[Face]) -> bool {
         grid.within(lo, hi).any(|m| {
             !vs.contains(&m)
                 && orient3(a, b, c, cx.points[m as usize]).is_eq()
-                && super::whole::cocircular(cx, axis, vs[0], vs[1], vs[2], m)
+                && super::d3::cocircular(cx, axis, vs[0], vs[1], vs[2], m)
         })
     })
 }
