@@ -2,35 +2,14 @@
 //! deviated well with its radial mesh, a certified transition mesh in the
 //! cavity around it, and the flow check against Thiem's solution.
 
+mod common;
+
+use common::hybrid3::{lenient, write, write_faulted};
 use orthomesh::backend::compiled;
 use orthomesh::reservoir::hybrid::Region;
 use orthomesh::reservoir::hybrid3::{build, Hybrid3, Hybrid3Options, Well3};
 use orthomesh::reservoir::CornerPointGrid;
 use std::path::Path;
-
-fn write(stem: &str, h: &Hybrid3) {
-    write_as(&format!("hybrid3-{stem}"), h);
-}
-
-/// Meshes beside faults where vtk still flags a few transition cells
-/// (emerald): tests/readers.py reads them and counts those
-/// (docs/limitations.md). Named by backend, as the suite runs them on each.
-fn write_faulted(stem: &str, h: &Hybrid3) {
-    write_as(&format!("faulted3-{stem}-{}", compiled()[0].name()), h);
-}
-
-fn write_as(name: &str, h: &Hybrid3) {
-    if let Ok(dir) = std::env::var("ORTHOMESH_TEST_OUT") {
-        let dir = Path::new(&dir);
-        orthomesh::io::write_atomic(
-            &dir.join(format!("{name}.vtu")),
-            orthomesh::io::vtu::to_string(&h.cells()).as_bytes(),
-        )
-        .unwrap();
-        let tough = orthomesh::io::tough::to_string(&h.mesh.network()).unwrap();
-        orthomesh::io::write_atomic(&dir.join(format!("{name}.tough")), tough.as_bytes()).unwrap();
-    }
-}
 
 fn well(dip: f64) -> Well3 {
     Well3 {
@@ -577,161 +556,6 @@ fn a_pinched_out_layer_is_left_out() {
         let [a, b] = l.cells.map(|c| h.ijk[c]);
         matches!((a, b), (Some([0, 0, 0]), Some([0, 0, 2])))
     }));
-}
-
-/// A fault with a 2 m throw between columns 5 and 6 of a block of 4 m
-/// layers, away from the well: the reservoir cells across it are linked
-/// by the overlaps of their faces, which add up to the fault's shared
-/// area, and the mesh away from the fault is as without it.
-/// An L-shaped trajectory (down 30 m, then 90 m along x) through a
-/// 15 x 7 x 7 box of 10 m cells: two straight legs, each with its radial
-/// mesh, joined in a mitred knee; one well, linked along both.
-#[test]
-fn a_trajectory_that_bends_is_meshed_as_its_legs() {
-    let g = CornerPointGrid::cartesian([15, 7, 7], [10.0, 10.0, 10.0]);
-    let w = Well3 {
-        name: "L".into(),
-        radius: 0.1,
-        path: Some(vec![
-            [25.0, 35.0, 5.0],
-            [25.0, 35.0, 35.0],
-            [115.0, 35.0, 35.0],
-        ]),
-        ..Default::default()
-    };
-    let h = lenient(&g, w.clone());
-    write("bent", &h);
-    let r = &h.report;
-    println!(
-        "an L-shaped well: {} cavity, outer radii {:?}, {} of {} transition sites inside, links \
-         {:?}",
-        r.cavities.len(),
-        r.cavities[0].outer_radii,
-        r.cavities[0].transition.certificate.sites_inside,
-        r.cells[1],
-        r.by_regions
-    );
-    assert!(r.conforms());
-    assert_eq!(r.cavities.len(), 1);
-    assert_eq!(r.cavities[0].wells, vec!["L".to_string()]);
-    assert_eq!(r.cavities[0].outer_radii, vec![10.0, 10.0]);
-    // one well, linked along its vertical leg and along its horizontal one
-    assert_eq!(h.wellbore.len(), 1);
-    let sites: Vec<[f64; 3]> = h.wellbore[0]
-        .links
-        .iter()
-        .map(|&(c, _)| h.mesh.sites[c])
-        .collect();
-    assert!(sites
-        .iter()
-        .any(|p| (p[0] - 25.0).abs() < 5.0 && p[2] > -20.0));
-    assert!(sites
-        .iter()
-        .any(|p| p[0] > 50.0 && (p[2] + 35.0).abs() < 5.0));
-    // no gap at the knee: both legs' layers there reach the mitre (their
-    // sites half of 2 r tan 45 + r / 4 from the knee's point, r = 10 m)
-    let knee = [25.0, 35.0, -35.0];
-    let nearest = sites
-        .iter()
-        .map(|p| (0..3).map(|k| (p[k] - knee[k]).powi(2)).sum::<f64>().sqrt())
-        .fold(f64::INFINITY, f64::min);
-    assert!((11.25..11.26).contains(&nearest), "{nearest}");
-    // the layers at the knee mirror each other across it: each ring cell
-    // of one linked to its image, orthogonally; only the far plugs' links
-    // are not
-    let mirror = |p: [f64; 3]| [knee[0] + p[2] - knee[2], p[1], knee[2] + p[0] - knee[0]];
-    let well = |c: usize| h.region[c] == Region::Well;
-    let across = h
-        .mesh
-        .links
-        .iter()
-        .filter(|l| l.cells.iter().all(|&c| well(c)))
-        .filter(|l| {
-            let [a, b] = l.cells.map(|c| h.mesh.sites[c]);
-            (0..3).all(|k| (mirror(a)[k] - b[k]).abs() < 1e-9)
-        })
-        .count();
-    let opts = Hybrid3Options::default();
-    assert_eq!(across, opts.rings * opts.sectors);
-    let ww = &r.by_regions["well-well"];
-    assert_eq!(ww.non_orthogonal, 2 * opts.rings * opts.sectors);
-    // a bend too sharp, a leg too short: errors naming the well
-    let b = &compiled()[0];
-    for (path, says) in [
-        (
-            vec![[25.0, 35.0, 5.0], [65.0, 35.0, 35.0], [25.0, 35.0, 45.0]],
-            "its path turns by",
-        ),
-        (
-            vec![[25.0, 35.0, 25.0], [25.0, 35.0, 35.0], [115.0, 35.0, 35.0]],
-            "its leg from point 1 to 2 is 10.000 long, too short",
-        ),
-    ] {
-        let bad = Well3 {
-            path: Some(path),
-            ..w.clone()
-        };
-        let e = build(&**b, &g, &[bad], &Hybrid3Options::default())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("well L: ") && e.contains(says), "{e}");
-    }
-}
-
-/// A build section as trajectory files give it: down 10 m, a quarter
-/// circle of 45 m radius, then along x, a point every 5 m (30 points).
-/// Its legs are a few at the radial mesh's scale (each point within a
-/// tenth of its outer radius of its leg's line), not one per point, each
-/// too short for its knees, and their knees are mitred.
-#[test]
-fn a_sampled_build_section_is_meshed_as_a_few_legs() {
-    let g = CornerPointGrid::cartesian([15, 7, 7], [10.0, 10.0, 10.0]);
-    let r = 45.0;
-    let arc = (1..=14).map(|k| {
-        let a = k as f64 / 14.0 * std::f64::consts::FRAC_PI_2;
-        [25.0 + r * (1.0 - a.cos()), 35.0, 15.0 + r * a.sin()]
-    });
-    let along = (1..=13).map(|k| [70.0 + 5.0 * k as f64, 35.0, 60.0]);
-    let path: Vec<[f64; 3]> = [[25.0, 35.0, 5.0], [25.0, 35.0, 10.0], [25.0, 35.0, 15.0]]
-        .into_iter()
-        .chain(arc)
-        .chain(along)
-        .collect();
-    let w = Well3 {
-        name: "B".into(),
-        radius: 0.1,
-        path: Some(path),
-        ..Default::default()
-    };
-    let h = lenient(&g, w);
-    let r = &h.report;
-    let legs = r.cavities[0].outer_radii.len();
-    println!(
-        "a build section of 30 points: {legs} legs, {} of {} transition sites inside",
-        r.cavities[0].transition.certificate.sites_inside, r.cells[1]
-    );
-    assert!(r.conforms());
-    assert_eq!((r.cavities.len(), h.wellbore.len()), (1, 1));
-    assert!((3..=8).contains(&legs), "{legs} legs");
-    // one radius along the chain of knees, each knee's links orthogonal:
-    // only the plugs at the two far ends' are not
-    let radii = &r.cavities[0].outer_radii;
-    assert!(radii.iter().all(|&x| x == radii[0]));
-    let opts = Hybrid3Options::default();
-    assert_eq!(
-        r.by_regions["well-well"].non_orthogonal,
-        2 * opts.rings * opts.sectors
-    );
-}
-
-/// The 3D hybrid with the defaults, sites outside their cells allowed.
-fn lenient(g: &CornerPointGrid, w: Well3) -> Hybrid3 {
-    let b = &compiled()[0];
-    let opts = Hybrid3Options {
-        allow_sites_outside: true,
-        ..Default::default()
-    };
-    build(&**b, g, &[w], &opts).unwrap()
 }
 
 /// A 7 x 7 x 3 block of 10 m columns and 4 m layers whose columns

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod dense;
+pub mod hybrid3;
 
 use orthomesh::backend::Backend;
 use orthomesh::{io, Complex, Complex3, Facet, Result};

@@ -6,7 +6,7 @@
 //! other's mirror image, the wellbore whole. The legs' links to the
 //! wellbore are one well's (`merge_legs`).
 
-use super::cavity::{cell_side, head_side};
+use super::cavity::cell_side;
 use super::cpg::Cpg;
 use super::path::Path;
 use super::radial::{frame, After, End, Knee, Radial};
@@ -62,8 +62,8 @@ fn legs(points: &[[f64; 3]], stray: impl Fn([f64; 3]) -> f64) -> (Vec<[f64; 3]>,
 
 /// A well's paths: one, or for a trajectory that bends one per leg, from
 /// bend to bend, each marked as leg `(n, leg)` of well n with the half
-/// turn at each of its knees. Radial meshes reach at most `outer`
-/// head-cell sides from their axis.
+/// turn at each of its knees and the outer radius at which they fit it.
+/// Radial meshes reach at most `outer` head-cell sides from their axis.
 pub(super) fn paths(cpg: &Cpg, well: &Well3, n: usize, outer: f64) -> Result<Vec<(Well3, Path)>> {
     let one = || Ok(vec![(well.clone(), Path::new(cpg, well)?)]);
     let Some(points) = &well.path else {
@@ -82,8 +82,6 @@ pub(super) fn paths(cpg: &Cpg, well: &Well3, n: usize, outer: f64) -> Result<Vec
         .iter()
         .map(|&r| Ok((leg(r), Path::new(cpg, &leg(r))?)))
         .collect::<Result<Vec<_>>>()?;
-    // per leg and end: the half turn there, and how far its knee reaches
-    let mut reach = vec![[0.0; 2]; ranges.len()];
     for a in 0..ranges.len() - 1 {
         let (p, q) = (&out[a].1, &out[a + 1].1);
         let cos: f64 = (0..3).map(|k| p.u[k] * q.u[k]).sum();
@@ -97,29 +95,34 @@ pub(super) fn paths(cpg: &Cpg, well: &Well3, n: usize, outer: f64) -> Result<Vec
                 ranges[a][1] + 1
             )));
         }
-        let r = outer * head_side(cpg, p).max(head_side(cpg, q));
         out[a].1.bends[1] = Some(half);
         out[a + 1].1.bends[0] = Some(half);
-        reach[a][1] = depth(r, half);
-        reach[a + 1][0] = depth(r, half);
     }
     for (a, (_, path)) in out.iter_mut().enumerate() {
+        // the radius at which the knees at its ends take `ROOM` of it
+        let per_r: f64 = path.bends.iter().flatten().map(|&h| depth(1.0, h)).sum();
+        path.max_outer = ROOM * path.length / per_r;
         let [s, e] = ranges[a];
-        if path.length <= reach[a][0] + reach[a][1] {
+        if path.max_outer <= 2.5 * well.radius {
             return Err(Error::Usage(format!(
                 "well {}: its leg from point {} to {} is {:.3} long, too short for the knees \
-                 at its ends ({:.3})",
+                 at its ends (a radial mesh of radius {:.3} at most, around a wellbore of \
+                 radius {})",
                 well.name,
                 s + 1,
                 e + 1,
                 path.length,
-                reach[a][0] + reach[a][1]
+                path.max_outer,
+                well.radius
             )));
         }
         path.leg = Some((n, a));
     }
     Ok(out)
 }
+
+/// How much of a leg its knees may take: the rest is its own layers.
+const ROOM: f64 = 0.9;
 
 /// How far along its axis a leg's layer at a knee reaches from the knee's
 /// point, for outer radius r and half turn `half`: twice the mitre's

@@ -448,7 +448,8 @@ fn chains(paths: &[&Path]) -> Vec<Vec<usize>> {
 
 /// A well's room: the outer radius it may start from (its head column's
 /// shorter side times `outer`, at most 0.3 of the way to another well's
-/// axis, 0.45 to its own legs beyond the next) and the clearance its outer surface keeps from the cavity's
+/// axis, 0.45 to its own legs beyond the next, and what its knees fit)
+/// and the clearance its outer surface keeps from the cavity's
 /// sides (a quarter of the thinnest completed cell, or of half a side).
 fn room(
     cpg: &Cpg,
@@ -459,7 +460,8 @@ fn room(
 ) -> Result<(f64, f64)> {
     let (well, path) = (wells[n], paths[n]);
     let side = head_side(cpg, path);
-    let mut outer = opts.outer * side;
+    // (a leg of a bent well: no larger than its knees fit)
+    let mut outer = (opts.outer * side).min(path.max_outer);
     for (m, other) in paths.iter().enumerate() {
         if m != n && !super::bend::adjacent(path, other) {
             let apart = axes_apart(path, other);

@@ -34,6 +34,8 @@ pub(super) struct Path {
     pub(super) leg: Option<(usize, usize)>,
     /// Per end, where it is a knee (`bend`): half the turn there.
     pub(super) bends: [Option<f64>; 2],
+    /// The largest outer radius whose knees fit along it (`bend`).
+    pub(super) max_outer: f64,
 }
 
 /// The completed layers: the given range, or every layer.
@@ -153,6 +155,7 @@ impl Path {
                 explicit: false,
                 leg: None,
                 bends: [None; 2],
+                max_outer: f64::INFINITY,
             });
         }
         Path::walk(cpg, well, head, u, [first, last], open)
@@ -338,6 +341,7 @@ impl Path {
             explicit: open.is_none(),
             leg: None,
             bends: [None; 2],
+            max_outer: f64::INFINITY,
         }
     }
 }
