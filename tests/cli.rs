@@ -534,6 +534,35 @@ fn hybrid_3d_from_options() {
         std::fs::write(&p, text).unwrap();
         p.display().to_string()
     };
+    // a trajectory turning 90 degrees in the layers' plane: two legs
+    // joined by a knee, at one radius
+    let knee = format!(
+        "--well-path=H:{}",
+        path(
+            "knee.txt",
+            "x,y,depth,md\n5,35,4,0\n35,35,4,30\n35,65,4,60\n"
+        )
+    );
+    let (code, err) = orthomesh(&[
+        "hybrid",
+        "--3d",
+        "--grid",
+        g,
+        &knee,
+        "--allow-sites-outside",
+        "-o",
+        vtu.to_str().unwrap(),
+        "--report",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let radii = report["cavities"][0]["outer_radii"].as_array().unwrap();
+    assert!(radii.len() == 2 && radii[0] == radii[1], "{radii:?}");
+    for f in [&vtu, &json] {
+        std::fs::remove_file(f).unwrap();
+    }
     let bent = format!(
         "--well-path=H:{}",
         path("bent.txt", "5 35 4\n65 35 4\n5 40 4\n")
