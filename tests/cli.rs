@@ -569,9 +569,18 @@ fn hybrid_3d_from_options() {
     );
     let out = format!("--well-path=H:{}", path("out.txt", "35 35 4\n95 35 4\n"));
     let one = format!("--well-path=H:{}", path("one.txt", "x y z\n35 35 4\n"));
+    // from the wellhead, as exports start: the completed interval is asked for
+    let above = format!(
+        "--well-path=H:{}",
+        path("above.txt", "35 35 -50\n35 35 4\n")
+    );
     for (arg, says) in [
         (&bent, "H: its path turns by 175.2 degrees at point 2"),
         (&out, "H: its path leaves the grid"),
+        (
+            &above,
+            "outside the grid's live cells (a path is the completed interval",
+        ),
         (
             &one,
             "one.txt:2: a well path needs two points or more, found 1",

@@ -193,7 +193,8 @@ impl Path {
         };
         let Some(start) = cpg.locate(head, all(cpg.g).filter(|&c| cpg.live(c))) else {
             return bad(format!(
-                "its path starts at ({:.6}, {:.6}, {:.6}), outside the grid's live cells",
+                "its path starts at ({:.6}, {:.6}, {:.6}), outside the grid's live cells (a \
+                 path is the completed interval: from where the well enters them)",
                 first[0], first[1], first[2]
             ));
         };
