@@ -4,6 +4,9 @@
 //! the mesh's. `tests/decks.py` (run by scripts/test.sh) then parses each
 //! deck with opm-common, runs Flow on it and checks the sidecar's figures.
 
+mod common;
+
+use common::hybrid3::lenient;
 use orthomesh::backend::default_backend;
 use orthomesh::io::deck::{Control, Deck, Fluid};
 use orthomesh::reservoir::deck::{deck, DeckSettings, Rock, WellLinks, DARCY};
@@ -342,19 +345,9 @@ fn a_well_beside_a_throw_in_flow() {
         ..Default::default()
     };
     let h = lenient(&grid, w);
+    assert!(h.report.conforms());
     assert!(h.report.across_throws > 0);
     open_sides_deck("beside-throw-3d", "beside a throw", &h, &grid);
-}
-
-/// The 3D hybrid of one well, sites outside their cells allowed, certified.
-fn lenient(grid: &CornerPointGrid, w: Well3) -> hybrid3::Hybrid3 {
-    let opts = Hybrid3Options {
-        allow_sites_outside: true,
-        ..Default::default()
-    };
-    let h = hybrid3::build(&default_backend(), grid, &[w], &opts).unwrap();
-    assert!(h.report.conforms());
-    h
 }
 
 /// A 3D hybrid's deck, its one well producing against the grid's open
@@ -395,6 +388,7 @@ fn a_bent_well_in_flow() {
         ..Default::default()
     };
     let h = lenient(&grid, w);
+    assert!(h.report.conforms());
     assert_eq!(h.report.cavities[0].outer_radii.len(), 2);
     open_sides_deck("bent-3d", "a bent well", &h, &grid);
 }

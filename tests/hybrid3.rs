@@ -584,6 +584,10 @@ fn thrown_block(throw: f64) -> CornerPointGrid {
     g
 }
 
+/// A fault with a 2 m throw between columns 5 and 6 of a block of 4 m
+/// layers, away from the well: the reservoir cells across it are linked
+/// by the overlaps of their faces, which add up to the fault's shared
+/// area, and the mesh away from the fault is as without it.
 #[test]
 fn cells_across_a_throw_are_linked_by_their_overlaps() {
     let n = 7;

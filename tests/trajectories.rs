@@ -10,26 +10,13 @@ use orthomesh::reservoir::hybrid::Region;
 use orthomesh::reservoir::hybrid3::{build, Hybrid3Options, Well3};
 use orthomesh::reservoir::CornerPointGrid;
 
-/// A fault with a 2 m throw between columns 5 and 6 of a block of 4 m
-/// layers, away from the well: the reservoir cells across it are linked
-/// by the overlaps of their faces, which add up to the fault's shared
-/// area, and the mesh away from the fault is as without it.
 /// An L-shaped trajectory (down 30 m, then 90 m along x) through a
 /// 15 x 7 x 7 box of 10 m cells: two straight legs, each with its radial
 /// mesh, joined in a mitred knee; one well, linked along both.
 #[test]
 fn a_trajectory_that_bends_is_meshed_as_its_legs() {
     let g = CornerPointGrid::cartesian([15, 7, 7], [10.0, 10.0, 10.0]);
-    let w = Well3 {
-        name: "L".into(),
-        radius: 0.1,
-        path: Some(vec![
-            [25.0, 35.0, 5.0],
-            [25.0, 35.0, 35.0],
-            [115.0, 35.0, 35.0],
-        ]),
-        ..Default::default()
-    };
+    let w = l_shaped(5.0);
     let h = lenient(&g, w.clone());
     write("bent", &h);
     let r = &h.report;
@@ -201,20 +188,26 @@ fn a_build_section_in_coarse_cells_shrinks_its_chain() {
 #[test]
 fn a_short_leg_shrinks_its_chain() {
     let g = CornerPointGrid::cartesian([15, 7, 7], [10.0, 10.0, 10.0]);
-    let w = Well3 {
-        name: "L".into(),
-        radius: 0.1,
-        path: Some(vec![
-            [25.0, 35.0, 25.0],
-            [25.0, 35.0, 35.0],
-            [115.0, 35.0, 35.0],
-        ]),
-        ..Default::default()
-    };
+    let w = l_shaped(25.0);
     let h = lenient(&g, w);
     let r = &h.report;
     assert!(r.conforms());
     let radii = &r.cavities[0].outer_radii;
     assert_eq!(radii.len(), 2);
     assert!(radii.iter().all(|&x| (x - 4.0).abs() < 1e-9), "{radii:?}");
+}
+
+/// The L-shaped well of these tests in the 15 x 7 x 7 box of 10 m cells:
+/// down from `top` to 35 m deep, then 90 m along x.
+fn l_shaped(top: f64) -> Well3 {
+    Well3 {
+        name: "L".into(),
+        radius: 0.1,
+        path: Some(vec![
+            [25.0, 35.0, top],
+            [25.0, 35.0, 35.0],
+            [115.0, 35.0, 35.0],
+        ]),
+        ..Default::default()
+    }
 }

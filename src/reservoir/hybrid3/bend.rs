@@ -12,7 +12,7 @@ use super::path::Path;
 use super::radial::{frame, After, End, Knee, Radial};
 use super::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
-use crate::geom::dist_f;
+use crate::geom::{dist_f, dot_f};
 use crate::reservoir::deck::WellLinks;
 
 /// How far off its leg's line a point of a trajectory may lie, in outer
@@ -84,7 +84,7 @@ pub(super) fn paths(cpg: &Cpg, well: &Well3, n: usize, outer: f64) -> Result<Vec
         .collect::<Result<Vec<_>>>()?;
     for a in 0..ranges.len() - 1 {
         let (p, q) = (&out[a].1, &out[a + 1].1);
-        let cos: f64 = (0..3).map(|k| p.u[k] * q.u[k]).sum();
+        let cos = dot_f(p.u, q.u);
         let half = cos.clamp(-1.0, 1.0).acos() / 2.0;
         if half > 60f64.to_radians() {
             return Err(Error::Usage(format!(
@@ -159,7 +159,7 @@ pub(super) fn chain(
         let knee = (a + 1 < legs.len() && matches!(ends[1], End::Knee(_))).then(|| {
             let (u, v) = (axes[a], axes[a + 1]);
             let sum: [f64; 3] = std::array::from_fn(|k| u[k] + v[k]);
-            let cos: f64 = (0..3).map(|k| u[k] * v[k]).sum();
+            let cos = dot_f(u, v);
             Knee {
                 point: std::array::from_fn(|k| head[k] + path.length * u[k]),
                 normal: sum.map(|x| x / dist_f(sum, [0.0; 3])),
@@ -175,14 +175,13 @@ pub(super) fn chain(
             let [e1, e2] = r.across();
             let (c, s) = (r.angle(0).cos(), r.angle(0).sin());
             let d: [f64; 3] = std::array::from_fn(|i| c * e1[i] + s * e2[i]);
-            let dn: f64 = (0..3).map(|i| d[i] * k.normal[i]).sum();
+            let dn = dot_f(d, k.normal);
             let m: [f64; 3] = std::array::from_fn(|i| d[i] - 2.0 * dn * k.normal[i]);
             let [f1, f2] = frame(axes[a + 1]);
-            let dot = |x: [f64; 3], y: [f64; 3]| (0..3).map(|i| x[i] * y[i]).sum::<f64>();
             let last = r.levels.len() - 1;
             After {
                 head: k.point,
-                phase: dot(m, f2).atan2(dot(m, f1)),
+                phase: dot_f(m, f2).atan2(dot_f(m, f1)),
                 points: (0..=r.rings)
                     .flat_map(|q| (0..r.m).map(move |s| (q, s)))
                     .map(|(q, s)| r.point(q, s, last))

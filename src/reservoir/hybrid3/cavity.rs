@@ -150,12 +150,16 @@ pub(super) fn cavities(cpg: &Cpg, paths: &[Path], reach: &[usize]) -> Vec<Cavity
         }
         a
     }
+    // (the smaller root becomes the root of both)
+    fn join(root: &mut [usize], a: usize, b: usize) {
+        let (a, b) = (find(root, a), find(root, b));
+        root[a.max(b)] = a.min(b);
+    }
     let mut owner: BTreeMap<Ijk, usize> = BTreeMap::new();
     for (w, set) in sets.iter().enumerate() {
         for c in set {
             if let Some(&o) = owner.get(c) {
-                let (a, b) = (find(&mut root, o), find(&mut root, w));
-                root[a.max(b)] = a.min(b);
+                join(&mut root, o, w);
             }
         }
         for &c in set {
@@ -165,8 +169,7 @@ pub(super) fn cavities(cpg: &Cpg, paths: &[Path], reach: &[usize]) -> Vec<Cavity
     // a bent well's legs meet at their knees: one cavity
     for w in 1..paths.len() {
         if super::bend::adjacent(&paths[w - 1], &paths[w]) {
-            let (a, b) = (find(&mut root, w - 1), find(&mut root, w));
-            root[a.max(b)] = a.min(b);
+            join(&mut root, w - 1, w);
         }
     }
     let mut groups: BTreeMap<usize, CavityCells> = BTreeMap::new();
@@ -334,11 +337,10 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
             },
         };
         // a knee at a bend (placed with the leg across, `bend::chain`)
-        let at_bend = |_: f64, half: Option<f64>| half.map(|_| End::Knee(Knee::default()));
+        let knee = |half: Option<f64>| half.map(|_| End::Knee(Knee::default()));
         return [
-            at_bend(0.0, path.bends[0]).unwrap_or_else(|| cap(0.0, first_layer, -1.0)),
-            at_bend(path.length, path.bends[1])
-                .unwrap_or_else(|| cap(path.length, last_layer, 1.0)),
+            knee(path.bends[0]).unwrap_or_else(|| cap(0.0, first_layer, -1.0)),
+            knee(path.bends[1]).unwrap_or_else(|| cap(path.length, last_layer, 1.0)),
         ];
     }
     [

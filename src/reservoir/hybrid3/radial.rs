@@ -8,7 +8,7 @@ use super::lattice::{Lattice, Level};
 use super::path::Path;
 use super::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
-use crate::geom::cross_f;
+use crate::geom::{cross_f, dot_f};
 use crate::reservoir::hybrid::ring_radii;
 use std::f64::consts::TAU;
 
@@ -188,7 +188,12 @@ fn slabs(
 /// Two unit vectors across a deviated axis u: the first horizontal (at
 /// the azimuth's right angle), the second u x the first.
 pub(super) fn frame(u: [f64; 3]) -> [[f64; 3]; 2] {
-    let az = u[0].atan2(u[1]);
+    frame_at(u[0].atan2(u[1]), u)
+}
+
+/// Two unit vectors across an axis u: the first horizontal at the right
+/// angle to azimuth `az`, the second u x the first.
+fn frame_at(az: f64, u: [f64; 3]) -> [[f64; 3]; 2] {
     let e1 = [az.cos(), -az.sin(), 0.0];
     [e1, cross_f(u, e1)]
 }
@@ -225,10 +230,7 @@ impl Radial {
         let head = after.map_or(path.head, |a| a.head);
         let u = lattice.as_ref().map_or(path.u, Lattice::axis);
         let [e1, e2] = match vertical {
-            true => [
-                [az.cos(), -az.sin(), 0.0],
-                cross_f(u, [az.cos(), -az.sin(), 0.0]),
-            ],
+            true => frame_at(az, u),
             false => frame(u),
         };
         let r = ring_radii(well.radius, outer, rings);
@@ -332,8 +334,7 @@ impl Radial {
             Level::Height(z) => (z - head[2] - off[2]) / u[2],
             Level::Along(t) => t,
             Level::Mitre(o, n) => {
-                let dot = |v: [f64; 3]| (0..3).map(|k| v[k] * n[k]).sum::<f64>();
-                dot(std::array::from_fn(|k| o[k] - head[k] - off[k])) / dot(u)
+                dot_f(std::array::from_fn(|k| o[k] - head[k] - off[k]), n) / dot_f(u, n)
             }
         };
         let p: [f64; 3] = std::array::from_fn(|k| head[k] + off[k] + s * u[k]);
