@@ -282,24 +282,7 @@ def vertical_face(grid, c):
 def alone(grid, c):
     """vtkCellValidator's state for cell c alone, centred on itself and
     rotated."""
-    cell = grid.GetCell(c)
-    faces = [[cell.GetFace(f).GetPointId(k) for k in range(cell.GetFace(f).GetNumberOfPoints())] for f in range(cell.GetNumberOfFaces())]
-    ids = sorted({v for f in faces for v in f})
-    local = {v: i for i, v in enumerate(ids)}
-    p = np.array([grid.GetPoint(v) for v in ids])
-    p = (p - p.mean(0)) @ ROTATION.T
-    one = vtk.vtkUnstructuredGrid()
-    pts = vtk.vtkPoints()
-    pts.SetData(numpy_to_vtk(p, deep=1))
-    one.SetPoints(pts)
-    stream = vtk.vtkIdList()
-    stream.InsertNextId(len(faces))
-    for f in faces:
-        stream.InsertNextId(len(f))
-        for v in f:
-            stream.InsertNextId(local[v])
-    one.InsertNextCell(42, stream)
-    return int(validity(one)[0])
+    return int(validity(cells_in(grid, [c], lambda p: (p - p.mean(0)) @ ROTATION.T))[0])
 
 def vtk_line_tolerance(at):
     """The largest distance between two unit segments (crossing at right
