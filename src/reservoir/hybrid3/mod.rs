@@ -269,9 +269,16 @@ pub fn build<B: Backend + ?Sized>(
             let radials = cavity::radials(&cpg, &ws, &ps, &cells.cells, &sides, opts)?;
             let (transition, outcome) = complex::mesh(backend, &sides, &radials, opts)?;
             let outcome = outcome.map_err(|e| {
-                let names: Vec<&str> = ws.iter().map(|w| w.name.as_str()).collect();
+                // a bent well's legs are wells of their own here
+                let mut names: Vec<&str> = vec![];
+                for w in &ws {
+                    if !names.contains(&w.name.as_str()) {
+                        names.push(&w.name);
+                    }
+                }
+                let wells = if names.len() == 1 { "well" } else { "wells" };
                 Error::Within {
-                    part: format!("the cavity of well(s) {}", names.join(", ")),
+                    part: format!("the cavity of {wells} {}", names.join(", ")),
                     error: Box::new(e),
                 }
             })?;
