@@ -117,6 +117,13 @@ fn wells_that_do_not_fit_are_errors() {
             vec![well(90.0)],
             "W: a dip of 90 degrees is not through the layers",
         ),
+        // nearly horizontal: its walk along the axis once took steps of
+        // 1e-3 of a layer through every cell (SPE9 at 89 degrees: a hang)
+        (
+            block(3),
+            vec![well(89.9)],
+            "W: its axis leaves the grid (or enters an inactive or pinched-out cell)",
+        ),
         (
             block(3),
             vec![Well3 {

@@ -208,6 +208,20 @@ impl<'g> Cpg<'g> {
     /// the tetrahedra of its faces' pieces around its centre), if any.
     pub(super) fn locate(&self, p: [f64; 3], cells: impl IntoIterator<Item = Ijk>) -> Option<Ijk> {
         cells.into_iter().find(|&c| {
+            // outside the box of its corners is outside (a cheap first test:
+            // walks along wells try every cell of their layers)
+            let k = self.corners(c);
+            let off = |a: usize| {
+                let (lo, hi) = k
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| {
+                        (lo.min(q[a]), hi.max(q[a]))
+                    });
+                p[a] < lo || p[a] > hi
+            };
+            if (0..3).any(off) {
+                return false;
+            }
             let o = self.centre(c);
             let mut inside = true;
             for f in 0..6 {

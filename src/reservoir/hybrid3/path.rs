@@ -273,7 +273,19 @@ impl Path {
                 face_centre(cpg, c, 4)[2] - face_centre(cpg, c, 5)[2]
             })
             .fold(f64::INFINITY, f64::min);
-        let step = 0.05 * thickness.max(1e-9) * -u[2];
+        // Steps shrink with the axis' slope; near the horizontal they would
+        // be too many (a hang at 89 degrees' dip), so they stay above a
+        // hundredth of the head cells' thickness and width.
+        let width = (first..=last)
+            .flat_map(|k| {
+                let c = [well.i, well.j, k];
+                [(0, 1), (2, 3)].map(|(a, b)| {
+                    let (p, q) = (face_centre(cpg, c, a), face_centre(cpg, c, b));
+                    (p[0] - q[0]).hypot(p[1] - q[1])
+                })
+            })
+            .fold(f64::INFINITY, f64::min);
+        let step = (0.05 * thickness.max(1e-9) * -u[2]).max(0.01 * thickness.min(width));
         let at = |t: f64| -> [f64; 3] { std::array::from_fn(|a| head[a] + t * u[a]) };
         let all = |k: usize| (0..g.ny).flat_map(move |j| (0..g.nx).map(move |i| [i, j, k]));
         let find = |p: [f64; 3]| -> Option<Ijk> {
