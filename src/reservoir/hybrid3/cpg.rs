@@ -204,6 +204,29 @@ impl<'g> Cpg<'g> {
         std::array::from_fn(|a| p.iter().map(|q| q[a]).sum::<f64>() / 8.0)
     }
 
+    /// Whether the cell is not star-shaped from its centre: some piece of
+    /// its faces has the centre on its outer side or plane (a cell folded
+    /// over itself, as at some grids' distorted corners). `locate` cannot
+    /// tell what such a cell holds.
+    pub(super) fn folded(&self, c: Ijk) -> bool {
+        let o = self.centre(c);
+        let mut side = None;
+        for f in 0..6 {
+            let q = self.face(c, f);
+            for t in pieces(&q) {
+                for w in triangles(&t) {
+                    let [a, b, d] = w.map(|n| q[n]);
+                    let s = orient3(a, b, d, o);
+                    if s == Ordering::Equal || side.is_some_and(|x| x != s) {
+                        return true;
+                    }
+                    side = Some(s);
+                }
+            }
+        }
+        false
+    }
+
     /// The cell holding p among the live cells of the given columns (by
     /// the tetrahedra of its faces' pieces around its centre), if any.
     pub(super) fn locate(&self, p: [f64; 3], cells: impl IntoIterator<Item = Ijk>) -> Option<Ijk> {
@@ -352,6 +375,17 @@ mod tests {
             Some([0, 0, 1])
         );
         assert_eq!(cpg.locate([15.0, 5.0, -6.0], [[0, 0, 0], [0, 0, 1]]), None);
+        assert!(!cpg.folded([0, 0, 0]) && !cpg.folded([1, 1, 1]));
+    }
+
+    /// A cell whose top corner sinks below its bottom folds its faces
+    /// across its centre: `locate` cannot be trusted there.
+    #[test]
+    fn a_cell_folded_over_itself_is_found() {
+        let mut g = CornerPointGrid::cartesian([1, 1, 1], [10.0, 10.0, 4.0]);
+        g.zcorn[0] = 9.0; // top corner 0, 5 below the bottom
+        let cpg = Cpg::new(&g);
+        assert!(cpg.folded([0, 0, 0]));
     }
 
     #[test]

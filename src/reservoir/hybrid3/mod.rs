@@ -265,22 +265,20 @@ pub fn build<B: Backend + ?Sized>(
             let ws: Vec<&Well3> = cells.wells.iter().map(|&w| &wells[w]).collect();
             let ps: Vec<&path::Path> = cells.wells.iter().map(|&w| &paths[w]).collect();
             let open: Vec<(usize, f64)> = ps.iter().flat_map(|p| p.open_faces()).collect();
+            if let Some(&c) = cells.cells.iter().find(|&&c| cpg.folded(c)) {
+                return Err(Error::Usage(format!(
+                    "{}: cell {} of the cavity is folded over itself (not every piece of its \
+                     faces is seen from its centre): too distorted to mesh a well in",
+                    well_names(&ws),
+                    cpg::one_based(c)
+                )));
+            }
             let sides = cavity::sides(&cpg, &cells.cells, &open)?;
             let radials = cavity::radials(&cpg, &ws, &ps, &cells.cells, &sides, opts)?;
             let (transition, outcome) = complex::mesh(backend, &sides, &radials, opts)?;
-            let outcome = outcome.map_err(|e| {
-                // a bent well's legs are wells of their own here
-                let mut names: Vec<&str> = vec![];
-                for w in &ws {
-                    if !names.contains(&w.name.as_str()) {
-                        names.push(&w.name);
-                    }
-                }
-                let wells = if names.len() == 1 { "well" } else { "wells" };
-                Error::Within {
-                    part: format!("the cavity of {wells} {}", names.join(", ")),
-                    error: Box::new(e),
-                }
+            let outcome = outcome.map_err(|e| Error::Within {
+                part: format!("the cavity of {}", well_names(&ws)),
+                error: Box::new(e),
             })?;
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             if let Some(p) = opts.progress {
@@ -295,4 +293,17 @@ pub fn build<B: Backend + ?Sized>(
         })
         .collect::<Result<Vec<_>>>()?;
     assembly::assemble(&cpg, wells, &owner, built)
+}
+
+/// "well W" or "wells A, B": a cavity's wells, each once (a bent well's
+/// legs are wells of their own there).
+fn well_names(ws: &[&Well3]) -> String {
+    let mut names: Vec<&str> = vec![];
+    for w in ws {
+        if !names.contains(&w.name.as_str()) {
+            names.push(&w.name);
+        }
+    }
+    let wells = if names.len() == 1 { "well" } else { "wells" };
+    format!("{wells} {}", names.join(", "))
 }
