@@ -204,27 +204,30 @@ impl<'g> Cpg<'g> {
         std::array::from_fn(|a| p.iter().map(|q| q[a]).sum::<f64>() / 8.0)
     }
 
+    /// The triangles of the pieces of the cell's faces, outward.
+    fn triangles_of(&self, c: Ijk) -> Vec<[[f64; 3]; 3]> {
+        let mut out = vec![];
+        for f in 0..6 {
+            let q = self.face(c, f);
+            for t in pieces(&q) {
+                out.extend(triangles(&t).into_iter().map(|w| w.map(|n| q[n])));
+            }
+        }
+        out
+    }
+
     /// Whether the cell is not star-shaped from its centre: some piece of
     /// its faces has the centre on its outer side or plane (a cell folded
     /// over itself, as at some grids' distorted corners). `locate` cannot
     /// tell what such a cell holds.
     pub(super) fn folded(&self, c: Ijk) -> bool {
         let o = self.centre(c);
-        let mut side = None;
-        for f in 0..6 {
-            let q = self.face(c, f);
-            for t in pieces(&q) {
-                for w in triangles(&t) {
-                    let [a, b, d] = w.map(|n| q[n]);
-                    let s = orient3(a, b, d, o);
-                    if s == Ordering::Equal || side.is_some_and(|x| x != s) {
-                        return true;
-                    }
-                    side = Some(s);
-                }
-            }
-        }
-        false
+        let sides: Vec<Ordering> = self
+            .triangles_of(c)
+            .iter()
+            .map(|&[a, b, d]| orient3(a, b, d, o))
+            .collect();
+        sides.iter().any(|&s| s == Ordering::Equal || s != sides[0])
     }
 
     /// The cell holding p among the live cells of the given columns (by
@@ -245,24 +248,13 @@ impl<'g> Cpg<'g> {
             if (0..3).any(off) {
                 return false;
             }
+            // a point inside is on the inner side of every piece seen from
+            // the centre (cells are star-shaped from it, `folded`)
             let o = self.centre(c);
-            let mut inside = true;
-            for f in 0..6 {
-                let q = self.face(c, f);
-                for t in pieces(&q) {
-                    // a point inside is on the inner side of every piece
-                    // seen from the centre (cells are star-shaped from it)
-                    for w in triangles(&t) {
-                        let [a, b, d] = w.map(|n| q[n]);
-                        if orient3(a, b, d, o) != orient3(a, b, d, p)
-                            && orient3(a, b, d, p) != Ordering::Equal
-                        {
-                            inside = false;
-                        }
-                    }
-                }
-            }
-            inside
+            self.triangles_of(c).iter().all(|&[a, b, d]| {
+                let at = orient3(a, b, d, p);
+                at == Ordering::Equal || at == orient3(a, b, d, o)
+            })
         })
     }
 }
