@@ -318,16 +318,22 @@ fn nearby_wells_merge_and_touching_cavities_meet() {
     assert_eq!(h.wellbore.len(), 2);
 }
 
-/// SPE9's corner-point grid (dipping 10 degrees) with a well completed in
-/// layers 2 to 4, as COMPDAT has its producers: meshed and certified.
-#[test]
-fn a_well_in_spe9_along_its_completion() {
+/// SPE9's grid, and options that let sites lie outside their cells.
+fn spe9() -> (CornerPointGrid, Hybrid3Options) {
     let g = orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/SPE9.GRDECL")).unwrap();
-    let b = &compiled()[0];
     let opts = Hybrid3Options {
         allow_sites_outside: true,
         ..Default::default()
     };
+    (g, opts)
+}
+
+/// SPE9's corner-point grid (dipping 10 degrees) with a well completed in
+/// layers 2 to 4, as COMPDAT has its producers: meshed and certified.
+#[test]
+fn a_well_in_spe9_along_its_completion() {
+    let (g, opts) = spe9();
+    let b = &compiled()[0];
     let w = Well3 {
         name: "PRODU10".into(),
         i: 10,
@@ -350,6 +356,32 @@ fn a_well_in_spe9_along_its_completion() {
     assert_eq!(h.wellbore[0].links.len(), 3 * opts.sectors);
     let total: f64 = h.mesh.volumes.iter().sum();
     assert!(total > 0.0 && h.mesh.volumes.iter().all(|&v| v > 0.0));
+}
+
+/// A nearly horizontal well in SPE9 (85 degrees' dip through layers 3 to
+/// 7, fuzzed): HiGHS solves its cavity's LP, then fails on postsolve's
+/// basis whether warm-started or from scratch with presolve; from scratch
+/// without presolve it succeeds (`lp::highs`). Meshed and certified.
+#[test]
+fn a_nearly_horizontal_well_in_spe9() {
+    let (g, opts) = spe9();
+    let w = Well3 {
+        name: "W".into(),
+        i: 11,
+        j: 11,
+        k: Some([2, 6]),
+        radius: 0.5,
+        dip: 85.0,
+        azimuth: 0.0,
+        ..Default::default()
+    };
+    let h = build(&*compiled()[0], &g, &[w], &opts).unwrap();
+    let r = &h.report;
+    println!(
+        "SPE9, a well at 85 degrees' dip in layers 3-7: cells {:?}, {} transition sites outside",
+        r.cells, r.sites_outside
+    );
+    assert!(r.conforms());
 }
 
 /// A horizontal well along x through a box (a straight trajectory), with
