@@ -378,7 +378,7 @@ fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f
     }
     if ran == highs_sys::STATUS_ERROR {
         return Err(Error::SolverLimit(format!(
-            "HiGHS failed on an LP of {} rows and {} columns, warm-started and again from scratch",
+            "HiGHS failed on an LP of {} rows and {} columns, warm-started, and from scratch with and without presolve",
             model.num_rows(),
             model.num_cols()
         )));
