@@ -249,11 +249,13 @@ def cells_in(grid, cells, frame):
     (a map of an array of points)."""
     out = vtk.vtkUnstructuredGrid()
     pts = []
+    at = 0  # the points written so far
     for c in cells:
         cell = grid.GetCell(c)
         faces = [[cell.GetFace(f).GetPointId(k) for k in range(cell.GetFace(f).GetNumberOfPoints())] for f in range(cell.GetNumberOfFaces())]
         ids = sorted({v for f in faces for v in f})
-        local = {v: i + sum(len(q) for q in pts) for i, v in enumerate(ids)}
+        local = {v: at + i for i, v in enumerate(ids)}
+        at += len(ids)
         pts.append(frame(np.array([grid.GetPoint(v) for v in ids])))
         stream = vtk.vtkIdList()
         stream.InsertNextId(len(faces))

@@ -267,23 +267,23 @@ impl Path {
         open: [Option<f64>; 2],
     ) -> Result<Path> {
         let g = cpg.g;
-        let thickness = (first..=last)
-            .map(|k| {
-                let c = [well.i, well.j, k];
-                face_centre(cpg, c, 4)[2] - face_centre(cpg, c, 5)[2]
+        // the head column's completed cells: face f's centre less face f+1's
+        let across = |f: usize| {
+            (first..=last).map(move |k| {
+                let (p, q) = (
+                    face_centre(cpg, [well.i, well.j, k], f),
+                    face_centre(cpg, [well.i, well.j, k], f + 1),
+                );
+                [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
             })
-            .fold(f64::INFINITY, f64::min);
+        };
+        let thickness = across(4).map(|d| d[2]).fold(f64::INFINITY, f64::min);
         // Steps shrink with the axis' slope; near the horizontal they would
         // be too many (a hang at 89 degrees' dip), so they stay above a
         // hundredth of the head cells' thickness and width.
-        let width = (first..=last)
-            .flat_map(|k| {
-                let c = [well.i, well.j, k];
-                [(0, 1), (2, 3)].map(|(a, b)| {
-                    let (p, q) = (face_centre(cpg, c, a), face_centre(cpg, c, b));
-                    (p[0] - q[0]).hypot(p[1] - q[1])
-                })
-            })
+        let width = across(0)
+            .chain(across(2))
+            .map(|d| d[0].hypot(d[1]))
             .fold(f64::INFINITY, f64::min);
         let step = (0.05 * thickness.max(1e-9) * -u[2]).max(0.01 * thickness.min(width));
         let at = |t: f64| -> [f64; 3] { std::array::from_fn(|a| head[a] + t * u[a]) };
