@@ -613,12 +613,9 @@ fn hybrid_3d_from_options() {
             "completed layers 2..9 are not in the grid's 1..2",
         ),
         (g, vec!["W:4:4:0-1"], "whole numbers from 1"),
-        // emerald's corner column: its cells' faces fold across their centres
-        (
-            "tests/data/grids/emerald.grdecl",
-            vec!["W:1:4"],
-            "W: cell (1, 4, 1) of the cavity is folded over itself",
-        ),
+        // emerald's corner column: thin distorted cells, valid (once
+        // refused as folded over themselves: star-shaped tests fail there)
+        ("tests/data/grids/emerald.grdecl", vec!["W:1:4"], ""),
         (g, vec!["W:4:4"], ""),
     ] {
         let (code, err) = run(grid, &wells);

@@ -104,6 +104,9 @@ fn wells_that_do_not_fit_are_errors() {
     let opts = Hybrid3Options::default();
     let mut inactive = CornerPointGrid::cartesian([7, 7, 3], [10.0, 10.0, 4.0]);
     inactive.actnum[3 + 7 * (3 + 7)] = false; // cell (4, 4, 2)
+                                              // cell (4, 4, 1)'s top at its pillar (5, 5) sunk 5 below its bottom
+    let mut inverted = CornerPointGrid::cartesian([7, 7, 3], [10.0, 10.0, 4.0]);
+    inverted.zcorn[((3 * 2 + 1) * 7 + 3) * 2 + 1] = 9.0;
     let block = |nz| CornerPointGrid::cartesian([7, 7, nz], [10.0, 10.0, 4.0]);
     let cases: Vec<(CornerPointGrid, Vec<Well3>, &str)> = vec![
         (
@@ -141,6 +144,12 @@ fn wells_that_do_not_fit_are_errors() {
             inactive,
             vec![well(0.0)],
             "W: its completion in cell (4, 4, 2) is in an inactive cell",
+        ),
+        (
+            inverted,
+            vec![well(0.0)],
+            "well W: cell (4, 4, 1) of the cavity is inverted: at pillar (5, 5) its top lies \
+             below its bottom",
         ),
         (
             block(3),

@@ -10,6 +10,7 @@ mod polygon;
 mod power3;
 mod running;
 mod simplices;
+mod solid;
 
 pub use dyadic::*;
 pub use exact::*;
@@ -19,6 +20,7 @@ pub use polygon::ear_clip;
 pub use power3::Weighted3;
 pub use running::*;
 pub use simplices::*;
+pub use solid::in_solid;
 
 /// Reproducible pseudo-random doubles in [0, 1) (xorshift): the kernel's
 /// tests and `generate` (which re-exports it) draw from it.

@@ -428,18 +428,31 @@ pub struct Well {
     pub k: Option<[usize; 2]>,
     /// Wellbore radius from COMPDAT's diameter.
     pub radius: Option<f64>,
+    /// COMPDAT's lines in order: column (0-based; the head where the line
+    /// leaves it out) and layers K1, K2 (0-based, K1 <= K2).
+    pub completions: Vec<[usize; 4]>,
 }
 
 impl Well {
-    /// The 3D hybrid's well: this head column and completed layers, a
-    /// vertical axis, and this radius or else `radius`.
+    /// The 3D hybrid's well: this head column and completed layers, its
+    /// completed cells in COMPDAT's order (each line's layers downwards, a
+    /// cell given again once), and this radius or else `radius`.
     pub fn well3(self, radius: f64) -> crate::reservoir::Well3 {
+        let mut cells: Vec<[usize; 3]> = vec![];
+        for &[i, j, k1, k2] in &self.completions {
+            for k in k1..=k2 {
+                if !cells.contains(&[i, j, k]) {
+                    cells.push([i, j, k]);
+                }
+            }
+        }
         crate::reservoir::Well3 {
             name: self.name,
             i: self.i,
             j: self.j,
             k: self.k,
             radius: self.radius.unwrap_or(radius),
+            cells,
             ..Default::default()
         }
     }
@@ -502,6 +515,7 @@ pub fn read_wells(path: &Path) -> Result<(Vec<Well>, Vec<String>)> {
                                 j,
                                 k: None,
                                 radius: None,
+                                completions: vec![],
                             });
                             wells.last_mut().expect("just pushed")
                         }
@@ -514,6 +528,8 @@ pub fn read_wells(path: &Path) -> Result<(Vec<Well>, Vec<String>)> {
                         if let (Some(k1), Some(k2)) = (one_based(3, "K1")?, one_based(4, "K2")?) {
                             let [a, b] = w.k.unwrap_or([k1.min(k2), k1.max(k2)]);
                             w.k = Some([a.min(k1.min(k2)), b.max(k1.max(k2))]);
+                            let (ci, cj) = (i.unwrap_or(w.i), j.unwrap_or(w.j));
+                            w.completions.push([ci, cj, k1.min(k2), k1.max(k2)]);
                         }
                         if let Some(t) = rec.get(8).cloned().flatten() {
                             let dia: f64 = number(&ts, &Some(t), &kw, "COMPDAT diameter")?;
@@ -696,7 +712,7 @@ ACTNUM 1 /
         assert_eq!(g.faults.len(), 1);
         assert_eq!(g.faults[0].faces[1].axis, 'Y');
         assert_eq!(g.faults[0].faces[1].sign, -1);
-        let deck = "RUNSPEC\nOIL\nWATER\nINCLUDE\n 'missing.inc' /\nWELSPECS\n 'P1' 'G' 3 4 1* 'OIL' /\n/\nCOMPDAT\n 'P1' 3 4 2 5 'OPEN' 1* 1* 0.5 /\n 'P1' 3 4 7 7 'OPEN' /\n/\nWCONPROD\n 'P1' 'OPEN' /\n/\n";
+        let deck = "RUNSPEC\nOIL\nWATER\nINCLUDE\n 'missing.inc' /\nWELSPECS\n 'P1' 'G' 3 4 1* 'OIL' /\n/\nCOMPDAT\n 'P1' 3 4 2 5 'OPEN' 1* 1* 0.5 /\n 'P1' 3 4 7 7 'OPEN' /\n 'P1' 1* 1* 9 8 'OPEN' /\n 'P1' 2 4 10 10 /\n/\nWCONPROD\n 'P1' 'OPEN' /\n/\n";
         let (wells, missing) = read_wells(&write("case.data", deck)).unwrap();
         assert_eq!(missing.len(), 1);
         assert_eq!(
@@ -705,10 +721,15 @@ ACTNUM 1 /
                 name: "P1".into(),
                 i: 2,
                 j: 3,
-                k: Some([1, 6]),
-                radius: Some(0.25)
+                k: Some([1, 9]),
+                radius: Some(0.25),
+                // in order; a line without I, J at the head
+                completions: vec![[2, 3, 1, 4], [2, 3, 6, 6], [2, 3, 7, 8], [1, 3, 9, 9]],
             }]
         );
+        let w = wells[0].clone().well3(0.1);
+        assert_eq!(w.cells.len(), 8);
+        assert_eq!((w.cells[0], w.cells[7]), ([2, 3, 1], [1, 3, 9]));
     }
 
     #[test]

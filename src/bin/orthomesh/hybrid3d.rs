@@ -42,7 +42,9 @@ fn well3_spec(spec: &str) -> Result<Well3> {
         radius: parts.get(3).map_or(Ok(DEFAULT_WELL_RADIUS), |t| num(t))?,
         dip: angle(4)?,
         azimuth: angle(5)?,
-        path: None,
+        // a dip and azimuth given ask for a straight axis (0:0 vertical)
+        straight: parts.len() == 6,
+        ..Default::default()
     })
 }
 
@@ -110,7 +112,7 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         rings: a.rings.unwrap_or(6),
         sectors: a.sectors.unwrap_or(16),
         outer: a.outer.unwrap_or(1.0),
-        allow_sites_outside: a.allow_sites_outside,
+        allow_sites_outside: !a.strict,
         split_facets: a.split_facets,
         // a bar over the cavities when someone watches
         progress: watched.then_some(bar as Progress),
@@ -119,6 +121,9 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     let built = hybrid3::build(backend, &g, &list, &opts);
     finish_bar();
     let mut h = built?;
+    for n in &h.report.notes {
+        eprintln!("note: {n}");
+    }
     if a.out.reproducible {
         for c in &mut h.report.cavities {
             c.transition.timing = None;
@@ -168,6 +173,19 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             r.cells[2],
             r.connections,
             r.non_orthogonal,
+        );
+        for (pair, c) in &r.by_regions {
+            let [median, p99, max] = c.angle;
+            eprintln!(
+                "  {pair}: {} links, {} off orthogonal; angle median {median:.3}, 99% \
+                 {p99:.3}, largest {max:.3} degrees; {} with both sites on one side",
+                c.connections, c.non_orthogonal, c.one_sided
+            );
+        }
+        eprintln!(
+            "  transition: {} sites outside their cells, {} cells under 1e-3 of their \
+             cavity's median volume (smallest {:.3e})",
+            r.sites_outside, r.slivers, r.smallest_volume_share
         );
     })
 }

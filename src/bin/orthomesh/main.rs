@@ -185,20 +185,26 @@ struct HybridArgs {
     /// cell (default 1.9; with --3d, 1.0).
     #[arg(long)]
     outer: Option<f64>,
-    /// True 3D: wells from the deck (WELSPECS, COMPDAT's layers and
+    /// True 3D: wells from the deck (WELSPECS, COMPDAT's cells and
     /// diameter) or --well NAME:I:J[:K1-K2][:RADIUS[:DIP:AZIMUTH]] (K1-K2
-    /// the completed layers, default all; dip from vertical and azimuth
-    /// clockwise from +y in degrees), each with a radial mesh along its
-    /// completed layers, in a cavity of the cells within one cell of them,
-    /// meshed by a 3D transition (polyhedra).
+    /// the completed layers, default all), each with a radial mesh through
+    /// its completed cells (following leaning columns and changes of
+    /// column; DIP:AZIMUTH, degrees from vertical and clockwise from +y,
+    /// asks for a straight axis instead, 0:0 vertical), in a cavity of the
+    /// cells within one cell of them, meshed by a 3D transition (polyhedra).
     #[arg(long = "3d", conflicts_with_all = ["wells_xy", "faults", "layers", "margin", "svg"])]
     three_d: bool,
     /// Layers of cells added to each cavity around what the radial mesh reaches.
     #[arg(long, default_value_t = 0)]
     margin: usize,
-    /// Write the mesh even when some transition sites cannot be inside
-    /// their cells once the cavities have grown as far as they can.
+    /// Refuse (exit 1, no file) when some transition sites cannot be
+    /// inside their cells once the cavities have grown as far as they can.
+    /// By default the certified mesh is written and the sites outside are
+    /// counted: the grid imposes its geometry.
     #[arg(long)]
+    strict: bool,
+    /// The default (kept for scripts written before --strict).
+    #[arg(long, hide = true, conflicts_with = "strict")]
     allow_sites_outside: bool,
     /// 3D: where facet triangles miss their dual edges (so that a site
     /// stays outside its cell), add Steiner points inside the facets at
@@ -481,7 +487,7 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             .iter()
             .map(|f| polyline(f))
             .collect::<Result<_>>()?,
-        allow_sites_outside: a.allow_sites_outside,
+        allow_sites_outside: !a.strict,
         // a progress bar when there are many wells and someone watches
         progress: watched.then_some(bar as Progress),
     };

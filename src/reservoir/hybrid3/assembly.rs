@@ -4,7 +4,7 @@
 
 use super::cavity::CavityCells;
 use super::complex::{Across, Transition};
-use super::cpg::{pieces, Cpg, Ijk};
+use super::cpg::{Cpg, Ijk};
 use super::lattice::{find_face, orient_faces};
 use super::radial::{End, Radial};
 use crate::conform::{Outcome, D3};
@@ -120,8 +120,8 @@ impl Assembly {
                     }
                     let mut faces = vec![];
                     for f in 0..6 {
-                        let q = cpg.face(c, f);
-                        for p in pieces(&q) {
+                        let (q, ps) = cpg.face_pieces(c, f);
+                        for p in ps {
                             faces.push(p.iter().map(|&n| self.point(q[n])).collect());
                         }
                     }
@@ -242,9 +242,14 @@ impl Assembly {
             self.ijk.push(None);
         }
         for l in &t.mesh.links {
+            let face = l
+                .face
+                .iter()
+                .map(|&v| self.point(t.mesh.points[v as usize]))
+                .collect();
             self.out.links.push(Link3 {
                 cells: l.cells.map(|c| c + first_t),
-                face: vec![],
+                face,
                 ..l.clone()
             });
         }
@@ -609,21 +614,7 @@ pub(super) fn assemble(
         }
     }
     out.links = merged;
-    let mut by_regions: BTreeMap<String, super::Connections> = BTreeMap::new();
-    let name = |r: Region| match r {
-        Region::Reservoir => "reservoir",
-        Region::Transition => "transition",
-        Region::Well => "well",
-    };
-    for l in &out.links {
-        let mut pair = l.cells.map(|c| region[c]);
-        pair.sort_by_key(|&r| r as u8);
-        let e = by_regions
-            .entry(format!("{}-{}", name(pair[0]), name(pair[1])))
-            .or_default();
-        e.connections += 1;
-        e.non_orthogonal += usize::from(out.link_defect(l) > 1e-6);
-    }
+    let by_regions = super::stats::by_regions(&out, &region);
     let first_t = region
         .iter()
         .take_while(|r| **r == Region::Reservoir)
@@ -647,6 +638,16 @@ pub(super) fn assemble(
             transition: b.outcome.report,
         })
         .collect();
+    let t_cells: Vec<usize> = (0..region.len())
+        .filter(|&c| region[c] == Region::Transition)
+        .collect();
+    let (slivers, smallest_volume_share) = super::stats::slivers(
+        &t_cells.iter().map(|&c| out.volumes[c]).collect::<Vec<_>>(),
+        &t_cells
+            .iter()
+            .map(|&c| cavity_of[c - first_t])
+            .collect::<Vec<_>>(),
+    );
     let report = super::Hybrid3Report {
         cells: [
             count(Region::Reservoir),
@@ -667,6 +668,9 @@ pub(super) fn assemble(
         across_throws: thrown,
         non_orthogonal: by_regions.values().map(|c| c.non_orthogonal).sum(),
         by_regions,
+        slivers,
+        smallest_volume_share,
+        notes: vec![],
     };
     Ok(super::Hybrid3 {
         mesh: out,

@@ -6,9 +6,8 @@
 //! other's mirror image, the wellbore whole. The legs' links to the
 //! wellbore are one well's (`merge_legs`).
 
-use super::cavity::cell_side;
 use super::cpg::Cpg;
-use super::path::Path;
+use super::path::{off_line, Path};
 use super::radial::{frame, After, End, Knee, Radial};
 use super::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
@@ -20,24 +19,6 @@ use crate::reservoir::deck::WellLinks;
 /// build section sampled every few metres is then legs of a cell or so,
 /// not one per sample, each too short to mesh.
 const STRAY: f64 = 0.1;
-
-/// The first point farther off the line from the first point to the last
-/// than 1% of their distance and than `floor`: its index and how far.
-pub(super) fn off_line(points: &[[f64; 3]], floor: f64) -> Option<(usize, f64)> {
-    let (first, last) = (points.first()?, points.last()?);
-    let d: [f64; 3] = std::array::from_fn(|a| last[a] - first[a]);
-    let length = d.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let u = d.map(|x| x / length);
-    points.iter().enumerate().find_map(|(n, q)| {
-        let v: [f64; 3] = std::array::from_fn(|a| q[a] - first[a]);
-        let t: f64 = (0..3).map(|a| v[a] * u[a]).sum();
-        let off = (0..3)
-            .map(|a| (v[a] - t * u[a]).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        (off > floor.max(0.01 * length)).then_some((n, off))
-    })
-}
 
 /// A trajectory's straight legs, as ranges of its points (repeated points
 /// dropped first): from the first point, each leg takes as many points as
@@ -65,6 +46,16 @@ fn legs(points: &[[f64; 3]], stray: impl Fn([f64; 3]) -> f64) -> (Vec<[f64; 3]>,
 /// turn at each of its knees and the outer radius at which they fit it.
 /// Radial meshes reach at most `outer` head-cell sides from their axis.
 pub(super) fn paths(cpg: &Cpg, well: &Well3, n: usize, outer: f64) -> Result<Vec<(Well3, Path)>> {
+    // a well whose completed cells' centres are not on one vertical is the
+    // trajectory through them
+    let centred;
+    let well = match super::path::through_centres(cpg, well)? {
+        Some(w) => {
+            centred = w;
+            &centred
+        }
+        None => well,
+    };
     let one = || Ok(vec![(well.clone(), Path::new(cpg, well)?)]);
     let Some(points) = &well.path else {
         return one();
@@ -202,7 +193,7 @@ fn side_at(cpg: &Cpg, p: [f64; 3]) -> f64 {
         .flat_map(|k| (0..g.ny).flat_map(move |j| (0..g.nx).map(move |i| [i, j, k])))
         .filter(|&c| cpg.live(c));
     cpg.locate([p[0], p[1], -p[2]], cells)
-        .map_or(0.0, |c| cell_side(cpg, c))
+        .map_or(0.0, |c| cpg.side(c))
 }
 
 /// Whether two paths are adjacent legs of one well: their radial meshes

@@ -97,18 +97,7 @@ pub(super) const OWN_COLUMN: f64 = 0.4;
 
 /// The shorter side of a well's head cell's top, in map view.
 pub(super) fn head_side(cpg: &Cpg, path: &Path) -> f64 {
-    cell_side(cpg, path.head_cell)
-}
-
-/// The shorter side of a cell's top, in map view.
-pub(super) fn cell_side(cpg: &Cpg, c: Ijk) -> f64 {
-    let top = cpg.face(c, 4);
-    (0..4)
-        .map(|k| {
-            let (a, b) = (top[k], top[(k + 1) % 4]);
-            (a[0] - b[0]).hypot(a[1] - b[1])
-        })
-        .fold(f64::INFINITY, f64::min)
+    cpg.side(path.head_cell)
 }
 
 /// Whether a well's cavity takes the columns around its cells: unless its
@@ -326,21 +315,37 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
             let p: [f64; 3] = std::array::from_fn(|a| path.head[a] + t * path.u[a]);
             cpg.locate(p, cells.iter().copied()).is_some()
         };
-        let cap = |end: f64, cell: f64, out: f64| match inside(end + out * cell / 2.0) {
+        // parallel to the end cell's face there where that is less than 60
+        // degrees off the axis' normal plane (thin layers that the axis
+        // leans through leave a cap across it no room)
+        let tilt = |c: Ijk, f: usize| {
+            let n = crate::geom::newell(&cpg.face(c, f));
+            let len = crate::geom::dist_f(n, [0.0; 3]);
+            let along = crate::geom::dot_f(n, path.u) / len;
+            (along.abs() > 0.5).then(|| n.map(|x| x * along.signum() / len))
+        };
+        let cap = |end: f64, cell: f64, out: f64, face: Option<[f64; 3]>| match inside(
+            end + out * cell / 2.0,
+        ) {
             true => End::Cap {
                 at: end,
                 plug: 0.25 * cell,
+                tilt: face,
             },
             false => End::Cap {
                 at: end - out * cell / 2.0,
                 plug: 0.125 * cell,
+                tilt: face,
             },
         };
+        let toe: [f64; 3] = std::array::from_fn(|a| path.head[a] + path.length * path.u[a]);
+        let last = cpg.locate(toe, path.cells.iter().copied()).unwrap_or(last);
         // a knee at a bend (placed with the leg across, `bend::chain`)
         let knee = |half: Option<f64>| half.map(|_| End::Knee(Knee::default()));
         return [
-            knee(path.bends[0]).unwrap_or_else(|| cap(0.0, first_layer, -1.0)),
-            knee(path.bends[1]).unwrap_or_else(|| cap(path.length, last_layer, 1.0)),
+            knee(path.bends[0])
+                .unwrap_or_else(|| cap(0.0, first_layer, -1.0, tilt(path.head_cell, 4))),
+            knee(path.bends[1]).unwrap_or_else(|| cap(path.length, last_layer, 1.0, tilt(last, 5))),
         ];
     }
     [
@@ -349,10 +354,12 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
             (None, Some(len)) => End::Cap {
                 at: 0.0,
                 plug: 0.25 * len,
+                tilt: None,
             },
             (None, None) => End::Cap {
                 at: first_layer / 2.0,
                 plug: 0.125 * first_layer,
+                tilt: None,
             },
         },
         match (path.open[1], beyond(last, false)) {
@@ -360,10 +367,12 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
             (None, Some(len)) => End::Cap {
                 at: path.length,
                 plug: 0.25 * len,
+                tilt: None,
             },
             (None, None) => End::Cap {
                 at: path.length - last_layer / 2.0,
                 plug: 0.125 * last_layer,
+                tilt: None,
             },
         },
     ]
@@ -397,7 +406,20 @@ pub(super) fn radials(
             .collect();
         let mut tries = 0;
         let built = loop {
-            let rs = super::bend::chain(&legs, opts, outer)?;
+            // (a radial mesh too wide for its interval, as tilted caps'
+            // wedges make it, shrinks as one that does not fit)
+            let tilted = legs
+                .iter()
+                .flat_map(|l| l.2)
+                .any(|e| matches!(e, End::Cap { tilt: Some(_), .. }));
+            let rs = match super::bend::chain(&legs, opts, outer) {
+                Err(_) if tilted && tries < 40 && outer * 0.8 > 2.0 * wells[chain[0]].radius => {
+                    outer *= 0.8;
+                    tries += 1;
+                    continue;
+                }
+                built => built?,
+            };
             let bad = rs.iter().zip(&chain).find_map(|(r, &n)| {
                 misfit(cpg, r, cells, sides, clear).map(|b| (n, r.levels.len(), b))
             });

@@ -5,7 +5,7 @@
 //! holds a point.
 
 use crate::error::{Error, Result};
-use crate::geom::{newell, orient, orient3};
+use crate::geom::{in_solid, newell, orient, orient3};
 use crate::reservoir::CornerPointGrid;
 use std::cmp::Ordering;
 
@@ -198,40 +198,64 @@ impl<'g> Cpg<'g> {
         Ok(self.g.active(n[0], n[1], n[2]).then_some(n))
     }
 
+    /// The shorter side of a cell's top, in map view.
+    pub(super) fn side(&self, c: Ijk) -> f64 {
+        let top = self.face(c, 4);
+        (0..4)
+            .map(|k| {
+                let (a, b) = (top[k], top[(k + 1) % 4]);
+                (a[0] - b[0]).hypot(a[1] - b[1])
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// The cell's site: the mean of its corners.
     pub(super) fn centre(&self, c: Ijk) -> [f64; 3] {
         let p = self.corners(c);
         std::array::from_fn(|a| p.iter().map(|q| q[a]).sum::<f64>() / 8.0)
     }
 
+    /// Face f's corners, outward, and its pieces (`pieces`): a top or
+    /// bottom that is split is split along the diagonal from the corner at
+    /// the column's first pillar (di = dj = 0), so that a cell's top and
+    /// bottom, and the cells above and below, take the same diagonal and a
+    /// thin cell's two surfaces cannot cross where its top twists.
+    pub(super) fn face_pieces(&self, c: Ijk, f: usize) -> ([[f64; 3]; 4], Vec<Vec<usize>>) {
+        let q = self.face(c, f);
+        // corner 0 (top) or 4 (bottom) is first in FACES, last reversed
+        let through = (f >= 4).then_some(if self.left_handed() { 3 } else { 0 });
+        let p = pieces(&q, through);
+        (q, p)
+    }
+
     /// The triangles of the pieces of the cell's faces, outward.
     fn triangles_of(&self, c: Ijk) -> Vec<[[f64; 3]; 3]> {
         let mut out = vec![];
         for f in 0..6 {
-            let q = self.face(c, f);
-            for t in pieces(&q) {
+            let (q, p) = self.face_pieces(c, f);
+            for t in p {
                 out.extend(triangles(&t).into_iter().map(|w| w.map(|n| q[n])));
             }
         }
         out
     }
 
-    /// Whether the cell is not star-shaped from its centre: some piece of
-    /// its faces has the centre on its outer side or plane (a cell folded
-    /// over itself, as at some grids' distorted corners). `locate` cannot
-    /// tell what such a cell holds.
-    pub(super) fn folded(&self, c: Ijk) -> bool {
-        let o = self.centre(c);
-        let sides: Vec<Ordering> = self
-            .triangles_of(c)
-            .iter()
-            .map(|&[a, b, d]| orient3(a, b, d, o))
-            .collect();
-        sides.iter().any(|&s| s == Ordering::Equal || s != sides[0])
+    /// Where the cell is inverted: the first of its four pillars (as
+    /// corner 0..4) at which its top lies below its bottom. Eclipse's
+    /// cells are valid where the top is at or above the bottom at every
+    /// pillar, however thin, wide, sheared or twisted they are.
+    pub(super) fn inverted(&self, c: Ijk) -> Option<usize> {
+        (0..4).find(|&n| self.g.depth(c[0], c[1], c[2], n) > self.g.depth(c[0], c[1], c[2], n + 4))
     }
 
-    /// The cell holding p among the live cells of the given columns (by
-    /// the tetrahedra of its faces' pieces around its centre), if any.
+    /// The pillar (i, j) of the cell's corner n, 1-based for messages.
+    pub(super) fn pillar_name(&self, [i, j, _]: Ijk, n: usize) -> String {
+        format!("({}, {})", i + 1 + (n & 1), j + 1 + ((n >> 1) & 1))
+    }
+
+    /// The cell holding p among the given live cells, if any: exactly, by
+    /// the parity of a ray's crossings of its faces' pieces (no assumption
+    /// on the cell's shape; a point on a face is in).
     pub(super) fn locate(&self, p: [f64; 3], cells: impl IntoIterator<Item = Ijk>) -> Option<Ijk> {
         cells.into_iter().find(|&c| {
             // outside the box of its corners is outside (a cheap first test:
@@ -245,16 +269,7 @@ impl<'g> Cpg<'g> {
                     });
                 p[a] < lo || p[a] > hi
             };
-            if (0..3).any(off) {
-                return false;
-            }
-            // a point inside is on the inner side of every piece seen from
-            // the centre (cells are star-shaped from it, `folded`)
-            let o = self.centre(c);
-            self.triangles_of(c).iter().all(|&[a, b, d]| {
-                let at = orient3(a, b, d, p);
-                at == Ordering::Equal || at == orient3(a, b, d, o)
-            })
+            !(0..3).any(off) && in_solid(&self.triangles_of(c), p)
         })
     }
 }
@@ -287,9 +302,10 @@ pub(super) fn one_based([i, j, k]: Ijk) -> String {
 
 /// A face's pieces, as indices of its corners: none where it has no area;
 /// the face whole where it is planar and strictly convex (after merging
-/// coincident corners); else two triangles along the diagonal through the
-/// smallest corner (by coordinates), which the cell across picks too.
-pub(super) fn pieces(q: &[[f64; 3]; 4]) -> Vec<Vec<usize>> {
+/// coincident corners); else two triangles along the diagonal through
+/// corner `through`, or where it is None through the smallest corner (by
+/// coordinates): either way the cell across picks the same.
+pub(super) fn pieces(q: &[[f64; 3]; 4], through: Option<usize>) -> Vec<Vec<usize>> {
     // the corners left after merging coincident neighbours
     let mut v: Vec<usize> = vec![];
     for n in 0..4 {
@@ -315,7 +331,8 @@ pub(super) fn pieces(q: &[[f64; 3]; 4]) -> Vec<Vec<usize>> {
             if planar && strictly_convex(q) {
                 return vec![vec![0, 1, 2, 3]];
             }
-            let least = (0..4).min_by(|&a, &b| lex(&q[a], &q[b])).unwrap_or(0);
+            let least =
+                through.unwrap_or_else(|| (0..4).min_by(|&a, &b| lex(&q[a], &q[b])).unwrap_or(0));
             let (a, b, c, d) = (least, (least + 1) % 4, (least + 2) % 4, (least + 3) % 4);
             vec![vec![a, b, c], vec![a, c, d]]
                 .into_iter()
@@ -352,7 +369,7 @@ mod tests {
         let cpg = Cpg::new(&g);
         for f in 0..6 {
             let q = cpg.face([0, 0, 0], f);
-            assert_eq!(pieces(&q), vec![vec![0, 1, 2, 3]]);
+            assert_eq!(cpg.face_pieces([0, 0, 0], f).1, vec![vec![0, 1, 2, 3]]);
             // outward: the Newell normal points away from the centre
             let n = newell(&q);
             let o = cpg.centre([0, 0, 0]);
@@ -367,17 +384,55 @@ mod tests {
             Some([0, 0, 1])
         );
         assert_eq!(cpg.locate([15.0, 5.0, -6.0], [[0, 0, 0], [0, 0, 1]]), None);
-        assert!(!cpg.folded([0, 0, 0]) && !cpg.folded([1, 1, 1]));
+        assert_eq!(cpg.inverted([1, 1, 1]), None);
     }
 
-    /// A cell whose top corner sinks below its bottom folds its faces
-    /// across its centre: `locate` cannot be trusted there.
+    /// A cell whose top corner sinks below its bottom is inverted there,
+    /// named by its pillar.
     #[test]
-    fn a_cell_folded_over_itself_is_found() {
+    fn an_inverted_cell_is_found_with_its_pillar() {
         let mut g = CornerPointGrid::cartesian([1, 1, 1], [10.0, 10.0, 4.0]);
-        g.zcorn[0] = 9.0; // top corner 0, 5 below the bottom
         let cpg = Cpg::new(&g);
-        assert!(cpg.folded([0, 0, 0]));
+        assert_eq!(cpg.inverted([0, 0, 0]), None);
+        g.zcorn[1] = 9.0; // top corner 1, 5 below the bottom
+        let cpg = Cpg::new(&g);
+        assert_eq!(cpg.inverted([0, 0, 0]), Some(1));
+        assert_eq!(cpg.pillar_name([0, 0, 0], 1), "(2, 1)");
+    }
+
+    /// A thin wide cell whose top twists by more than its thickness (as
+    /// on real fields' leaning pillars) is valid: its top and bottom are
+    /// split along the same diagonal, so they never cross, and points in
+    /// it are found although it is not star-shaped from its centre.
+    #[test]
+    fn a_thin_twisted_cell_is_located() {
+        let mut g = CornerPointGrid::cartesian([1, 1, 1], [150.0, 150.0, 3.0]);
+        // corners 0 and 3 (one diagonal) 10 m deeper than 1 and 2, top and bottom
+        for (n, d) in [(0, 10.0), (3, 10.0), (1, 0.0), (2, 0.0)] {
+            g.zcorn[n] += d;
+            g.zcorn[4 + n] += d;
+        }
+        let cpg = Cpg::new(&g);
+        assert_eq!(cpg.inverted([0, 0, 0]), None);
+        let tris = cpg.triangles_of([0, 0, 0]);
+        // a closed surface: every oriented edge has its opposite
+        let key = |p: [f64; 3]| p.map(f64::to_bits);
+        let mut edges: Vec<([u64; 3], [u64; 3])> = vec![];
+        for t in &tris {
+            for k in 0..3 {
+                edges.push((key(t[k]), key(t[(k + 1) % 3])));
+            }
+        }
+        for &(a, b) in &edges {
+            assert!(edges.contains(&(b, a)));
+        }
+        // under the column's middle, on the split diagonal 0-3, the cell
+        // spans depths 10 to 13; its centre (mean of the corners, depth
+        // 6.5) is outside it
+        let at = |d: f64| [75.0, 75.0, -d];
+        assert_eq!(cpg.locate(at(11.5), [[0, 0, 0]]), Some([0, 0, 0]));
+        assert_eq!(cpg.locate(at(6.5), [[0, 0, 0]]), None);
+        assert_eq!(cpg.locate(at(13.5), [[0, 0, 0]]), None);
     }
 
     #[test]
@@ -410,13 +465,13 @@ mod tests {
             [1.0, 1.0, 0.3],
             [0.0, 1.0, 0.0],
         ];
-        let mine: Vec<Vec<[f64; 3]>> = pieces(&q)
+        let mine: Vec<Vec<[f64; 3]>> = pieces(&q, None)
             .iter()
             .map(|t| t.iter().map(|&n| q[n]).collect())
             .collect();
         // the cell across sees the corners the other way round
         let r = [q[2], q[1], q[0], q[3]];
-        let theirs: Vec<Vec<[f64; 3]>> = pieces(&r)
+        let theirs: Vec<Vec<[f64; 3]>> = pieces(&r, None)
             .iter()
             .map(|t| t.iter().map(|&n| r[n]).collect())
             .collect();
@@ -433,7 +488,7 @@ mod tests {
         assert_eq!(a, b);
         // a pinched face: two corners coincide, one triangle
         let p = [q[0], q[1], q[1], q[3]];
-        assert_eq!(pieces(&p).len(), 1);
-        assert!(pieces(&[q[0], q[0], q[1], q[1]]).is_empty());
+        assert_eq!(pieces(&p, None).len(), 1);
+        assert!(pieces(&[q[0], q[0], q[1], q[1]], None).is_empty());
     }
 }

@@ -30,6 +30,7 @@ mod path;
 mod radial;
 mod refine;
 mod sheet;
+mod stats;
 
 use crate::backend::Backend;
 use crate::conform::{Report, D3};
@@ -65,6 +66,15 @@ pub struct Well3 {
     pub dip: f64,
     /// Azimuth clockwise from +y (degrees).
     pub azimuth: f64,
+    /// Its completed cells in the deck's order (0-based; COMPDAT's),
+    /// which may change column; empty: column (i, j)'s layers `k`. The
+    /// well runs through their centres, as the simulator connects it:
+    /// where those are not on one vertical, it is meshed as a trajectory
+    /// through them (following leaning columns), unless `straight`.
+    pub cells: Vec<[usize; 3]>,
+    /// A straight axis from the head (vertical, or at `dip` and
+    /// `azimuth`) wherever its completed cells' centres lie.
+    pub straight: bool,
     /// A trajectory (x, y, depth as the grid has them), first point to
     /// last, completed over its whole length: instead of the column,
     /// layers, dip and azimuth. Horizontal wells come this way; where it
@@ -159,6 +169,12 @@ pub struct Connections {
     pub connections: usize,
     /// Those whose face is not orthogonal to the link (|cos| above 1e-6).
     pub non_orthogonal: usize,
+    /// The angle (degrees) between a face's normal and the line joining
+    /// its two sites: median, 99th percentile, largest.
+    pub angle: [f64; 3],
+    /// Those whose two sites lie on one side of their face (a site outside
+    /// its cell): a two-point transmissibility negative or infinite.
+    pub one_sided: usize,
 }
 
 /// What the build did.
@@ -185,6 +201,13 @@ pub struct Hybrid3Report {
     pub by_regions: BTreeMap<String, Connections>,
     /// Transition sites outside their cells, over all cavities.
     pub sites_outside: usize,
+    /// Transition cells under a thousandth of their cavity's median
+    /// transition cell's volume.
+    pub slivers: usize,
+    /// The smallest transition cell's share of its cavity's median.
+    pub smallest_volume_share: f64,
+    /// What was left out of the wells' completions, and why.
+    pub notes: Vec<String>,
 }
 
 impl Hybrid3Report {
@@ -239,6 +262,11 @@ pub fn build<B: Backend + ?Sized>(
     if wells.is_empty() {
         return Err(Error::Usage("the 3D hybrid needs a well".into()));
     }
+    // what the completions leave out (inactive, pinched-out cells), said
+    let mut notes = vec![];
+    for w in wells.iter().filter(|w| w.path.is_none()) {
+        notes.extend(path::completed(&cpg, w)?.1);
+    }
     // one path per well, or per straight leg of a trajectory that bends
     let mut owner = vec![];
     let mut legs = vec![];
@@ -265,12 +293,17 @@ pub fn build<B: Backend + ?Sized>(
             let ws: Vec<&Well3> = cells.wells.iter().map(|&w| &wells[w]).collect();
             let ps: Vec<&path::Path> = cells.wells.iter().map(|&w| &paths[w]).collect();
             let open: Vec<(usize, f64)> = ps.iter().flat_map(|p| p.open_faces()).collect();
-            if let Some(&c) = cells.cells.iter().find(|&&c| cpg.folded(c)) {
+            if let Some((c, n)) = cells
+                .cells
+                .iter()
+                .find_map(|&c| cpg.inverted(c).map(|n| (c, n)))
+            {
                 return Err(Error::Usage(format!(
-                    "{}: cell {} of the cavity is folded over itself (not every piece of its \
-                     faces is seen from its centre): too distorted to mesh a well in",
+                    "{}: cell {} of the cavity is inverted: at pillar {} its top lies below its \
+                     bottom",
                     well_names(&ws),
-                    cpg::one_based(c)
+                    cpg::one_based(c),
+                    cpg.pillar_name(c, n)
                 )));
             }
             let sides = cavity::sides(&cpg, &cells.cells, &open)?;
@@ -292,7 +325,9 @@ pub fn build<B: Backend + ?Sized>(
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    assembly::assemble(&cpg, wells, &owner, built)
+    let mut h = assembly::assemble(&cpg, wells, &owner, built)?;
+    h.report.notes = notes;
+    Ok(h)
 }
 
 /// "well W" or "wells A, B": a cavity's wells, each once (a bent well's

@@ -38,6 +38,24 @@ pub(super) struct Path {
     pub(super) max_outer: f64,
 }
 
+/// The first point farther off the line from the first point to the last
+/// than 1% of their distance and than `floor`: its index and how far.
+pub(super) fn off_line(points: &[[f64; 3]], floor: f64) -> Option<(usize, f64)> {
+    let (first, last) = (points.first()?, points.last()?);
+    let d: [f64; 3] = std::array::from_fn(|a| last[a] - first[a]);
+    let length = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let u = d.map(|x| x / length);
+    points.iter().enumerate().find_map(|(n, q)| {
+        let v: [f64; 3] = std::array::from_fn(|a| q[a] - first[a]);
+        let t: f64 = (0..3).map(|a| v[a] * u[a]).sum();
+        let off = (0..3)
+            .map(|a| (v[a] - t * u[a]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        (off > floor.max(0.01 * length)).then_some((n, off))
+    })
+}
+
 /// The completed layers: the given range, or every layer.
 fn range(g: &CornerPointGrid, well: &Well3) -> Result<[usize; 2]> {
     let [k1, k2] = well.k.unwrap_or([0, g.nz - 1]);
@@ -51,6 +69,119 @@ fn range(g: &CornerPointGrid, well: &Well3) -> Result<[usize; 2]> {
         )));
     }
     Ok([k1, k2])
+}
+
+/// A well's completed cells in order, each in the grid: its `cells`, or
+/// its column's completed layers; the live ones, with a note for each
+/// left out (inactive, pinched out). An error names a cell outside the
+/// grid, or a completion with no live cell.
+pub(super) fn completed(cpg: &Cpg, well: &Well3) -> Result<(Vec<Ijk>, Vec<String>)> {
+    let g = cpg.g;
+    let cells: Vec<Ijk> = if well.cells.is_empty() {
+        column(g, well)?;
+        let [k1, k2] = range(g, well)?;
+        (k1..=k2).map(|k| [well.i, well.j, k]).collect()
+    } else {
+        well.cells.clone()
+    };
+    if let Some(&c) = cells
+        .iter()
+        .find(|c| c[0] >= g.nx || c[1] >= g.ny || c[2] >= g.nz)
+    {
+        return Err(Error::Usage(format!(
+            "well {}: its completion in cell {} is not in the grid's {} x {} x {} cells",
+            well.name,
+            one_based(c),
+            g.nx,
+            g.ny,
+            g.nz
+        )));
+    }
+    let mut notes = vec![];
+    let mut live = vec![];
+    for &c in &cells {
+        match (g.active(c[0], c[1], c[2]), cpg.pinched(c)) {
+            (true, false) => live.push(c),
+            (active, _) => notes.push(format!(
+                "well {}: its completion in cell {} is left out: the cell is {}",
+                well.name,
+                one_based(c),
+                if active { "pinched out" } else { "inactive" }
+            )),
+        }
+    }
+    if live.is_empty() {
+        return Err(Error::Usage(format!(
+            "well {}: its completion ({} cells, {} to {}) has no active cell with thickness",
+            well.name,
+            cells.len(),
+            one_based(cells[0]),
+            one_based(cells[cells.len() - 1])
+        )));
+    }
+    Ok((live, notes))
+}
+
+/// An error unless the well's head column is in the grid.
+fn column(g: &CornerPointGrid, well: &Well3) -> Result<()> {
+    if well.i >= g.nx || well.j >= g.ny {
+        return Err(Error::Usage(format!(
+            "well {}: column ({}, {}) is not in the grid's {} x {} columns",
+            well.name,
+            well.i + 1,
+            well.j + 1,
+            g.nx,
+            g.ny
+        )));
+    }
+    Ok(())
+}
+
+/// The well as the trajectory (x, y, depth) through its live completed
+/// cells (then its `cells`), as the
+/// simulator connects them: from its first cell's top through each cell's
+/// centre to its last cell's bottom (points on the diagonal its top and
+/// bottom are split along). None where the well
+/// is a straight axis: a trajectory of its own, `straight`, or centres on
+/// one vertical (within 1e-9 of the first cell's side): a column whose
+/// pillars stand upright, meshed as one vertical path.
+pub(super) fn through_centres(cpg: &Cpg, well: &Well3) -> Result<Option<Well3>> {
+    if well.path.is_some() || well.straight || well.dip != 0.0 {
+        return Ok(None);
+    }
+    let (cells, _) = completed(cpg, well)?;
+    // on the diagonal that a split top and bottom share (`Cpg::face_pieces`):
+    // the mean of the corners, off it on a twisted thin cell, may lie
+    // outside the cell's pieces
+    let mean = |c: Ijk, ns: &[usize]| -> [f64; 3] {
+        std::array::from_fn(|a| {
+            ns.iter().map(|&n| cpg.corner(c, n)[a]).sum::<f64>() / ns.len() as f64
+        })
+    };
+    let head = mean(cells[0], &[0, 3]);
+    let toe = mean(cells[cells.len() - 1], &[4, 7]);
+    let centres: Vec<[f64; 3]> = cells.iter().map(|&c| mean(c, &[0, 3, 4, 7])).collect();
+    let tol = 1e-9 * cpg.side(cells[0]);
+    let upright = centres
+        .iter()
+        .chain([&toe])
+        .all(|p| (p[0] - head[0]).hypot(p[1] - head[1]) <= tol);
+    let one_column = cells.iter().all(|c| c[..2] == cells[0][..2]);
+    if upright && one_column {
+        return Ok(None);
+    }
+    let depth = |p: [f64; 3]| [p[0], p[1], -p[2]];
+    Ok(Some(Well3 {
+        path: Some(
+            std::iter::once(head)
+                .chain(centres)
+                .chain([toe])
+                .map(depth)
+                .collect(),
+        ),
+        cells,
+        ..well.clone()
+    }))
 }
 
 /// The centre of face f (top 4, bottom 5) of a cell: the mean of its corners.
@@ -91,36 +222,22 @@ impl Path {
             return Path::along(cpg, well, points);
         }
         let g = cpg.g;
-        let (i, j) = (well.i, well.j);
-        if i >= g.nx || j >= g.ny {
+        // a straight axis down the first completed cell's column, through
+        // the completed layers
+        let (live, _) = completed(cpg, well)?;
+        let [i, j, _] = live[0];
+        let first = live.iter().map(|c| c[2]).min().unwrap_or(0);
+        let last = live.iter().map(|c| c[2]).max().unwrap_or(0);
+        if let Some(k) = (first..=last).find(|&k| !g.active(i, j, k)) {
             return Err(Error::Usage(format!(
-                "well {}: column ({}, {}) is not in the grid's {} x {} columns",
+                "well {}: its completion in cell {} is in an inactive cell",
                 well.name,
-                i + 1,
-                j + 1,
-                g.nx,
-                g.ny
+                one_based([i, j, k])
             )));
         }
-        let [k1, k2] = range(g, well)?;
-        for k in k1..=k2 {
-            if !g.active(i, j, k) {
-                return Err(Error::Usage(format!(
-                    "well {}: its completion in cell {} is in an inactive cell",
-                    well.name,
-                    one_based([i, j, k])
-                )));
-            }
-        }
-        let live: Vec<usize> = (k1..=k2).filter(|&k| !cpg.pinched([i, j, k])).collect();
-        let (Some(&first), Some(&last)) = (live.first(), live.last()) else {
-            return Err(Error::Usage(format!(
-                "well {}: its completed cells in column ({}, {}) are all pinched out",
-                well.name,
-                i + 1,
-                j + 1
-            )));
-        };
+        let live: Vec<usize> = (first..=last)
+            .filter(|&k| !cpg.pinched([i, j, k]))
+            .collect();
         let head = face_centre(cpg, [i, j, first], 4);
         let dip = well.dip.to_radians();
         let az = well.azimuth.to_radians();
@@ -158,7 +275,7 @@ impl Path {
                 max_outer: f64::INFINITY,
             });
         }
-        Path::walk(cpg, well, head, u, [first, last], open)
+        Path::walk(cpg, well, [i, j], head, u, [first, last], open)
     }
 
     /// A well along a straight trajectory (x, y, depth), completed over its
@@ -181,7 +298,7 @@ impl Path {
         let u = d.map(|x| x / length);
         // straight: every point within 1% of the length of the chord
         // (`bend` splits a trajectory into such legs first)
-        if let Some((n, off)) = super::bend::off_line(points, 0.0) {
+        if let Some((n, off)) = off_line(points, 0.0) {
             return bad(format!(
                 "its path bends: point {} is {off:.3} off the line from its first to its last",
                 n + 1
@@ -191,7 +308,15 @@ impl Path {
             let (nx, ny, nz) = (g.nx, g.ny, g.nz);
             (0..nz).flat_map(move |k| (0..ny).flat_map(move |j| (0..nx).map(move |i| [i, j, k])))
         };
-        let Some(start) = cpg.locate(head, all(cpg.g).filter(|&c| cpg.live(c))) else {
+        // A well through its cells' centres (`through_centres`) starts at
+        // the mean of its first cell's top corners, on its bilinear top, not
+        // always on the top's pieces: in that cell all the same (not the one
+        // above), and it ends likewise on its last cell's bottom.
+        let centred = well.cells.first().copied().filter(|&c| cpg.live(c));
+        let candidates = centred
+            .into_iter()
+            .chain(all(cpg.g).filter(|&c| cpg.live(c)));
+        let Some(start) = cpg.locate(head, candidates).or(centred) else {
             return bad(format!(
                 "its path starts at ({:.6}, {:.6}, {:.6}), outside the grid's live cells (a \
                  path is the completed interval: from where the well enters them)",
@@ -206,7 +331,13 @@ impl Path {
                 .collect();
             t.iter().fold(f64::MIN, |a, &b| a.max(b)) - t.iter().fold(f64::MAX, |a, &b| a.min(b))
         };
-        let step = 0.05 * extent(start);
+        // a twentieth of the start cell along the axis, or of its thickness
+        // along it where that is less (thin layers the axis leans through)
+        let thickness = (0..4)
+            .map(|n| cpg.corner(start, n)[2] - cpg.corner(start, n + 4)[2])
+            .fold(f64::INFINITY, f64::min)
+            / u[2].abs().max(1e-3);
+        let step = 0.05 * extent(start).min(thickness.max(1e-6 * extent(start)));
         let at = |t: f64| -> [f64; 3] { std::array::from_fn(|a| head[a] + t * u[a]) };
         let mut cells = vec![start];
         let mut cuts = vec![];
@@ -229,6 +360,10 @@ impl Path {
                     std::iter::once(prev).chain(near).filter(|&c| cpg.live(c)),
                 )
                 .or_else(|| cpg.locate(p, all(g).filter(|&c| cpg.live(c))));
+            let found = match (found, centred) {
+                (None, Some(_)) if next == length => Some(prev),
+                _ => found,
+            };
             let Some(c) = found else {
                 return bad(format!(
                     "its path leaves the grid (or enters an inactive or pinched-out cell) at \
@@ -240,10 +375,29 @@ impl Path {
                 ));
             };
             if c != prev {
-                cuts.push((t + next) / 2.0);
+                // where it leaves prev, to a thousandth of a step
+                let (mut a, mut b) = (t, next);
+                for _ in 0..10 {
+                    let m = (a + b) / 2.0;
+                    match cpg.locate(at(m), [prev]) {
+                        Some(_) => a = m,
+                        None => b = m,
+                    }
+                }
+                cuts.push((a + b) / 2.0);
                 cells.push(c);
             }
             t = next;
+        }
+        // a crossing within a hundredth of a step of an end is that end: a
+        // head or toe a rounding off its cell's face, in the cell beyond
+        if cuts.first().is_some_and(|&c| c < 0.01 * step) {
+            cuts.remove(0);
+            cells.remove(0);
+        }
+        if cuts.last().is_some_and(|&c| c > length - 0.01 * step) {
+            cuts.pop();
+            cells.pop();
         }
         Ok(Path::of(head, u, length, cells, cuts, None))
     }
@@ -261,6 +415,7 @@ impl Path {
     fn walk(
         cpg: &Cpg,
         well: &Well3,
+        [i, j]: [usize; 2],
         head: [f64; 3],
         u: [f64; 3],
         [first, last]: [usize; 2],
@@ -271,8 +426,8 @@ impl Path {
         let across = |f: usize| {
             (first..=last).map(move |k| {
                 let (p, q) = (
-                    face_centre(cpg, [well.i, well.j, k], f),
-                    face_centre(cpg, [well.i, well.j, k], f + 1),
+                    face_centre(cpg, [i, j, k], f),
+                    face_centre(cpg, [i, j, k], f + 1),
                 );
                 [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
             })
@@ -291,7 +446,7 @@ impl Path {
         let find = |p: [f64; 3]| -> Option<Ijk> {
             (first..=last).find_map(|k| cpg.locate(p, all(k).filter(|&c| cpg.live(c))))
         };
-        let mut cells: Vec<Ijk> = vec![[well.i, well.j, first]];
+        let mut cells: Vec<Ijk> = vec![[i, j, first]];
         let mut cuts: Vec<f64> = vec![];
         let mut t = 0.0;
         let length = loop {

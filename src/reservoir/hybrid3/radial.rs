@@ -8,7 +8,7 @@ use super::lattice::{Lattice, Level};
 use super::path::Path;
 use super::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
-use crate::geom::{cross_f, dot_f};
+use crate::geom::{cross_f, dist_f, dot_f};
 use crate::reservoir::hybrid::ring_radii;
 use std::f64::consts::TAU;
 
@@ -27,6 +27,11 @@ pub(super) enum End {
         at: f64,
         /// The plug's length along the axis.
         plug: f64,
+        /// The unit normal (along the axis) of the end cell's face that
+        /// the cap parallels, where it is not across the axis: a
+        /// trajectory's end in a thin layer with no layer beyond, whose
+        /// face a cap across the axis would reach past at any useful radius.
+        tilt: Option<[f64; 3]>,
     },
     /// A knee (`bend`): the rings go on into the next (or previous) leg,
     /// mirrored about the mitre plane through the axes' meeting point.
@@ -108,7 +113,25 @@ fn slabs(
         End::Knee(k) if top => k.depth,
         End::Knee(k) => path.length - k.depth,
     };
-    let (ta, tb) = (t_of(ends[0], true), t_of(ends[1], false));
+    // a tilted cap's plane reaches `outer` tan(angle to the axis' normal
+    // plane) along the axis: the rings' first slab across the axis starts
+    // past twice that (a wedge layer between)
+    let tilt = ends.map(|e| match e {
+        End::Cap {
+            tilt: Some(n),
+            plug,
+            ..
+        } => {
+            let c = dot_f(n, u).clamp(-1.0, 1.0);
+            Some((n, 2.0 * outer * (1.0 - c * c).sqrt() / c + 0.25 * plug))
+        }
+        _ => None,
+    });
+    let wedge = tilt.map(|t| t.map_or(0.0, |(_, w)| w));
+    let (ta, tb) = (
+        t_of(ends[0], true) + wedge[0],
+        t_of(ends[1], false) - wedge[1],
+    );
     let n = (path.cuts.len() + 1).max(2);
     let span = match (ends[0], ends[1]) {
         (End::Open(a), End::Open(b)) => (a - b) / -u[2],
@@ -139,11 +162,21 @@ fn slabs(
         .map(|k| ta + (tb - ta) * k as f64 / n as f64)
         .collect();
     match ends[0] {
+        End::Cap {
+            at,
+            plug,
+            tilt: Some(_),
+        } => t.splice(0..0, [at - plug, at]).for_each(drop),
         End::Cap { plug, .. } => t.insert(0, ta - plug),
         End::Knee(_) => t.insert(0, 0.0),
         _ => {}
     }
     match ends[1] {
+        End::Cap {
+            at,
+            plug,
+            tilt: Some(_),
+        } => t.extend([at, at + plug]),
         End::Cap { plug, .. } => t.push(tb + plug),
         End::Knee(_) => t.push(path.length),
         _ => {}
@@ -157,17 +190,29 @@ fn slabs(
         // the planes across the axis a whole number of lattice steps from
         // the first
         // (a knee's mitre is no plane across the axis)
-        let first = usize::from(open[0] || knee[0].is_some());
-        let end = if open[1] || knee[1].is_some() {
-            last - 1
-        } else {
-            last
+        // (nor a tilted cap's planes)
+        let first = match tilt[0] {
+            Some(_) => 2,
+            None => usize::from(open[0] || knee[0].is_some()),
+        };
+        let end = match tilt[1] {
+            Some(_) => last - 2,
+            None if open[1] || knee[1].is_some() => last - 1,
+            None => last,
         };
         for k in first + 1..=end {
             t[k] = t[first] + l.steps(t[k] - t[first]) as f64 * l.step();
         }
     }
+    // a plane parallel to a tilted cap's, through the axis at t
+    let axis = |t: f64| -> [f64; 3] { std::array::from_fn(|a| path.head[a] + t * u[a]) };
+    let tilted = |k: usize| match (k, tilt) {
+        (0 | 1, [Some((n, _)), _]) => Some(n),
+        (k, [_, Some((n, _))]) if k + 1 >= last => Some(n),
+        _ => None,
+    };
     let level = |k: usize| match (k, ends[0], ends[1]) {
+        _ if tilted(k).is_some() => Level::Mitre(axis(t[k]), tilted(k).unwrap_or(u)),
         (0, End::Open(z), _) => Level::Height(z),
         (k, _, End::Open(z)) if k == last => Level::Height(z),
         (0, End::Knee(n), _) => Level::Mitre(n.point, n.normal),
@@ -178,6 +223,18 @@ fn slabs(
     // the ends' sites on one slab across the axis, past the slant; a
     // knee's half its depth from the point, as the other leg's (mirrored)
     let mid = (0..last).map(|k| match (k, knee) {
+        // between a tilted cap's planes, one parallel halfway; between one
+        // and a slab across the axis, the plane halfway along the axis
+        _ if tilted(k).is_some() || tilted(k + 1).is_some() => {
+            let n = tilted(k).or(tilted(k + 1)).unwrap_or(u);
+            let c = dot_f(n, u);
+            let half: [f64; 3] = std::array::from_fn(|a| n[a] / c + u[a]);
+            let n = match tilted(k).is_some() && tilted(k + 1).is_some() {
+                true => n,
+                false => half.map(|x| x / dist_f(half, [0.0; 3])),
+            };
+            Level::Mitre(axis((t[k] + t[k + 1]) / 2.0), n)
+        }
         (0, [Some(n), _]) => Level::Along(n.depth / 2.0),
         (k, [_, Some(n)]) if k + 1 == last => Level::Along(path.length - n.depth / 2.0),
         _ => Level::Along((t[k] + t[k + 1]) / 2.0),
@@ -312,7 +369,7 @@ impl Radial {
         let head = path.head;
         let end = match ends[1] {
             End::Open(z) => (z - head[2]) / path.u[2],
-            End::Cap { at, plug } => at + plug,
+            End::Cap { at, plug, .. } => at + plug,
             End::Knee(_) => path.length,
         };
         let a = (0..3)

@@ -9,7 +9,7 @@
 //! depths at s = 0 and 1), and where two lines cross is computed one way
 //! whichever cell asks.
 
-use super::cpg::{lex, next, one_based, pieces, Cpg, Ijk};
+use super::cpg::{lex, next, one_based, Cpg, Ijk};
 use crate::error::{Error, Result};
 use crate::geom::{ear_clip, newell, orient3, shoelace};
 use std::cmp::Ordering;
@@ -163,9 +163,8 @@ impl Cpg<'_> {
 
     /// Face f of cell c as `pieces` cuts it, facing one cell.
     fn whole(&self, c: Ijk, f: usize, across: Option<Ijk>) -> Vec<Part> {
-        let q = self.face(c, f);
-        pieces(&q)
-            .into_iter()
+        let (q, ps) = self.face_pieces(c, f);
+        ps.into_iter()
             .map(|p| Part {
                 points: p.iter().map(|&n| q[n]).collect(),
                 across,
@@ -251,7 +250,7 @@ impl Cpg<'_> {
                 });
             }
         }
-        if parts.is_empty() && !pieces(&self.face(c, f)).is_empty() {
+        if parts.is_empty() && !self.face_pieces(c, f).1.is_empty() {
             return Err(Error::Usage(format!(
                 "cell {}: its face {f} could not be cut where the cells across meet it",
                 one_based(c)
