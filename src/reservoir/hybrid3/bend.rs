@@ -61,14 +61,16 @@ pub(super) fn paths(cpg: &Cpg, well: &Well3, n: usize, outer: f64) -> Result<Vec
         return one();
     };
     let (pts, ranges) = legs(points, |p| STRAY * outer * side_at(cpg, p));
-    if ranges.len() < 2 {
-        return one();
-    }
     // each leg its chord: the points between may stray from it
     let leg = |r: [usize; 2]| Well3 {
         path: Some(vec![pts[r[0]], pts[r[1]]]),
         ..well.clone()
     };
+    match ranges[..] {
+        [] => return one(),
+        [r] => return Ok(vec![(leg(r), Path::new(cpg, &leg(r))?)]),
+        _ => {}
+    }
     let mut out = ranges
         .iter()
         .map(|&r| Ok((leg(r), Path::new(cpg, &leg(r))?)))
