@@ -141,9 +141,18 @@ fn wells_that_do_not_fit_are_errors() {
             "W: column (8, 4) is not in the grid's 7 x 7 columns",
         ),
         (
-            inactive,
+            inactive.clone(),
             vec![well(0.0)],
             "W: its completion in cell (4, 4, 2) is in an inactive cell",
+        ),
+        (
+            inactive,
+            vec![Well3 {
+                cells: vec![[3, 3, 1]],
+                ..well(0.0)
+            }],
+            "W: its completion has no active cell with thickness (cells (4, 4, 2) to (4, 4, \
+             2), 1 in all)",
         ),
         (
             inverted,
@@ -164,6 +173,7 @@ fn wells_that_do_not_fit_are_errors() {
         ),
     ];
     for (g, wells, says) in cases {
+        assert!(!says.is_empty());
         let err = build(&**b, &g, &wells, &opts).unwrap_err().to_string();
         assert!(err.contains(says), "{says}: {err}");
     }

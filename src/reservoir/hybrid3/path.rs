@@ -112,11 +112,12 @@ pub(super) fn completed(cpg: &Cpg, well: &Well3) -> Result<(Vec<Ijk>, Vec<String
     }
     if live.is_empty() {
         return Err(Error::Usage(format!(
-            "well {}: its completion ({} cells, {} to {}) has no active cell with thickness",
+            "well {}: its completion has no active cell with thickness (cells {} to {}, {} in \
+             all)",
             well.name,
-            cells.len(),
             one_based(cells[0]),
-            one_based(cells[cells.len() - 1])
+            one_based(cells[cells.len() - 1]),
+            cells.len()
         )));
     }
     Ok((live, notes))
