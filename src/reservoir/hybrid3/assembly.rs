@@ -9,7 +9,7 @@ use super::lattice::{find_face, orient_faces};
 use super::radial::{End, Radial};
 use crate::conform::{Outcome, D3};
 use crate::error::Result;
-use crate::geom::{newell, volume, Plane};
+use crate::geom::{dot_f, newell, volume, Plane};
 use crate::mesh::{Link3, Mesh3};
 use crate::reservoir::deck::WellLinks;
 use crate::reservoir::hybrid::{site_radii, Region};
@@ -424,9 +424,20 @@ impl Assembly {
     }
 
     /// Interfaces: a transition's faces on the cavity's sides and on its
-    /// wells' surfaces.
-    pub(super) fn interfaces(&mut self, b: &Built, first_t: usize, first_w: &[usize]) {
+    /// wells' surfaces. Returns the plugs' wedges to anchor: each with the
+    /// one transition cell across its cap triangle (`anchor_wedges`).
+    pub(super) fn interfaces(
+        &mut self,
+        b: &Built,
+        first_t: usize,
+        first_w: &[usize],
+    ) -> Vec<[usize; 2]> {
         let t = &b.outcome;
+        let mut faces_of: HashMap<u32, usize> = HashMap::new();
+        for f in &t.mesh.facet_faces {
+            *faces_of.entry(f.facet).or_default() += 1;
+        }
+        let mut anchors = vec![];
         for f in &t.mesh.facet_faces {
             let a = first_t + f.cell;
             let other = match b.transition.across[f.facet as usize] {
@@ -446,7 +457,21 @@ impl Assembly {
                     None
                 }
                 Across::Cell(c) => self.res_cell.get(&c).copied(),
-                Across::Well(n, [k, q, s]) => Some(first_w[n] + b.radials[n].cell(k, q, s)),
+                Across::Well(n, [k, q, s]) => {
+                    let r = &b.radials[n];
+                    let w = first_w[n] + r.cell(k, q, s);
+                    // a cap's triangle (around the axis' point at the
+                    // plug's far level), not the plug's outer face
+                    let far = r.centre(if k == 0 { 0 } else { r.nl });
+                    let cap = r.is_plug(k)
+                        && b.transition.cx.facets[f.facet as usize].polygons[0]
+                            .iter()
+                            .any(|&v| b.transition.cx.points[v as usize] == far);
+                    if cap && faces_of[&f.facet] == 1 {
+                        anchors.push([w, a]);
+                    }
+                    Some(w)
+                }
                 Across::Outside | Across::Inner => None,
             };
             let Some(other) = other else { continue };
@@ -464,6 +489,46 @@ impl Assembly {
                 d: [f.d, pl.distance(self.out.sites[other])],
                 normal: pl.unit,
             });
+        }
+        anchors
+    }
+
+    /// Each plug's wedge whose cap triangle is one face of one transition
+    /// cell: its site moved, across the cap, onto the normal through that
+    /// cell's site (the foot of the triangle's power centre, about), so
+    /// that their link is orthogonal; kept where that would leave the
+    /// wedge. The distances of the links it has are measured again.
+    pub(super) fn anchor_wedges(&mut self, anchors: &[[usize; 2]]) {
+        let mut moved = std::collections::BTreeSet::new();
+        for &[w, t] in anchors {
+            let Some(l) = self.out.links.iter().find(|l| l.cells == [t, w]) else {
+                continue;
+            };
+            let (n, old, ts) = (l.normal, self.out.sites[w], self.out.sites[t]);
+            let off = dot_f(std::array::from_fn(|k| ts[k] - old[k]), n);
+            let site: [f64; 3] = std::array::from_fn(|k| ts[k] - off * n[k]);
+            // strictly inside the wedge (convex): behind each face's plane
+            let inside = self.out.cells[w].iter().all(|f| {
+                let pts: Vec<[f64; 3]> = f.iter().map(|&v| self.out.points[v as usize]).collect();
+                let v = newell(&pts);
+                dot_f(std::array::from_fn(|k| site[k] - pts[0][k]), v) < 0.0
+            });
+            if inside {
+                self.out.sites[w] = site;
+                moved.insert(w);
+            }
+        }
+        for l in &mut self.out.links {
+            for (i, &c) in l.cells.iter().enumerate() {
+                if moved.contains(&c) && !l.face.is_empty() {
+                    let pts: Vec<[f64; 3]> = l
+                        .face
+                        .iter()
+                        .map(|&v| self.out.points[v as usize])
+                        .collect();
+                    l.d[i] = mean_plane(&pts).distance(self.out.sites[c]);
+                }
+            }
         }
     }
 }
@@ -582,7 +647,8 @@ pub(super) fn assemble(
         let first_t = a.transition(&b.outcome);
         let first_w: Vec<usize> = b.radials.iter().map(|w| a.well(w)).collect();
         a.knees(&b.radials, &first_w);
-        a.interfaces(b, first_t, &first_w);
+        let anchors = a.interfaces(b, first_t, &first_w);
+        a.anchor_wedges(&anchors);
         for (&w, r) in b.cells.wells.iter().zip(&b.radials) {
             names.push((wells[w].name.clone(), wells[w].radius));
             owners.push(well_of[w]);

@@ -332,13 +332,17 @@ impl Path {
                 .collect();
             t.iter().fold(f64::MIN, |a, &b| a.max(b)) - t.iter().fold(f64::MAX, |a, &b| a.min(b))
         };
-        // a twentieth of the start cell along the axis, or of its thickness
-        // along it where that is less (thin layers the axis leans through)
+        // a twentieth of the start cell along the axis; through completed
+        // cells, of its thickness along it where that is less (thin layers
+        // the axis leans through), and each crossing found by bisection
         let thickness = (0..4)
             .map(|n| cpg.corner(start, n)[2] - cpg.corner(start, n + 4)[2])
             .fold(f64::INFINITY, f64::min)
             / u[2].abs().max(1e-3);
-        let step = 0.05 * extent(start).min(thickness.max(1e-6 * extent(start)));
+        let step = match centred {
+            Some(_) => 0.05 * extent(start).min(thickness.max(1e-6 * extent(start))),
+            None => 0.05 * extent(start),
+        };
         let at = |t: f64| -> [f64; 3] { std::array::from_fn(|a| head[a] + t * u[a]) };
         let mut cells = vec![start];
         let mut cuts = vec![];
@@ -378,7 +382,7 @@ impl Path {
             if c != prev {
                 // where it leaves prev, to a thousandth of a step
                 let (mut a, mut b) = (t, next);
-                for _ in 0..10 {
+                for _ in 0..centred.map_or(0, |_| 10) {
                     let m = (a + b) / 2.0;
                     match cpg.locate(at(m), [prev]) {
                         Some(_) => a = m,
@@ -392,11 +396,11 @@ impl Path {
         }
         // a crossing within a hundredth of a step of an end is that end: a
         // head or toe a rounding off its cell's face, in the cell beyond
-        if cuts.first().is_some_and(|&c| c < 0.01 * step) {
+        if centred.is_some() && cuts.first().is_some_and(|&c| c < 0.01 * step) {
             cuts.remove(0);
             cells.remove(0);
         }
-        if cuts.last().is_some_and(|&c| c > length - 0.01 * step) {
+        if centred.is_some() && cuts.last().is_some_and(|&c| c > length - 0.01 * step) {
             cuts.pop();
             cells.pop();
         }
