@@ -139,13 +139,10 @@ fn a_sampled_build_section_is_meshed_as_a_few_legs() {
     // moved onto the normals through the transition's across the caps)
     let radii = &r.cavities[0].outer_radii;
     assert!(radii.iter().all(|&x| x == radii[0]));
-    // The wedges' links to their rings and across sectors (224 at most),
-    // and since 0a04950 184 ring-to-ring links 0.3 to 1.6 degrees off
-    // (370 in all; 192 before): a regression whose cause is not found yet
-    // (not the walk, the cap or the cell test), in docs/limitations.md.
+    // (the wedges' links to their rings)
+    let opts = Hybrid3Options::default();
     let skew = r.by_regions["well-well"].non_orthogonal;
-    println!("a build section: {skew} well-well links off orthogonal");
-    assert!(skew <= 370, "{skew}");
+    assert_eq!(skew, 2 * opts.rings * opts.sectors);
 }
 
 /// A build section of 200 m radius sampled every 10 m in 100 m cells

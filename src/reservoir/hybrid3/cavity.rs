@@ -322,9 +322,11 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
             let n = crate::geom::newell(&cpg.face(c, f));
             let len = crate::geom::dist_f(n, [0.0; 3]);
             let along = crate::geom::dot_f(n, path.u) / len;
-            // (a face across the axis already: the cap as before, on the
-            // axis' lattice)
-            let oblique = along.abs() > 0.5 && 1.0 - along.abs() > 1e-6;
+            // (a face within 5 degrees of across the axis: the cap as
+            // before, on the axis' lattice; the wedge layer between a tilted
+            // cap and the rings costs orthogonal links, its sites on a plane
+            // oblique to the axis)
+            let oblique = along.abs() > 0.5 && along.abs() < 5f64.to_radians().cos();
             oblique.then(|| n.map(|x| x * along.signum() / len))
         };
         let cap = |end: f64, cell: f64, out: f64, face: Option<[f64; 3]>| match inside(
