@@ -424,14 +424,15 @@ impl Assembly {
     }
 
     /// Interfaces: a transition's faces on the cavity's sides and on its
-    /// wells' surfaces. Returns the plugs' wedges to anchor: each with the
-    /// one transition cell across its cap triangle (`anchor_wedges`).
+    /// wells' surfaces. Returns the links of the plugs' wedges to anchor:
+    /// each to the one transition cell across its cap triangle
+    /// (`anchor_wedges`).
     pub(super) fn interfaces(
         &mut self,
         b: &Built,
         first_t: usize,
         first_w: &[usize],
-    ) -> Vec<[usize; 2]> {
+    ) -> Vec<usize> {
         let t = &b.outcome;
         let mut faces_of: HashMap<u32, usize> = HashMap::new();
         for f in &t.mesh.facet_faces {
@@ -440,6 +441,7 @@ impl Assembly {
         let mut anchors = vec![];
         for f in &t.mesh.facet_faces {
             let a = first_t + f.cell;
+            let mut anchor = false;
             let other = match b.transition.across[f.facet as usize] {
                 Across::Cell(c) if !self.res_cell.contains_key(&c) => {
                     // a side shared with another cavity: paired later
@@ -467,9 +469,7 @@ impl Assembly {
                         && b.transition.cx.facets[f.facet as usize].polygons[0]
                             .iter()
                             .any(|&v| b.transition.cx.points[v as usize] == far);
-                    if cap && faces_of[&f.facet] == 1 {
-                        anchors.push([w, a]);
-                    }
+                    anchor = cap && faces_of[&f.facet] == 1;
                     Some(w)
                 }
                 Across::Outside | Across::Inner => None,
@@ -489,6 +489,9 @@ impl Assembly {
                 d: [f.d, pl.distance(self.out.sites[other])],
                 normal: pl.unit,
             });
+            if anchor {
+                anchors.push(self.out.links.len() - 1);
+            }
         }
         anchors
     }
@@ -497,13 +500,13 @@ impl Assembly {
     /// cell: its site moved, across the cap, onto the normal through that
     /// cell's site (the foot of the triangle's power centre, about), so
     /// that their link is orthogonal; kept where that would leave the
-    /// wedge. The distances of the links it has are measured again.
-    pub(super) fn anchor_wedges(&mut self, anchors: &[[usize; 2]]) {
+    /// wedge. The distances of its links (among the cavity's, from
+    /// `first_link` on) are measured again.
+    pub(super) fn anchor_wedges(&mut self, anchors: &[usize], first_link: usize) {
         let mut moved = std::collections::BTreeSet::new();
-        for &[w, t] in anchors {
-            let Some(l) = self.out.links.iter().find(|l| l.cells == [t, w]) else {
-                continue;
-            };
+        for &a in anchors {
+            let l = &self.out.links[a];
+            let [t, w] = l.cells;
             let (n, old, ts) = (l.normal, self.out.sites[w], self.out.sites[t]);
             let off = dot_f(std::array::from_fn(|k| ts[k] - old[k]), n);
             let site: [f64; 3] = std::array::from_fn(|k| ts[k] - off * n[k]);
@@ -518,7 +521,7 @@ impl Assembly {
                 moved.insert(w);
             }
         }
-        for l in &mut self.out.links {
+        for l in &mut self.out.links[first_link..] {
             for (i, &c) in l.cells.iter().enumerate() {
                 if moved.contains(&c) && !l.face.is_empty() {
                     let pts: Vec<[f64; 3]> = l
@@ -644,11 +647,12 @@ pub(super) fn assemble(
     let mut firsts = vec![];
     let mut cavity_of = vec![];
     for (n, b) in built.iter().enumerate() {
+        let first_link = a.out.links.len();
         let first_t = a.transition(&b.outcome);
         let first_w: Vec<usize> = b.radials.iter().map(|w| a.well(w)).collect();
         a.knees(&b.radials, &first_w);
         let anchors = a.interfaces(b, first_t, &first_w);
-        a.anchor_wedges(&anchors);
+        a.anchor_wedges(&anchors, first_link);
         for (&w, r) in b.cells.wells.iter().zip(&b.radials) {
             names.push((wells[w].name.clone(), wells[w].radius));
             owners.push(well_of[w]);

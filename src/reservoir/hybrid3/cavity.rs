@@ -315,17 +315,15 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
             let p: [f64; 3] = std::array::from_fn(|a| path.head[a] + t * path.u[a]);
             cpg.locate(p, cells.iter().copied()).is_some()
         };
-        // parallel to the end cell's face there where that is less than 60
-        // degrees off the axis' normal plane (thin layers that the axis
-        // leans through leave a cap across it no room)
+        // parallel to the end cell's top or bottom where that is 5 to 60
+        // degrees off across the axis (thin layers the axis leans through
+        // leave a cap across it no room); nearer, across the axis, on its
+        // lattice (the wedge layer between a tilted cap and the rings costs
+        // orthogonal links: its sites lie on a plane oblique to the axis)
         let tilt = |c: Ijk, f: usize| {
             let n = crate::geom::newell(&cpg.face(c, f));
             let len = crate::geom::dist_f(n, [0.0; 3]);
             let along = crate::geom::dot_f(n, path.u) / len;
-            // (a face within 5 degrees of across the axis: the cap as
-            // before, on the axis' lattice; the wedge layer between a tilted
-            // cap and the rings costs orthogonal links, its sites on a plane
-            // oblique to the axis)
             let oblique = along.abs() > 0.5 && along.abs() < 5f64.to_radians().cos();
             oblique.then(|| n.map(|x| x * along.signum() / len))
         };
@@ -343,14 +341,18 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
                 tilt: face,
             },
         };
-        let toe: [f64; 3] = std::array::from_fn(|a| path.head[a] + path.length * path.u[a]);
-        let last = cpg.locate(toe, path.cells.iter().copied()).unwrap_or(last);
+        // the cell that holds the toe
+        let toe_cell = || {
+            let toe: [f64; 3] = std::array::from_fn(|a| path.head[a] + path.length * path.u[a]);
+            cpg.locate(toe, path.cells.iter().copied()).unwrap_or(last)
+        };
         // a knee at a bend (placed with the leg across, `bend::chain`)
         let knee = |half: Option<f64>| half.map(|_| End::Knee(Knee::default()));
         return [
             knee(path.bends[0])
                 .unwrap_or_else(|| cap(0.0, first_layer, -1.0, tilt(path.head_cell, 4))),
-            knee(path.bends[1]).unwrap_or_else(|| cap(path.length, last_layer, 1.0, tilt(last, 5))),
+            knee(path.bends[1])
+                .unwrap_or_else(|| cap(path.length, last_layer, 1.0, tilt(toe_cell(), 5))),
         ];
     }
     [
@@ -409,14 +411,14 @@ pub(super) fn radials(
             .iter()
             .map(|&n| (wells[n], paths[n], ends(cpg, paths[n], cells)))
             .collect();
+        // (a radial mesh too wide for its interval, as tilted caps' wedges
+        // make it, shrinks as one that does not fit)
+        let tilted = legs
+            .iter()
+            .flat_map(|l| l.2)
+            .any(|e| matches!(e, End::Cap { tilt: Some(_), .. }));
         let mut tries = 0;
         let built = loop {
-            // (a radial mesh too wide for its interval, as tilted caps'
-            // wedges make it, shrinks as one that does not fit)
-            let tilted = legs
-                .iter()
-                .flat_map(|l| l.2)
-                .any(|e| matches!(e, End::Cap { tilt: Some(_), .. }));
             let rs = match super::bend::chain(&legs, opts, outer) {
                 Err(_) if tilted && tries < 40 && outer * 0.8 > 2.0 * wells[chain[0]].radius => {
                     outer *= 0.8;

@@ -139,13 +139,12 @@ fn column(g: &CornerPointGrid, well: &Well3) -> Result<()> {
 }
 
 /// The well as the trajectory (x, y, depth) through its live completed
-/// cells (then its `cells`), as the
-/// simulator connects them: from its first cell's top through each cell's
-/// centre to its last cell's bottom (points on the diagonal its top and
-/// bottom are split along). None where the well
-/// is a straight axis: a trajectory of its own, `straight`, or centres on
-/// one vertical (within 1e-9 of the first cell's side): a column whose
-/// pillars stand upright, meshed as one vertical path.
+/// cells (then its `cells`), as the simulator connects them: from its
+/// first cell's top through each cell's centre to its last cell's bottom
+/// (points on the diagonal its top and bottom are split along). None
+/// where the well is a straight axis: a trajectory of its own, `straight`,
+/// or centres on one vertical (within 1e-9 of the first cell's side): a
+/// column whose pillars stand upright, meshed as one vertical path.
 pub(super) fn through_centres(cpg: &Cpg, well: &Well3) -> Result<Option<Well3>> {
     if well.path.is_some() || well.straight || well.dip != 0.0 {
         return Ok(None);

@@ -27,10 +27,11 @@ pub(super) enum End {
         at: f64,
         /// The plug's length along the axis.
         plug: f64,
-        /// The unit normal (along the axis) of the end cell's face that
-        /// the cap parallels, where it is not across the axis: a
-        /// trajectory's end in a thin layer with no layer beyond, whose
-        /// face a cap across the axis would reach past at any useful radius.
+        /// The unit normal (along the axis) of the end cell's top or
+        /// bottom that the cap parallels, where that face is more than 5
+        /// degrees off across the axis (a trajectory through thin layers
+        /// it leans through, whose faces a cap across the axis would
+        /// reach past at any useful radius).
         tilt: Option<[f64; 3]>,
     },
     /// A knee (`bend`): the rings go on into the next (or previous) leg,
@@ -211,32 +212,30 @@ fn slabs(
         (k, [_, Some((n, _))]) if k + 1 >= last => Some(n),
         _ => None,
     };
-    let level = |k: usize| match (k, ends[0], ends[1]) {
-        _ if tilted(k).is_some() => Level::Mitre(axis(t[k]), tilted(k).unwrap_or(u)),
-        (0, End::Open(z), _) => Level::Height(z),
-        (k, _, End::Open(z)) if k == last => Level::Height(z),
-        (0, End::Knee(n), _) => Level::Mitre(n.point, n.normal),
-        (k, _, End::Knee(n)) if k == last => Level::Mitre(n.point, n.normal),
+    let level = |k: usize| match (k, ends[0], ends[1], tilted(k)) {
+        (.., Some(n)) => Level::Mitre(axis(t[k]), n),
+        (0, End::Open(z), ..) => Level::Height(z),
+        (k, _, End::Open(z), _) if k == last => Level::Height(z),
+        (0, End::Knee(n), ..) => Level::Mitre(n.point, n.normal),
+        (k, _, End::Knee(n), _) if k == last => Level::Mitre(n.point, n.normal),
         _ => Level::Along(t[k]),
     };
     let levels = (0..=last).map(level).collect();
     // the ends' sites on one slab across the axis, past the slant; a
     // knee's half its depth from the point, as the other leg's (mirrored)
-    let mid = (0..last).map(|k| match (k, knee) {
-        // between a tilted cap's planes, one parallel halfway; between one
-        // and a slab across the axis, the plane halfway along the axis
-        _ if tilted(k).is_some() || tilted(k + 1).is_some() => {
-            let n = tilted(k).or(tilted(k + 1)).unwrap_or(u);
+    let mid = (0..last).map(|k| match (k, knee, tilted(k), tilted(k + 1)) {
+        // between a tilted cap's planes, one parallel halfway
+        (.., Some(n), Some(_)) => Level::Mitre(axis((t[k] + t[k + 1]) / 2.0), n),
+        // between one and a slab across the axis, the plane halfway along
+        // the axis
+        (.., Some(n), None) | (.., None, Some(n)) => {
             let c = dot_f(n, u);
             let half: [f64; 3] = std::array::from_fn(|a| n[a] / c + u[a]);
-            let n = match tilted(k).is_some() && tilted(k + 1).is_some() {
-                true => n,
-                false => half.map(|x| x / dist_f(half, [0.0; 3])),
-            };
+            let n = half.map(|x| x / dist_f(half, [0.0; 3]));
             Level::Mitre(axis((t[k] + t[k + 1]) / 2.0), n)
         }
-        (0, [Some(n), _]) => Level::Along(n.depth / 2.0),
-        (k, [_, Some(n)]) if k + 1 == last => Level::Along(path.length - n.depth / 2.0),
+        (0, [Some(n), _], ..) => Level::Along(n.depth / 2.0),
+        (k, [_, Some(n)], ..) if k + 1 == last => Level::Along(path.length - n.depth / 2.0),
         _ => Level::Along((t[k] + t[k + 1]) / 2.0),
     });
     Ok((levels, mid.collect()))
