@@ -405,28 +405,31 @@ fn a_nearly_horizontal_well_in_spe9() {
     assert!(r.conforms());
 }
 
-/// A horizontal well along x through a box (a straight trajectory), with
-/// Thiem's pressure of the distance to its axis held on the box's sides:
-/// two-point flux on the 3D hybrid against Thiem's radial solution at
-/// r = L/4, away from the well's ends. Prints what it measures.
+/// A horizontal well along x through a box of 25 x 11 x 6 cells of 10 m
+/// (a straight trajectory in the middle of layer 4), with Thiem's
+/// pressure of the distance to its axis held on the box's sides: every
+/// transition site inside its cell, every link to the well and to the
+/// reservoir orthogonal, and two-point flux on the 3D hybrid against
+/// Thiem's radial solution a quarter of the box's height (15 m) from the
+/// axis, away from the well's ends. Prints what it measures.
 #[test]
 fn a_horizontal_well_against_thiem() {
     use orthomesh::reservoir::flow::solve;
-    let (nx, n, h) = (15, 7, 10.0);
-    let g = CornerPointGrid::cartesian([nx, n, n], [h, h, h]);
-    let c = n as f64 * h / 2.0; // the axis: y = c, depth = c
+    let ([nx, ny, nz], h) = ([25, 11, 6], 10.0);
+    let g = CornerPointGrid::cartesian([nx, ny, nz], [h, h, h]);
+    let (y, depth) = (55.0, 35.0); // the axis
     let w = Well3 {
         name: "H".into(),
         radius: 0.1,
-        path: Some(vec![[15.0, c, c], [75.0, c, c], [135.0, c, c]]),
+        path: Some(vec![[45.0, y, depth], [125.0, y, depth], [205.0, y, depth]]),
         ..Default::default()
     };
     let hy = lenient(&g, w);
     let r = &hy.report;
     assert!(r.conforms());
     let m = &hy.mesh;
-    let dist = |x: [f64; 3]| (x[1] - c).hypot(x[2] + c);
-    let length = 120.0;
+    let dist = |x: [f64; 3]| (x[1] - y).hypot(x[2] + depth);
+    let length = 160.0;
     let q = 1.0;
     let exact = |r: f64| -q / length / std::f64::consts::TAU * r.ln();
     let conns = connections(m);
@@ -439,7 +442,7 @@ fn a_horizontal_well_against_thiem() {
         source[k] = q * f / total;
     }
     // the box's sides: Thiem's pressure half a cell beyond each side's sites
-    let side = n as f64 * h;
+    let (sy, sz) = (ny as f64 * h, nz as f64 * h);
     let mut fixed = vec![];
     for k in 0..cells {
         let Some([i, j, kk]) = hy.ijk[k] else {
@@ -448,25 +451,26 @@ fn a_horizontal_well_against_thiem() {
         let s = m.sites[k];
         for (on, x) in [
             (j == 0, [s[0], 0.0, s[2]]),
-            (j == n - 1, [s[0], side, s[2]]),
+            (j == ny - 1, [s[0], sy, s[2]]),
             (kk == 0, [s[0], s[1], 0.0]),
-            (kk == n - 1, [s[0], s[1], -side]),
+            (kk == nz - 1, [s[0], s[1], -sz]),
             (i == 0 || i == nx - 1, s),
         ] {
             if on {
-                fixed.push((k as u32, h * h / (h / 2.0), exact(dist(x))));
+                // (the axis' line meets the box's ends at cell centres)
+                fixed.push((k as u32, h * h / (h / 2.0), exact(dist(x).max(h / 2.0))));
             }
         }
     }
     let p = solve(cells, &conns, &fixed, &source).unwrap();
     // away from the ends: the middle 50 m
-    let middle = |k: usize| (50.0..=100.0).contains(&m.sites[k][0]);
+    let middle = |k: usize| (100.0..=150.0).contains(&m.sites[k][0]);
     let inner: Vec<usize> = bore.iter().map(|l| l.0).filter(|&k| middle(k)).collect();
     let band: Vec<usize> = (0..cells)
         .filter(|&k| {
             hy.region[k] == Region::Reservoir
                 && middle(k)
-                && (dist(m.sites[k]) - side / 4.0).abs() <= h / 2.0
+                && (dist(m.sites[k]) - sz / 4.0).abs() <= h / 2.0
         })
         .collect();
     assert!(!inner.is_empty() && !band.is_empty());
@@ -474,16 +478,27 @@ fn a_horizontal_well_against_thiem() {
     let ana =
         mean(&|k| exact(dist(m.sites[k])), &inner) - mean(&|k| exact(dist(m.sites[k])), &band);
     let err = (num - ana).abs() / ana;
+    let links = |pair: &str| r.by_regions.get(pair).cloned().unwrap_or_default();
+    let (tw, rt) = (links("transition-well"), links("reservoir-transition"));
     println!(
-        "Thiem check, horizontal well along x ({nx} x {n} x {n} cells of {h} m, 120 m of well, \
-         rw = 0.1 m): pressure drop to r = L/4 off by {:.3}% in the middle 50 m ({} cells, {} of {} \
-         transition sites outside, {} non-orthogonal connections)",
-        100.0 * err,
-        cells,
+        "horizontal well along x ({nx} x {ny} x {nz} cells of {h} m, 160 m of well in layer 4, \
+         rw = 0.1 m, outer radius {:.1} m): {} of {} transition sites outside; transition-well \
+         links {} ({} off orthogonal), reservoir-transition {} ({} off); Thiem's pressure drop to \
+         r = 15 m off by {:.3}% in the middle 50 m ({num:.6} against {ana:.6}, {} and {} cells)",
+        r.cavities[0].outer_radii[0],
         r.sites_outside,
         r.cells[1],
-        r.non_orthogonal
+        tw.connections,
+        tw.non_orthogonal,
+        rt.connections,
+        rt.non_orthogonal,
+        100.0 * err,
+        inner.len(),
+        band.len(),
     );
+    assert_eq!(r.sites_outside, 0);
+    assert!(tw.connections > 0 && tw.non_orthogonal == 0 && tw.one_sided == 0);
+    assert!(rt.connections > 0 && rt.non_orthogonal == 0 && rt.one_sided == 0);
     assert!(err < 0.01, "{err}");
     write("horizontal", &hy);
 }

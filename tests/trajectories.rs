@@ -32,7 +32,8 @@ fn a_trajectory_that_bends_is_meshed_as_its_legs() {
     assert!(r.conforms());
     assert_eq!(r.cavities.len(), 1);
     assert_eq!(r.cavities[0].wells, vec!["L".to_string()]);
-    assert_eq!(r.cavities[0].outer_radii, vec![10.0, 10.0]);
+    // (at 10 m, 109 of 538 transition sites outside: tried again at 8 m, 66)
+    assert_eq!(r.cavities[0].outer_radii, vec![8.0, 8.0]);
     // one well, linked along its vertical leg and along its horizontal one
     assert_eq!(h.wellbore.len(), 1);
     let sites: Vec<[f64; 3]> = h.wellbore[0]
@@ -47,13 +48,13 @@ fn a_trajectory_that_bends_is_meshed_as_its_legs() {
         .iter()
         .any(|p| p[0] > 50.0 && (p[2] + 35.0).abs() < 5.0));
     // no gap at the knee: both legs' layers there reach the mitre (their
-    // sites half of 2 r tan 45 + r / 4 from the knee's point, r = 10 m)
+    // sites half of 2 r tan 45 + r / 4 from the knee's point, r = 8 m)
     let knee = [25.0, 35.0, -35.0];
     let nearest = sites
         .iter()
         .map(|p| (0..3).map(|k| (p[k] - knee[k]).powi(2)).sum::<f64>().sqrt())
         .fold(f64::INFINITY, f64::min);
-    assert!((11.25..11.26).contains(&nearest), "{nearest}");
+    assert!((9.0..9.01).contains(&nearest), "{nearest}");
     // the layers at the knee mirror each other across it: each ring cell
     // of one linked to its image, orthogonally; only the far plugs' links
     // are not

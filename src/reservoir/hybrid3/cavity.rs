@@ -113,8 +113,8 @@ pub(super) fn reach(cpg: &Cpg, well: &Well3, path: &Path, opts: &Hybrid3Options)
     let cells = dilate(cpg, path, 1);
     let open: Vec<(usize, f64)> = path.open_faces().collect();
     let outer = sides(cpg, &cells, &open)
-        .and_then(|sides| radials(cpg, &[well], &[path], &cells, &sides, opts))
-        .map_or(f64::INFINITY, |r| r[0].outer);
+        .and_then(|sides| radials(cpg, &[well], &[path], &cells, &sides, opts, 1.0))
+        .map_or(f64::INFINITY, |r| r.0[0].outer);
     usize::from(outer > OWN_COLUMN * head_side(cpg, path))
 }
 
@@ -390,6 +390,8 @@ pub(super) fn ends(cpg: &Cpg, path: &Path, cells: &BTreeSet<Ijk>) -> [End; 2] {
 /// well's axis, shrunk until the outer surface stays inside the cavity a
 /// quarter of the thinnest completed layer (or half side) from its sides.
 /// A bent well's legs here are one chain at one radius (`bend::chain`).
+/// `scale` shrinks every starting radius; also returns whether no chain
+/// had to shrink from there.
 pub(super) fn radials(
     cpg: &Cpg,
     wells: &[&Well3],
@@ -397,8 +399,10 @@ pub(super) fn radials(
     cells: &BTreeSet<Ijk>,
     sides: &[Side],
     opts: &Hybrid3Options,
-) -> Result<Vec<Radial>> {
+    scale: f64,
+) -> Result<(Vec<Radial>, bool)> {
     let mut out: Vec<Option<Radial>> = (0..wells.len()).map(|_| None).collect();
+    let mut full = true;
     for chain in chains(paths) {
         let mut outer = f64::INFINITY;
         let mut clear = f64::INFINITY;
@@ -407,6 +411,7 @@ pub(super) fn radials(
             outer = outer.min(o);
             clear = clear.min(c);
         }
+        outer *= scale;
         let legs: Vec<(&Well3, &Path, [End; 2])> = chain
             .iter()
             .map(|&n| (wells[n], paths[n], ends(cpg, paths[n], cells)))
@@ -457,11 +462,12 @@ pub(super) fn radials(
                 }
             }
         };
+        full &= tries == 0;
         for (n, r) in chain.into_iter().zip(built) {
             out[n] = Some(r);
         }
     }
-    Ok(out.into_iter().flatten().collect())
+    Ok((out.into_iter().flatten().collect(), full))
 }
 
 /// The wells in a cavity as chains: a bent well's consecutive legs

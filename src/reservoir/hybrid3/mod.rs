@@ -307,8 +307,22 @@ pub fn build<B: Backend + ?Sized>(
                 )));
             }
             let sides = cavity::sides(&cpg, &cells.cells, &open)?;
-            let radials = cavity::radials(&cpg, &ws, &ps, &cells.cells, &sides, opts)?;
-            let (transition, outcome) = complex::mesh(backend, &sides, &radials, opts)?;
+            let (mut radials, full) =
+                cavity::radials(&cpg, &ws, &ps, &cells.cells, &sides, opts, 1.0)?;
+            let (mut transition, mut outcome) = complex::mesh(backend, &sides, &radials, opts)?;
+            // Radial meshes as wide as asked come within half a cell of the
+            // sides, whose facets' balls may then take them in: the sites
+            // of those facets cannot all be inside (a horizontal well in a
+            // box of 10 m cells: 48 of 582 outside at 10 m, none at 9 or 8).
+            // Once smaller, kept if fewer are outside.
+            if full && outside(&outcome) > 0 {
+                let (smaller, _) =
+                    cavity::radials(&cpg, &ws, &ps, &cells.cells, &sides, opts, RETRY_SCALE)?;
+                let (t, o) = complex::mesh(backend, &sides, &smaller, opts)?;
+                if outside(&o) < outside(&outcome) {
+                    (radials, transition, outcome) = (smaller, t, o);
+                }
+            }
             let outcome = outcome.map_err(|e| Error::Within {
                 part: format!("the cavity of {}", well_names(&ws)),
                 error: Box::new(e),
@@ -328,6 +342,16 @@ pub fn build<B: Backend + ?Sized>(
     let mut h = assembly::assemble(&cpg, wells, &owner, built)?;
     h.report.notes = notes;
     Ok(h)
+}
+
+/// The radii a cavity's wells try again at when some transition sites
+/// are outside their cells (`build`).
+const RETRY_SCALE: f64 = 0.8;
+
+/// A transition's sites outside their cells (an error: all of them).
+fn outside(o: &Result<crate::conform::Outcome<D3>>) -> usize {
+    o.as_ref()
+        .map_or(usize::MAX, |o| o.report.sites.sites_outside)
 }
 
 /// "well W" or "wells A, B": a cavity's wells, each once (a bent well's
