@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::hybrid3::lenient;
+use common::hybrid3::{lenient, write_as};
 use orthomesh::reservoir::hybrid3::{Hybrid3, Well3};
 use orthomesh::reservoir::CornerPointGrid;
 use std::path::Path;
@@ -79,6 +79,9 @@ fn wells_in_each_class_of_emeralds_columns() {
     ] {
         let h = lenient(emerald(), along("W", &cells));
         print(what, &h);
+        // for tests/readers.py (check_twisted), by its first and last column
+        let ([i, j, _], [i2, j2, _]) = (cells[0], cells[cells.len() - 1]);
+        write_as(&format!("twisted3-emerald-{i}-{j}-{i2}-{j2}"), &h);
         assert!(h.report.conforms(), "{what}");
         // the well's cells are among its completed cells' cavity: its
         // radial mesh is linked to the transition

@@ -187,5 +187,21 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
              cavity's median volume (smallest {:.3e})",
             r.sites_outside, r.slivers, r.smallest_volume_share
         );
+        // where the cavity's geometry, not the relocation, keeps sites out
+        let (proved, outside) = r
+            .cavities
+            .iter()
+            .filter(|c| c.transition.sites.sites_outside > 0)
+            .fold((0, 0), |(p, o), c| {
+                let w = &c.transition.weights;
+                (p + usize::from(w.system3_proof.is_some()), o + 1)
+            });
+        if proved > 0 {
+            eprintln!(
+                "  of the {outside} cavities with sites outside, {proved} have facets that no \
+                 weights let all cross their duals (an exact proof: `system3_proof` in the \
+                 report), so some of their sites cannot be inside: docs/limitations.md"
+            );
+        }
     })
 }

@@ -45,6 +45,10 @@ pub(super) struct Cpg<'g> {
     thrown: Vec<bool>,
     /// The faces FAULTS names, (cell, face), from both sides.
     faults: std::collections::BTreeSet<(Ijk, usize)>,
+    /// Per column (j nx + i), whether its tops and bottoms are split along
+    /// the diagonal between its pillars (i + 1, j) and (i, j + 1) rather
+    /// than (i, j) and (i + 1, j + 1) (`diagonals`).
+    other_diagonal: Vec<bool>,
 }
 
 impl<'g> Cpg<'g> {
@@ -104,6 +108,7 @@ impl<'g> Cpg<'g> {
             pillars,
             thrown,
             faults,
+            other_diagonal: diagonals(g),
         }
     }
 
@@ -216,16 +221,29 @@ impl<'g> Cpg<'g> {
     }
 
     /// Face f's corners, outward, and its pieces (`pieces`): a top or
-    /// bottom that is split is split along the diagonal from the corner at
-    /// the column's first pillar (di = dj = 0), so that a cell's top and
-    /// bottom, and the cells above and below, take the same diagonal and a
-    /// thin cell's two surfaces cannot cross where its top twists.
+    /// bottom that is split is split along its column's diagonal
+    /// (`diagonals`), so that a cell's top and bottom, and the cells above
+    /// and below, take the same diagonal and a thin cell's two surfaces
+    /// cannot cross where its top twists; unless the face itself is
+    /// concave, then through its reflex corner.
     pub(super) fn face_pieces(&self, c: Ijk, f: usize) -> ([[f64; 3]; 4], Vec<Vec<usize>>) {
         let q = self.face(c, f);
-        // corner 0 (top) or 4 (bottom) is first in FACES, last reversed
-        let through = (f >= 4).then_some(if self.left_handed() { 3 } else { 0 });
+        // corner 0 (top) or 4 (bottom) is first in FACES, last reversed;
+        // the other diagonal is through the next
+        let first = if self.left_handed() { 3 } else { 0 };
+        let other = usize::from(self.other_diagonal[c[1] * self.g.nx + c[0]]);
+        let through = (f >= 4).then_some((first + other) % 4);
         let p = pieces(&q, through);
         (q, p)
+    }
+
+    /// The corners of the diagonal its column's tops are split along
+    /// (`diagonals`); the bottoms' are these plus 4.
+    pub(super) fn diagonal(&self, c: Ijk) -> [usize; 2] {
+        match self.other_diagonal[c[1] * self.g.nx + c[0]] {
+            true => [1, 2],
+            false => [0, 3],
+        }
     }
 
     /// The triangles of the pieces of the cell's faces, outward.
@@ -331,8 +349,11 @@ pub(super) fn pieces(q: &[[f64; 3]; 4], through: Option<usize>) -> Vec<Vec<usize
             if planar && strictly_convex(q) {
                 return vec![vec![0, 1, 2, 3]];
             }
-            let least =
-                through.unwrap_or_else(|| (0..4).min_by(|&a, &b| lex(&q[a], &q[b])).unwrap_or(0));
+            // (a quad concave in its view along its normal folds when split
+            // along the other diagonal: emerald's cells at its edge)
+            let least = reflex(q)
+                .or(through)
+                .unwrap_or_else(|| (0..4).min_by(|&a, &b| lex(&q[a], &q[b])).unwrap_or(0));
             let (a, b, c, d) = (least, (least + 1) % 4, (least + 2) % 4, (least + 3) % 4);
             vec![vec![a, b, c], vec![a, c, d]]
                 .into_iter()
@@ -340,6 +361,91 @@ pub(super) fn pieces(q: &[[f64; 3]; 4], through: Option<usize>) -> Vec<Vec<usize
                 .collect()
         }
     }
+}
+
+/// Per column, whether its tops and bottoms take the diagonal between
+/// its pillars (i + 1, j) and (i, j + 1): where its outline halfway down
+/// its pillars, seen from above, is concave or straight at one of them, or
+/// convex with
+/// that diagonal Delaunay and the other not (exactly). Else (0, 0) to
+/// (1, 1), ties included: a rectangle's keeps it. (A diagonal across a
+/// nearly straight corner makes a sliver triangle, under which the side
+/// faces at that corner cross the top: emerald's edge columns.)
+fn diagonals(g: &CornerPointGrid) -> Vec<bool> {
+    let (nx, ny) = (g.nx, g.ny);
+    let mid = |i: usize, j: usize| {
+        let c = g.coord[j * (nx + 1) + i];
+        [(c[0] + c[3]) / 2.0, (c[1] + c[4]) / 2.0]
+    };
+    let mut out = Vec::with_capacity(nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            // around the outline: corners 0, 1, 3, 2 (pillars (i, j),
+            // (i + 1, j), (i + 1, j + 1), (i, j + 1))
+            let p = [mid(i, j), mid(i + 1, j), mid(i + 1, j + 1), mid(i, j + 1)];
+            let turns: Vec<Ordering> = (0..4)
+                .map(|k| orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]))
+                .collect();
+            let left = turns.iter().filter(|&&t| t == Ordering::Greater).count();
+            let right = turns.iter().filter(|&&t| t == Ordering::Less).count();
+            let other = match (left, right) {
+                (4, 0) | (0, 4) => in_circle(p[0], p[1], p[2], p[3]),
+                (3, 1) => turns[1] == Ordering::Less || turns[3] == Ordering::Less,
+                (1, 3) => turns[1] == Ordering::Greater || turns[3] == Ordering::Greater,
+                // a straight corner: the diagonal through it
+                (l, r) if l + r == 3 => turns[1] == Ordering::Equal || turns[3] == Ordering::Equal,
+                _ => false,
+            };
+            out.push(other);
+        }
+    }
+    out
+}
+
+/// Whether d lies strictly inside the circle through a, b, c (exactly).
+fn in_circle(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    use crate::geom::{det3_q, q};
+    let row = |p: [f64; 2]| {
+        let (x, y) = (q(p[0]) - q(d[0]), q(p[1]) - q(d[1]));
+        let r = &x * &x + &y * &y;
+        [x, y, r]
+    };
+    let (ra, rb, rc) = (row(a), row(b), row(c));
+    let det = det3_q([
+        [&ra[0], &ra[1], &ra[2]],
+        [&rb[0], &rb[1], &rb[2]],
+        [&rc[0], &rc[1], &rc[2]],
+    ]);
+    match orient(a, b, c) {
+        Ordering::Greater => crate::geom::is_pos(&det),
+        Ordering::Less => crate::geom::is_pos(&-det),
+        Ordering::Equal => false,
+    }
+}
+
+/// The one corner where a quadrilateral, seen along its Newell normal,
+/// turns against the other three (exactly): only the diagonal through it
+/// lies inside. None where it turns one way (convex), or two and two (a
+/// bow tie), or straight somewhere.
+fn reflex(q: &[[f64; 3]; 4]) -> Option<usize> {
+    let n = newell(q);
+    let axis = (0..3)
+        .max_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+        .unwrap_or(2);
+    let flat = |p: [f64; 3]| crate::geom::drop_axis(axis, p);
+    let turns: Vec<Ordering> = (0..4)
+        .map(|k| orient(flat(q[(k + 3) % 4]), flat(q[k]), flat(q[(k + 1) % 4])))
+        .collect();
+    if turns.contains(&Ordering::Equal) {
+        return None;
+    }
+    let left = turns.iter().filter(|&&t| t == Ordering::Greater).count();
+    let odd = match left {
+        1 => Ordering::Greater,
+        3 => Ordering::Less,
+        _ => return None,
+    };
+    turns.iter().position(|&t| t == odd)
 }
 
 /// Whether a planar quadrilateral turns one way at every corner.
@@ -433,6 +539,33 @@ mod tests {
         assert_eq!(cpg.locate(at(11.5), [[0, 0, 0]]), Some([0, 0, 0]));
         assert_eq!(cpg.locate(at(6.5), [[0, 0, 0]]), None);
         assert_eq!(cpg.locate(at(13.5), [[0, 0, 0]]), None);
+    }
+
+    #[test]
+    fn tops_split_along_the_diagonal_inside_the_column() {
+        // the column's outline: corners 0 (0, 0), 1, 3 (150, 150), 2 (0, 150)
+        let top_pieces = |x: f64, y: f64| {
+            let mut g = CornerPointGrid::cartesian([1, 1, 1], [150.0, 150.0, 3.0]);
+            g.coord[1] = [x, y, 0.0, x, y, 3.0];
+            // (corner 0 a metre down: a twisted top, split)
+            g.zcorn[0] += 1.0;
+            Cpg::new(&g).face_pieces([0, 0, 0], 4).1
+        };
+        // (face 4's corners in order are the cell's 0, 1, 3, 2)
+        let other = vec![vec![1, 2, 3], vec![1, 3, 0]];
+        let first = vec![vec![0, 1, 2], vec![0, 2, 3]];
+        // concave at corner 1: only the diagonal 1-2 lies inside
+        assert_eq!(top_pieces(50.0, 70.0), other);
+        // convex but nearly straight at corner 1: the Delaunay diagonal,
+        // not a sliver under which the sides at that corner cross the top
+        assert_eq!(top_pieces(75.0, 74.9), other);
+        // a square's tie, and a convex outline Delaunay either way, keep
+        // the diagonal 0-3 (a twisted top, so that it is split)
+        let mut g = CornerPointGrid::cartesian([1, 1, 1], [150.0, 150.0, 3.0]);
+        g.zcorn[0] += 1.0;
+        assert_eq!(Cpg::new(&g).face_pieces([0, 0, 0], 4).1, first);
+        // the bottoms alike
+        assert_eq!(Cpg::new(&g).diagonal([0, 0, 0]), [0, 3]);
     }
 
     #[test]

@@ -315,12 +315,17 @@ pub fn build<B: Backend + ?Sized>(
             // of those facets cannot all be inside (a horizontal well in a
             // box of 10 m cells: 48 of 582 outside at 10 m, none at 9 or 8).
             // Once smaller, kept if fewer are outside.
+            // (an attempt that fails leaves the first)
             if full && outside(&outcome) > 0 {
-                let (smaller, _) =
-                    cavity::radials(&cpg, &ws, &ps, &cells.cells, &sides, opts, RETRY_SCALE)?;
-                let (t, o) = complex::mesh(backend, &sides, &smaller, opts)?;
-                if outside(&o) < outside(&outcome) {
-                    (radials, transition, outcome) = (smaller, t, o);
+                let again =
+                    cavity::radials(&cpg, &ws, &ps, &cells.cells, &sides, opts, RETRY_SCALE)
+                        .and_then(|(smaller, _)| {
+                            complex::mesh(backend, &sides, &smaller, opts).map(|m| (smaller, m))
+                        });
+                if let Ok((smaller, (t, o))) = again {
+                    if outside(&o) < outside(&outcome) {
+                        (radials, transition, outcome) = (smaller, t, o);
+                    }
                 }
             }
             let outcome = outcome.map_err(|e| Error::Within {

@@ -158,9 +158,15 @@ pub(super) fn through_centres(cpg: &Cpg, well: &Well3) -> Result<Option<Well3>> 
             ns.iter().map(|&n| cpg.corner(c, n)[a]).sum::<f64>() / ns.len() as f64
         })
     };
-    let head = mean(cells[0], &[0, 3]);
-    let toe = mean(cells[cells.len() - 1], &[4, 7]);
-    let centres: Vec<[f64; 3]> = cells.iter().map(|&c| mean(c, &[0, 3, 4, 7])).collect();
+    let top = |c: Ijk| cpg.diagonal(c);
+    let bottom = |c: Ijk| cpg.diagonal(c).map(|n| n + 4);
+    let last = cells[cells.len() - 1];
+    let head = mean(cells[0], &top(cells[0]));
+    let toe = mean(last, &bottom(last));
+    let centres: Vec<[f64; 3]> = cells
+        .iter()
+        .map(|&c| mean(c, &[top(c), bottom(c)].concat()))
+        .collect();
     let tol = 1e-9 * cpg.side(cells[0]);
     let upright = centres
         .iter()
