@@ -6,7 +6,8 @@
 pub struct Element {
     /// Its volume.
     pub volume: f64,
-    /// Its node: the site, not the centroid.
+    /// Its node: the site, not the centroid (in 3D, the centroid where the
+    /// site lies outside its cell: `Mesh3::network`).
     pub node: [f64; 3],
 }
 
