@@ -203,6 +203,7 @@ thread_local! {
 /// Runs `f` so that raising `stop` interrupts its HiGHS runs (and makes
 /// every later one fail at once) with an error that the caller discards.
 /// Run speculatively beside the work that decides whether it is needed.
+#[cfg(test)]
 pub(crate) fn cancellable<T>(stop: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
     CANCEL.with_borrow_mut(|c| c.push(stop.clone()));
     let out = f();
@@ -210,8 +211,18 @@ pub(crate) fn cancellable<T>(stop: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T
     out
 }
 
-/// Runs `f` with `flags` as this thread's cancellation flags.
-fn carried<T>(flags: &[Arc<AtomicBool>], f: impl FnOnce() -> T) -> T {
+/// This thread's cancellation flags, for work that may run on another
+/// thread (`carried`).
+pub(crate) fn flags() -> Vec<Arc<AtomicBool>> {
+    CANCEL.with_borrow(|c| c.clone())
+}
+
+/// Runs `f` with `flags` as this thread's cancellation flags. Every job
+/// that may run on another of rayon's threads carries its maker's flags
+/// so: a thread waiting in a join steals other jobs, which must not see
+/// the flags of the work it waits in (a whole cavity's weights were
+/// cancelled so, as an internal error).
+pub(crate) fn carried<T>(flags: &[Arc<AtomicBool>], f: impl FnOnce() -> T) -> T {
     let before = CANCEL.with_borrow_mut(|c| std::mem::replace(c, flags.to_vec()));
     let out = f();
     CANCEL.with_borrow_mut(|c| *c = before);

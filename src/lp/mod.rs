@@ -31,7 +31,9 @@ mod pieces;
 mod proof;
 mod rows;
 
-pub(crate) use highs::{cancellable, destroy_finished};
+#[cfg(test)]
+pub(crate) use highs::cancellable;
+pub(crate) use highs::{carried, destroy_finished, flags};
 use highs::{Basis, Lp, Mode, Solution};
 pub(crate) use pieces::solve_pieces;
 #[cfg(test)]

@@ -159,6 +159,7 @@ pub(crate) fn solve_pieces(
     let n = sys.n;
     let parts = pieces(sys);
     let done = AtomicUsize::new(0);
+    let outer = super::flags();
     let answers: Vec<(Result<Answer>, WeightsReport)> = parts
         .par_iter()
         .map(|p| {
@@ -166,7 +167,7 @@ pub(crate) fn solve_pieces(
                 deadline: report.deadline,
                 ..Default::default()
             };
-            let answer = solve_rows(&p.sys, false, &mut r);
+            let answer = super::carried(&outer, || solve_rows(&p.sys, false, &mut r));
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
             if let Some(f) = progress.filter(|_| k % 64 == 0 || k == parts.len()) {
                 f("weights: LP pieces", k, parts.len());

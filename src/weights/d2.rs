@@ -61,7 +61,8 @@ pub fn solve<B: Backend + ?Sized>(
     dom: &Domain,
     progress: Option<Progress>,
 ) -> Result<Weights> {
-    let out = solve_unanchored_first(backend, dom, progress);
+    // (nothing cancels weights from outside: see weights::d3::solve)
+    let out = crate::lp::carried(&[], || solve_unanchored_first(backend, dom, progress));
     destroy_finished();
     let mut out = out?;
     let cx = &dom.complex;

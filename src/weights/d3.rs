@@ -29,7 +29,7 @@ use crate::backend::{Backend, Tetrahedralisation};
 use crate::error::{Error, Result};
 use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
 use crate::lp::{
-    cancellable, destroy_finished, prove, solve_rows, Answer, Certificate, Duals, Units,
+    carried, destroy_finished, flags, prove, solve_rows, Answer, Certificate, Duals, Units,
     WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
 };
 use crate::{
@@ -86,8 +86,20 @@ pub struct Weights3 {
 
 /// Finds weights for a validated, triangulated 3D complex, whole polygons
 /// kept as `keep` asks: each way in turn (`Keep::ways`) while the LP finds
-/// no solution or fails.
+/// no solution or fails. Nothing cancels them from outside: a thread that
+/// steals this work from within cancellable work does not pass its flags.
 pub fn solve<B: Backend + ?Sized>(
+    backend: &B,
+    cx: &Complex3,
+    sc: &Simplices3,
+    keep: Keep,
+    cut: &[u32],
+) -> Result<Weights3> {
+    carried(&[], || solve_any(backend, cx, sc, keep, cut))
+}
+
+/// `solve`, with this thread's cancellation flags.
+fn solve_any<B: Backend + ?Sized>(
     backend: &B,
     cx: &Complex3,
     sc: &Simplices3,
@@ -130,6 +142,7 @@ fn solve_kept<B: Backend + ?Sized>(
         // succeeds: the same results, and on TetGen's example (the first
         // attempt is infeasible) its time is saved.
         let stop = Arc::new(AtomicBool::new(false));
+        let with_stop: Vec<_> = flags().into_iter().chain([stop.clone()]).collect();
         let (a, b) = rayon::join(
             || {
                 let a = global(backend, cx, dt, faces(cx, sc, all, cut), way);
@@ -137,7 +150,7 @@ fn solve_kept<B: Backend + ?Sized>(
                 a
             },
             || {
-                cancellable(&stop, || {
+                carried(&with_stop, || {
                     (!stop.load(Ordering::Relaxed))
                         .then(|| global(backend, cx, dt, faces(cx, sc, &first, cut), way))
                 })
@@ -792,6 +805,20 @@ mod tests {
 
     fn run(cx: &Complex3) -> Result<Weights3> {
         run_kept(cx, Keep::Auto)
+    }
+
+    /// A thread waiting in cancellable work may steal another cavity's
+    /// weights (rayon): raised flags there must not cancel them (they did,
+    /// as "an LP run was cancelled but its result was used").
+    #[test]
+    fn weights_stolen_into_cancelled_work_are_not_cancelled() {
+        let raised = Arc::new(AtomicBool::new(true));
+        // (a point inside a box: the LP runs)
+        let cx = boxed(vec![[1.0, 0.5, 0.5]]);
+        let alone = run(&cx).unwrap();
+        assert!(alone.report.lp_solves > 0);
+        let stolen = crate::lp::cancellable(&raised, || run(&cx)).unwrap();
+        assert_eq!(stolen.w, alone.w);
     }
 
     /// Whether the lifts (p, |p|^2 - w) of a whole polygon's vertices lie
