@@ -229,10 +229,9 @@ pub(crate) fn carried<T>(flags: &[Arc<AtomicBool>], f: impl FnOnce() -> T) -> T 
     out
 }
 
-/// Runs `main` and `aside` in parallel where rayon finds a free thread,
-/// both cancelled where the caller is, each given the flag that makes the
-/// other moot: raised, it cancels the other's HiGHS runs, or keeps it from
-/// starting (None). With one thread in the pool, `aside` runs first.
+/// Runs `aside`, then `main`, both cancelled where the caller is, each
+/// given the flag that makes the other moot: raised, it keeps the other
+/// from starting (None).
 pub(crate) fn beside<A: Send, B: Send>(
     main: impl FnOnce(&AtomicBool) -> A + Send,
     aside: impl FnOnce(&AtomicBool) -> B + Send,
@@ -251,15 +250,11 @@ pub(crate) fn beside<A: Send, B: Send>(
     let (mut a, mut b) = (None, None);
     let mut run_main = Some(|| main(&moot_aside));
     let mut run_aside = Some(|| aside(&moot_main));
-    if rayon::current_num_threads() < 2 {
-        unless(&moot_aside, &mut || b = run_aside.take().map(|f| f()));
-        unless(&moot_main, &mut || a = run_main.take().map(|f| f()));
-    } else {
-        rayon::join(
-            || unless(&moot_main, &mut || a = run_main.take().map(|f| f())),
-            || unless(&moot_aside, &mut || b = run_aside.take().map(|f| f())),
-        );
-    }
+    // One after the other: run side by side, a cavity's weights failed
+    // now and then with a cancelled run's error (fields3, emerald (5, 4)
+    // 12-18, in 2 of 4 runs of the suite), its cause not found.
+    unless(&moot_aside, &mut || b = run_aside.take().map(|f| f()));
+    unless(&moot_main, &mut || a = run_main.take().map(|f| f()));
     (a, b)
 }
 

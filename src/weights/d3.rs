@@ -29,8 +29,8 @@ use crate::backend::{Backend, Tetrahedralisation};
 use crate::error::{Error, Result};
 use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
 use crate::lp::{
-    carried, destroy_finished, flags, prove, solve_rows, Answer, Certificate, Duals, Units,
-    WeightsReport, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
+    carried, destroy_finished, prove, solve_rows, Answer, Certificate, Duals, Units, WeightsReport,
+    GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
 };
 use crate::{
     complex::Complex3,
@@ -38,8 +38,6 @@ use crate::{
     geom::{drop_axis, plane_axis},
 };
 use std::collections::{BTreeSet, HashSet};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 
 /// Polygons with more vertices than this are triangulated (the exact check
 /// of a whole polygon looks at every triple of its vertices).
@@ -137,35 +135,9 @@ fn solve_kept<B: Backend + ?Sized>(
     way: Keep,
 ) -> Result<Weights3> {
     let first = untouched(cx, sc, all);
-    let (mut out, mut whole) = if first != all {
-        // The retry runs beside the first attempt, cancelled when that
-        // succeeds: the same results, and on TetGen's example (the first
-        // attempt is infeasible) its time is saved.
-        let stop = Arc::new(AtomicBool::new(false));
-        let with_stop: Vec<_> = flags().into_iter().chain([stop.clone()]).collect();
-        let (a, b) = rayon::join(
-            || {
-                let a = global(backend, cx, dt, faces(cx, sc, all, cut), way);
-                stop.store(!mended(&a), Ordering::Relaxed);
-                a
-            },
-            || {
-                carried(&with_stop, || {
-                    (!stop.load(Ordering::Relaxed))
-                        .then(|| global(backend, cx, dt, faces(cx, sc, &first, cut), way))
-                })
-            },
-        );
-        match b {
-            Some(b) if mended(&a) => (b, first.clone()),
-            _ => (a, all.to_vec()),
-        }
-    } else {
-        (
-            global(backend, cx, dt, faces(cx, sc, all, cut), way),
-            all.to_vec(),
-        )
-    };
+    // (one after the other: see lp::highs::beside)
+    let mut whole = all.to_vec();
+    let mut out = global(backend, cx, dt, faces(cx, sc, all, cut), way);
     for retry in [first, vec![false; all.len()]] {
         if !mended(&out) {
             break;
@@ -806,6 +778,8 @@ mod tests {
     fn run(cx: &Complex3) -> Result<Weights3> {
         run_kept(cx, Keep::Auto)
     }
+
+    use std::sync::{atomic::AtomicBool, Arc};
 
     /// A thread waiting in cancellable work may steal another cavity's
     /// weights (rayon): raised flags there must not cancel them (they did,
