@@ -383,9 +383,7 @@ fn diagonals(g: &CornerPointGrid) -> Vec<bool> {
             // around the outline: corners 0, 1, 3, 2 (pillars (i, j),
             // (i + 1, j), (i + 1, j + 1), (i, j + 1))
             let p = [mid(i, j), mid(i + 1, j), mid(i + 1, j + 1), mid(i, j + 1)];
-            let turns: Vec<Ordering> = (0..4)
-                .map(|k| orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]))
-                .collect();
+            let turns = turns(p);
             let left = turns.iter().filter(|&&t| t == Ordering::Greater).count();
             let right = turns.iter().filter(|&&t| t == Ordering::Less).count();
             let other = match (left, right) {
@@ -428,14 +426,7 @@ fn in_circle(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
 /// lies inside. None where it turns one way (convex), or two and two (a
 /// bow tie), or straight somewhere.
 fn reflex(q: &[[f64; 3]; 4]) -> Option<usize> {
-    let n = newell(q);
-    let axis = (0..3)
-        .max_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
-        .unwrap_or(2);
-    let flat = |p: [f64; 3]| crate::geom::drop_axis(axis, p);
-    let turns: Vec<Ordering> = (0..4)
-        .map(|k| orient(flat(q[(k + 3) % 4]), flat(q[k]), flat(q[(k + 1) % 4])))
-        .collect();
+    let turns = turns(flat(q));
     if turns.contains(&Ordering::Equal) {
         return None;
     }
@@ -450,14 +441,22 @@ fn reflex(q: &[[f64; 3]; 4]) -> Option<usize> {
 
 /// Whether a planar quadrilateral turns one way at every corner.
 fn strictly_convex(q: &[[f64; 3]; 4]) -> bool {
+    let turns = turns(flat(q));
+    turns[0] != Ordering::Equal && turns.iter().all(|&t| t == turns[0])
+}
+
+/// A quadrilateral seen along its Newell normal (its largest axis dropped).
+fn flat(q: &[[f64; 3]; 4]) -> [[f64; 2]; 4] {
     let n = newell(q);
     let axis = (0..3)
         .max_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
         .unwrap_or(2);
-    let flat = |p: [f64; 3]| crate::geom::drop_axis(axis, p);
-    let turn = |k: usize| orient(flat(q[k]), flat(q[(k + 1) % 4]), flat(q[(k + 2) % 4]));
-    let first = turn(0);
-    first != Ordering::Equal && (1..4).all(|k| turn(k) == first)
+    q.map(|p| crate::geom::drop_axis(axis, p))
+}
+
+/// The way a quadrilateral turns at each corner (exactly).
+fn turns(p: [[f64; 2]; 4]) -> [Ordering; 4] {
+    std::array::from_fn(|k| orient(p[(k + 3) % 4], p[k], p[(k + 1) % 4]))
 }
 
 /// A piece's fan of triangles.
