@@ -629,10 +629,10 @@ pub(super) fn well_links(
 /// per path its well.
 pub(super) fn assemble(
     cpg: &Cpg,
-    wells: &[super::Well3],
+    wells: &[super::well::Well3],
     well_of: &[usize],
     built: Vec<Built>,
-) -> Result<super::Hybrid3> {
+) -> Result<super::report::Hybrid3> {
     let mut a = Assembly::default();
     let owner: BTreeMap<Ijk, usize> = built
         .iter()
@@ -691,9 +691,9 @@ pub(super) fn assemble(
         .count();
     let host = hosts(cpg, &built, &ijk, &out.sites, first_t, &cavity_of);
     let count = |r: Region| region.iter().filter(|&&x| x == r).count();
-    let cavities: Vec<super::CavityReport> = built
+    let cavities: Vec<super::report::CavityReport> = built
         .into_iter()
-        .map(|b| super::CavityReport {
+        .map(|b| super::report::CavityReport {
             wells: {
                 let mut names: Vec<String> = vec![];
                 for &w in &b.cells.wells {
@@ -718,7 +718,7 @@ pub(super) fn assemble(
             .map(|&c| cavity_of[c - first_t])
             .collect::<Vec<_>>(),
     );
-    let report = super::Hybrid3Report {
+    let report = super::report::Hybrid3Report {
         cells: [
             count(Region::Reservoir),
             count(Region::Transition),
@@ -742,7 +742,7 @@ pub(super) fn assemble(
         smallest_volume_share,
         notes: vec![],
     };
-    Ok(super::Hybrid3 {
+    Ok(super::report::Hybrid3 {
         mesh: out,
         region,
         ijk,

@@ -9,7 +9,7 @@
 use super::cpg::Cpg;
 use super::path::{off_line, Path};
 use super::radial::{frame, After, End, Knee, Radial};
-use super::{Hybrid3Options, Well3};
+use super::well::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
 use crate::geom::{dist_f, dot_f};
 use crate::reservoir::deck::WellLinks;

@@ -7,7 +7,7 @@
 use super::cpg::{one_based, Cpg, Ijk};
 use super::path::Path;
 use super::radial::{End, Knee, Radial};
-use super::{Hybrid3Options, Well3};
+use super::well::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
 use std::collections::{BTreeMap, BTreeSet};
 

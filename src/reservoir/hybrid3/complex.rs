@@ -7,7 +7,7 @@ use super::cavity::Side;
 use super::cpg::Ijk;
 use super::radial::{End, Radial};
 use super::refine;
-use super::Hybrid3Options;
+use super::well::Hybrid3Options;
 use crate::backend::Backend;
 use crate::complex::{Complex3, Facet};
 use crate::conform::{conform3, Outcome, D3};

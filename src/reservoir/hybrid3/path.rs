@@ -5,7 +5,7 @@
 //! cavity (where the mesh is closed by plugs).
 
 use super::cpg::{one_based, Cpg, Ijk};
-use super::Well3;
+use super::well::Well3;
 use crate::error::{Error, Result};
 use crate::reservoir::CornerPointGrid;
 

@@ -6,7 +6,7 @@
 
 use super::lattice::{Lattice, Level};
 use super::path::Path;
-use super::{Hybrid3Options, Well3};
+use super::well::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
 use crate::geom::{cross_f, dist_f, dot_f};
 use crate::reservoir::hybrid::ring_radii;

@@ -4,7 +4,7 @@
 //! side of their face (a two-point transmissibility that is negative or
 //! infinite); transition cells much smaller than their cavity's others.
 
-use super::Connections;
+use super::report::Connections;
 use crate::mesh::Mesh3;
 use crate::reservoir::hybrid::Region;
 use std::collections::BTreeMap;
