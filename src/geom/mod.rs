@@ -2,6 +2,7 @@
 //! intervals, rationals) and the measures in doubles. The one place where
 //! a geometric decision is made.
 
+mod cut;
 mod dyadic;
 mod exact;
 mod grid;
@@ -12,6 +13,7 @@ mod running;
 mod simplices;
 mod solid;
 
+pub use cut::{CutFace, Cutter, Halfspace};
 pub use dyadic::*;
 pub use exact::*;
 pub use grid::Grid;

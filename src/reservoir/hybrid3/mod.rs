@@ -26,6 +26,9 @@ mod cavity;
 mod complex;
 mod cpg;
 mod lattice;
+// not yet called by `build`: the assembly of layered cavities comes next
+#[allow(dead_code)]
+mod layered;
 mod path;
 mod radial;
 mod refine;

@@ -1,0 +1,531 @@
+//! A layered cavity's cells: each cell of the 2D section (a transition or
+//! radial cell) times each layer of the cavity, a prism across the layers
+//! (so every link inside the cavity is orthogonal: the section's faces
+//! stand across the layers, the layers' planes lie across the prisms), cut
+//! by the walls of the cavity's columns. A section cell on the cavity's
+//! side reaches on, along its faces with its neighbours, to the walls
+//! (which lean off the prisms' axis where the layers dip).
+
+use super::super::cpg::{Cpg, Ijk};
+use super::frame::{Frame, PLANAR};
+use crate::geom::{CutFace, Cutter, Halfspace};
+use crate::mesh::Mesh;
+use crate::reservoir::hybrid::Region;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+
+/// What lies across a cell's face.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Across {
+    /// The cell of section cell c in layer k.
+    Cell(usize, usize),
+    /// A grid cell outside the cavity (or none: the grid's side, an
+    /// inactive cell).
+    Grid(Option<Ijk>),
+    /// The wellbore (a radial cell's inner face).
+    Wellbore,
+}
+
+/// A cell: section cell `c` in layer `k`, its faces (points in frame
+/// coordinates, `Cutter::points`) with what is across each, its site.
+#[derive(Debug, Clone)]
+pub(crate) struct Cell {
+    pub(crate) c: usize,
+    pub(crate) k: usize,
+    pub(crate) faces: Vec<(Across, Vec<u32>)>,
+    pub(crate) site: [f64; 3],
+    /// Whether the site lies inside the cell (within the walls of a
+    /// column of the cavity; inside its section cell by the section's
+    /// certificate).
+    pub(crate) inside: bool,
+}
+
+/// A layered cavity: its columns, layers k0..=k1, and section cells.
+pub(crate) struct Cavity {
+    pub(crate) cols: BTreeSet<[usize; 2]>,
+    pub(crate) k: [usize; 2],
+    pub(crate) cells: Vec<usize>,
+}
+
+/// The walls between columns: ('I', i, j) between (i - 1, j) and (i, j),
+/// ('J', i, j) between (i, j - 1) and (i, j).
+type Wall = (char, usize, usize);
+
+/// Column (i, j)'s walls, in the order of cpg's faces I-, I+, J-, J+, and
+/// the column across each.
+fn walls([i, j]: [usize; 2]) -> [(Wall, Option<[usize; 2]>); 4] {
+    [
+        (('I', i, j), i.checked_sub(1).map(|i| [i, j])),
+        (('I', i + 1, j), Some([i + 1, j])),
+        (('J', i, j), j.checked_sub(1).map(|j| [i, j])),
+        (('J', i, j + 1), Some([i, j + 1])),
+    ]
+}
+
+struct Build<'a> {
+    cpg: &'a Cpg<'a>,
+    f: &'a Frame,
+    m: &'a Mesh,
+    cut: Cutter,
+    lines: HashMap<u32, u32>,
+    edges: HashMap<(u32, u32), u32>,
+    walls: HashMap<Wall, u32>,
+    slabs: Vec<u32>,
+}
+
+impl Build<'_> {
+    /// The vertical line through section point p.
+    fn line(&mut self, p: u32) -> u32 {
+        if let Some(&l) = self.lines.get(&p) {
+            return l;
+        }
+        let q = self.m.points[p as usize];
+        let l = self.cut.line([q[0], q[1], 0.0], [0.0, 0.0, 1.0]);
+        self.lines.insert(p, l);
+        l
+    }
+
+    /// The plane of section edge p -> q, and whether a cell on its left
+    /// keeps the plane's outside (its normal points right of min -> max).
+    fn edge(&mut self, p: u32, q: u32) -> (u32, bool) {
+        let (a, b) = (p.min(q), p.max(q));
+        let id = match self.edges.get(&(a, b)) {
+            Some(&id) => id,
+            None => {
+                let (x, y) = (self.m.points[a as usize], self.m.points[b as usize]);
+                let n = [y[1] - x[1], x[0] - y[0], 0.0];
+                let c = n[0] * x[0] + n[1] * x[1];
+                let id = self.cut.plane(Halfspace { n, c });
+                self.edges.insert((a, b), id);
+                id
+            }
+        };
+        (id, p > q)
+    }
+
+    /// The plane of a wall, and whether its normal points out of column
+    /// `col` (its inside is then the plane's inside).
+    fn wall(&mut self, w: Wall, col: [usize; 2], f: usize) -> (u32, bool) {
+        let id = match self.walls.get(&w) {
+            Some(&id) => id,
+            None => {
+                let [k0, k1] = [self.f.k0, self.f.k0 + self.f.h.len() - 2];
+                let mut pts = self.cpg.face([col[0], col[1], k0], f).to_vec();
+                pts.extend(self.cpg.face([col[0], col[1], k1], f));
+                let q: Vec<[f64; 3]> = pts.iter().map(|&p| self.f.to(p)).collect();
+                let (o, n) = super::frame::plane_fit(&q);
+                let c = crate::geom::dot_f(n, o);
+                let id = self.cut.plane(Halfspace { n, c });
+                self.walls.insert(w, id);
+                id
+            }
+        };
+        // outward for this column: its centre inside
+        let centre = self.f.to(self.cpg.centre([col[0], col[1], self.f.k0]));
+        (id, self.cut.planes[id as usize].eval(centre) < 0.0)
+    }
+}
+
+/// The section cell's polygon as lines and side planes, reaching past the
+/// cavity's side (its edges there, with no section neighbour, left out)
+/// within a box: (lines, sides with their flips, what is across each).
+fn outline(
+    b: &mut Build,
+    c: usize,
+    inside: &dyn Fn(u32) -> bool,
+    owner: &HashMap<(u32, u32), u32>,
+    region: Region,
+    reach: f64,
+) -> Option<(Vec<u32>, Vec<(u32, bool)>, Vec<Option<usize>>)> {
+    let poly = b.m.cells[c].clone();
+    let n = poly.len();
+    // per edge: Some(neighbour), Some(usize::MAX) the wellbore, None open
+    let mut kinds = vec![];
+    for k in 0..n {
+        let (p, q) = (poly[k], poly[(k + 1) % n]);
+        kinds.push(match owner.get(&(q, p)) {
+            Some(&d) if inside(d) => Some(d as usize),
+            _ if region == Region::Well => Some(usize::MAX),
+            _ => None,
+        });
+    }
+    if kinds.iter().all(Option::is_some) {
+        let lines = poly.iter().map(|&p| b.line(p)).collect();
+        let sides = (0..n).map(|k| b.edge(poly[k], poly[(k + 1) % n])).collect();
+        return Some((lines, sides, kinds));
+    }
+    // open: its closed edges' half-planes, and its open edges' moved out
+    // by `reach` (as far as the walls lean off the section), in 2D
+    let pts: Vec<[f64; 2]> = poly.iter().map(|&p| b.m.points[p as usize]).collect();
+    let (lo, hi) = crate::geom::bbox(&pts);
+    let (lo, hi) = (lo.map(|x| x - 2.0 * reach), hi.map(|x| x + 2.0 * reach));
+    let shift = |k: usize| -> ([f64; 2], [f64; 2]) {
+        let (a, z) = (pts[k], pts[(k + 1) % n]);
+        if kinds[k].is_some() {
+            return (a, z);
+        }
+        let (dx, dy) = (z[0] - a[0], z[1] - a[1]);
+        let len = dx.hypot(dy);
+        let o = [reach * dy / len, -reach * dx / len];
+        ([a[0] + o[0], a[1] + o[1]], [z[0] + o[0], z[1] + o[1]])
+    };
+    // vertices as (point, the edge before it, the edge after it): edges
+    // by index into the polygon, box sides as n..n+4
+    let corners = [
+        [lo[0], lo[1]],
+        [hi[0], lo[1]],
+        [hi[0], hi[1]],
+        [lo[0], hi[1]],
+    ];
+    let mut ring: Vec<([f64; 2], usize, usize)> = (0..4)
+        .map(|k| (corners[k], n + (k + 3) % 4, n + k))
+        .collect();
+    for k in 0..n {
+        let (a, z) = shift(k);
+        let side = |x: [f64; 2]| (z[0] - a[0]) * (x[1] - a[1]) - (z[1] - a[1]) * (x[0] - a[0]);
+        let mut next = vec![];
+        for e in 0..ring.len() {
+            let (x, y) = (ring[e], ring[(e + 1) % ring.len()]);
+            let (sx, sy) = (side(x.0), side(y.0));
+            if sx >= 0.0 {
+                next.push(x);
+            }
+            if (sx >= 0.0) != (sy >= 0.0) {
+                let t = sx / (sx - sy);
+                let p = [
+                    x.0[0] + t * (y.0[0] - x.0[0]),
+                    x.0[1] + t * (y.0[1] - x.0[1]),
+                ];
+                // entering: along edge k before it, the ring's edge after;
+                // leaving: the ring's edge before, edge k after
+                if sx < 0.0 {
+                    next.push((p, k, x.2));
+                } else {
+                    next.push((p, x.2, k));
+                }
+            }
+        }
+        ring = next;
+        if ring.len() < 3 {
+            return None;
+        }
+    }
+    let mut lines = vec![];
+    let mut sides = vec![];
+    let mut across = vec![];
+    for (v, (p, _, after)) in ring.iter().enumerate() {
+        let before = ring[(v + ring.len() - 1) % ring.len()].2;
+        // a vertex between consecutive closed edges is the polygon's point
+        let closed = |e: usize| e < n && kinds[e].is_some();
+        let l = if closed(before) && closed(*after) && *after == (before + 1) % n {
+            b.line(poly[*after])
+        } else {
+            b.cut.line([p[0], p[1], 0.0], [0.0, 0.0, 1.0])
+        };
+        lines.push(l);
+        if closed(*after) {
+            sides.push(b.edge(poly[*after], poly[(*after + 1) % n]));
+            across.push(kinds[*after]);
+        } else if *after < n {
+            let (x, y) = shift(*after);
+            let nrm = [y[1] - x[1], x[0] - y[0], 0.0];
+            let id = b.cut.plane(Halfspace {
+                n: nrm,
+                c: nrm[0] * x[0] + nrm[1] * x[1],
+            });
+            sides.push((id, false));
+            across.push(None);
+        } else {
+            let k = *after - n;
+            let (x, y) = (corners[k], corners[(k + 1) % 4]);
+            let nrm = [y[1] - x[1], x[0] - y[0], 0.0];
+            let id = b.cut.plane(Halfspace {
+                n: nrm,
+                c: nrm[0] * x[0] + nrm[1] * x[1],
+            });
+            sides.push((id, false));
+            across.push(Some(usize::MAX - 1));
+        }
+    }
+    Some((lines, sides, across))
+}
+
+/// A cell being labelled: section cell c in layer k (the cavity's t-th of
+/// nl), its sides' planes and what is across each.
+struct At<'s> {
+    c: usize,
+    k: usize,
+    t: usize,
+    nl: usize,
+    sides: &'s [u32],
+    kinds: &'s [Option<usize>],
+}
+
+impl Build<'_> {
+    /// A prism's pieces in the cavity's columns (whose outlines' boxes
+    /// meet its own): cut by each column's walls.
+    fn pieces(
+        &mut self,
+        faces: &[CutFace],
+        boxes: &BTreeMap<[usize; 2], ([f64; 2], [f64; 2])>,
+    ) -> Vec<([usize; 2], Vec<CutFace>)> {
+        let flat: Vec<[f64; 2]> = faces
+            .iter()
+            .flat_map(|f| f.points.iter())
+            .map(|&p| {
+                let q = self.cut.points[p as usize];
+                [q[0], q[1]]
+            })
+            .collect();
+        let (lo, hi) = crate::geom::bbox(&flat);
+        let mut pieces = vec![];
+        for (&col, &(clo, chi)) in boxes {
+            if clo[0] > hi[0] || chi[0] < lo[0] || clo[1] > hi[1] || chi[1] < lo[1] {
+                continue;
+            }
+            let mut piece = faces.to_vec();
+            for (fi, (w, _)) in walls(col).into_iter().enumerate() {
+                let (id, out) = self.wall(w, col, fi);
+                piece = self.cut.cut(&piece, id, !out);
+                if piece.is_empty() {
+                    break;
+                }
+            }
+            if !piece.is_empty() {
+                pieces.push((col, piece));
+            }
+        }
+        pieces
+    }
+
+    /// A piece's faces with what is across each (faces on walls between
+    /// the cavity's columns left out); returns whether the site lies
+    /// within the column's walls.
+    fn label(
+        &mut self,
+        cav: &Cavity,
+        at: &At,
+        col: [usize; 2],
+        piece: &[CutFace],
+        site: [f64; 3],
+        out: &mut Vec<(Across, u32, Vec<u32>)>,
+    ) -> bool {
+        let (cpg, k) = (self.cpg, at.k);
+        let wall_ids: Vec<(u32, bool, Option<[usize; 2]>)> = walls(col)
+            .into_iter()
+            .enumerate()
+            .map(|(fi, (w, across))| {
+                let (id, out) = self.wall(w, col, fi);
+                (id, out, across)
+            })
+            .collect();
+        let within = wall_ids.iter().all(|&(id, out, _)| {
+            let e = self.cut.planes[id as usize].eval(site);
+            if out {
+                e <= 0.0
+            } else {
+                e >= 0.0
+            }
+        });
+        let grid = |c: Option<Ijk>| {
+            Across::Grid(
+                c.filter(|x| x[0] < cpg.g.nx && x[1] < cpg.g.ny && x[2] < cpg.g.nz && cpg.live(*x)),
+            )
+        };
+        for face in piece {
+            let across = if let Some(&(_, _, other)) = wall_ids.iter().find(|w| w.0 == face.plane) {
+                match other {
+                    Some(o) if cav.cols.contains(&o) => continue,
+                    o => grid(o.map(|[i, j]| [i, j, k])),
+                }
+            } else if face.plane == self.slabs[at.t] {
+                match at.t {
+                    0 => grid(k.checked_sub(1).map(|k| [col[0], col[1], k])),
+                    _ => Across::Cell(at.c, k - 1),
+                }
+            } else if face.plane == self.slabs[at.t + 1] {
+                match at.t + 1 == at.nl {
+                    true => grid(Some([col[0], col[1], k + 1])),
+                    false => Across::Cell(at.c, k + 1),
+                }
+            } else {
+                match at
+                    .sides
+                    .iter()
+                    .position(|&s| s == face.plane)
+                    .map(|s| at.kinds[s])
+                {
+                    Some(Some(usize::MAX)) => Across::Wellbore,
+                    Some(Some(d)) if d < usize::MAX - 1 => Across::Cell(d, k),
+                    _ => Across::Grid(None),
+                }
+            };
+            out.push((across, face.plane, face.points.clone()));
+        }
+        within
+    }
+}
+
+/// The cells of a layered cavity, and the cutter holding their points.
+pub(crate) fn cells(
+    cpg: &Cpg,
+    f: &Frame,
+    m: &Mesh,
+    region: &[Region],
+    cav: &Cavity,
+) -> (Cutter, Vec<Cell>) {
+    let mut b = Build {
+        cpg,
+        f,
+        m,
+        cut: Cutter::new(PLANAR * f.size),
+        lines: HashMap::new(),
+        edges: HashMap::new(),
+        walls: HashMap::new(),
+        slabs: vec![],
+    };
+    b.slabs =
+        f.h.iter()
+            .map(|&h| {
+                b.cut.plane(Halfspace {
+                    n: [0.0, 0.0, 1.0],
+                    c: h,
+                })
+            })
+            .collect();
+    let set: BTreeSet<u32> = cav.cells.iter().map(|&c| c as u32).collect();
+    let inside = |d: u32| set.contains(&d);
+    let owner: HashMap<(u32, u32), u32> = m.edge_owners().into_iter().collect();
+    let reach = lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
+    let nl = cav.k[1] - cav.k[0] + 1;
+    // the columns' outlines at the cavity's top and bottom, for quick tests
+    let boxes: BTreeMap<[usize; 2], ([f64; 2], [f64; 2])> = cav
+        .cols
+        .iter()
+        .map(|&[i, j]| {
+            let mut q: Vec<[f64; 2]> = vec![];
+            for k in [cav.k[0], cav.k[1]] {
+                for p in cpg.corners([i, j, k]) {
+                    let t = f.to(p);
+                    q.push([t[0], t[1]]);
+                }
+            }
+            ([i, j], crate::geom::bbox(&q))
+        })
+        .collect();
+    let mut out = vec![];
+    for &c in &cav.cells {
+        let Some((lines, sides, kinds)) = outline(&mut b, c, &inside, &owner, region[c], reach)
+        else {
+            continue;
+        };
+        let side_ids: Vec<u32> = sides.iter().map(|s| s.0).collect();
+        for t in 0..nl {
+            let k = cav.k[0] + t;
+            let Some(mut faces) = b.cut.prism(&lines, &side_ids, b.slabs[t + 1], b.slabs[t]) else {
+                continue;
+            };
+            let pieces = b.pieces(&faces, &boxes);
+            faces.clear();
+            let site2 = m.sites[c];
+            let site = [site2[0], site2[1], 0.5 * (f.h[t] + f.h[t + 1])];
+            let mut inside_site = false;
+            let mut labelled: Vec<(Across, u32, Vec<u32>)> = vec![];
+            let at = At {
+                c,
+                k,
+                t,
+                nl,
+                sides: &side_ids,
+                kinds: &kinds,
+            };
+            for (col, piece) in &pieces {
+                inside_site |= b.label(cav, &at, *col, piece, site, &mut labelled);
+            }
+            let merged = merge(labelled);
+            out.push(Cell {
+                c,
+                k,
+                faces: merged,
+                site,
+                inside: inside_site,
+            });
+        }
+    }
+    (b.cut, out)
+}
+
+/// A cell's faces with what is across them, the pieces of one face (one
+/// plane, one cell across) joined where they share edges.
+fn merge(faces: Vec<(Across, u32, Vec<u32>)>) -> Vec<(Across, Vec<u32>)> {
+    let mut groups: BTreeMap<(Across, u32), Vec<Vec<u32>>> = BTreeMap::new();
+    for (a, p, pts) in faces {
+        groups.entry((a, p)).or_default().push(pts);
+    }
+    let mut out = vec![];
+    for ((a, _), polys) in groups {
+        if polys.len() == 1 {
+            out.extend(polys.into_iter().map(|p| (a, p)));
+            continue;
+        }
+        let mut edges: BTreeSet<(u32, u32)> = BTreeSet::new();
+        for p in &polys {
+            for k in 0..p.len() {
+                let e = (p[k], p[(k + 1) % p.len()]);
+                if !edges.remove(&(e.1, e.0)) {
+                    edges.insert(e);
+                }
+            }
+        }
+        let next: BTreeMap<u32, u32> = edges.iter().copied().collect();
+        let one_cycle = next.len() == edges.len() && {
+            let start = edges.iter().next().map(|e| e.0);
+            let mut seen = 0;
+            let mut at = start;
+            let mut cycle = vec![];
+            while let Some(x) = at {
+                cycle.push(x);
+                seen += 1;
+                at = next.get(&x).copied().filter(|&y| Some(y) != start);
+                if seen > next.len() {
+                    break;
+                }
+            }
+            if seen == next.len() {
+                out.push((a, cycle));
+                true
+            } else {
+                false
+            }
+        };
+        if !one_cycle {
+            out.extend(polys.into_iter().map(|p| (a, p)));
+        }
+    }
+    out
+}
+
+/// How far the cavity's walls stray from the section's outline within its
+/// layers: the largest distance, across the layers, between a pillar's
+/// crossing of the section and of the cavity's top or bottom.
+fn lean(cpg: &Cpg, f: &Frame, cav: &Cavity) -> f64 {
+    let g = cpg.g;
+    let (top, bottom) = (f.h[0], f.h[f.h.len() - 1]);
+    let at = 0.5 * (top + bottom);
+    let mut most: f64 = 0.0;
+    for &[i, j] in &cav.cols {
+        for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let c = g.coord[(j + dj) * (g.nx + 1) + i + di];
+            let (q0, q1) = (f.to([c[0], c[1], -c[2]]), f.to([c[3], c[4], -c[5]]));
+            let at_h = |h: f64| {
+                let t = (h - q0[2]) / (q1[2] - q0[2]);
+                [q0[0] + t * (q1[0] - q0[0]), q0[1] + t * (q1[1] - q0[1])]
+            };
+            let m = at_h(at);
+            for h in [top, bottom] {
+                let x = at_h(h);
+                most = most.max((x[0] - m[0]).hypot(x[1] - m[1]));
+            }
+        }
+    }
+    most
+}

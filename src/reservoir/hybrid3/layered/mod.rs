@@ -1,0 +1,197 @@
+//! Layered cavities: where the cells around the wells lie between parallel
+//! planes (a dipping layer cake, as SPE9), the transition follows the
+//! layers. A 2D hybrid mesh of the wells on a section across the layers
+//! (`section`), each of its transition and radial cells taken through
+//! each layer of the cavity as a prism across the layers, cut by the
+//! columns' walls (`cells`). Links inside the cavity are orthogonal by
+//! construction, every cell lies in one grid layer, and the wells' radial
+//! meshes run along the layers' normal through the middle of their
+//! completions (the axis a simulator's connection factors assume).
+
+mod cells;
+mod frame;
+mod section;
+
+pub(crate) use cells::{Cavity, Cell};
+pub(crate) use frame::Frame;
+
+use super::cpg::Cpg;
+use super::path::Path;
+use super::well::{Hybrid3Options, Well3};
+use crate::backend::Backend;
+use crate::error::Result;
+use crate::geom::Cutter;
+use crate::reservoir::hybrid::{Hybrid, Region};
+use std::collections::BTreeSet;
+
+/// A group of wells meshed on one section.
+pub(crate) struct Group {
+    pub(crate) frame: Frame,
+    /// The section's 2D hybrid mesh (its wells in the group's order).
+    pub(crate) section: Hybrid,
+    pub(crate) wells: Vec<usize>,
+    /// Per cavity: its columns, layers and section cells; its points and
+    /// cells.
+    pub(crate) cavities: Vec<(Cavity, Cutter, Vec<Cell>)>,
+}
+
+/// The layered cavities of all the wells, or why they cannot be layered
+/// (then the 3D transition serves).
+pub(crate) fn build<B: Backend + ?Sized>(
+    backend: &B,
+    cpg: &Cpg,
+    wells: &[Well3],
+    paths: &[Path],
+    opts: &Hybrid3Options,
+) -> Result<std::result::Result<Vec<Group>, String>> {
+    let g = cpg.g;
+    // each well down one column, its completed layers and one beyond
+    let mut spans = vec![];
+    for (w, p) in wells.iter().zip(paths) {
+        let [i, j, _] = p.cells[0];
+        if w.path.is_some()
+            || (w.straight && w.dip != 0.0)
+            || p.cells.iter().any(|c| [c[0], c[1]] != [i, j])
+        {
+            return Ok(Err(format!("well {} does not run down one column", w.name)));
+        }
+        let k0 = p.cells.iter().map(|c| c[2]).min().unwrap_or(0);
+        let k1 = p.cells.iter().map(|c| c[2]).max().unwrap_or(0);
+        spans.push([k0.saturating_sub(1), (k1 + 1).min(g.nz - 1)]);
+    }
+    // wells whose spans overlap share a section
+    let mut order: Vec<usize> = (0..wells.len()).collect();
+    order.sort_by_key(|&w| spans[w]);
+    let mut groups: Vec<(Vec<usize>, [usize; 2])> = vec![];
+    for w in order {
+        match groups.last_mut() {
+            Some((ws, s)) if spans[w][0] <= s[1] => {
+                ws.push(w);
+                s[1] = s[1].max(spans[w][1]);
+            }
+            _ => groups.push((vec![w], spans[w])),
+        }
+    }
+    let mut out = vec![];
+    for (ws, [k0, k1]) in groups {
+        // the frame over the columns within 4 of the wells'
+        let mut cols = BTreeSet::new();
+        for &w in &ws {
+            let [i, j, _] = paths[w].cells[0];
+            for jj in j.saturating_sub(4)..=(j + 4).min(g.ny - 1) {
+                for ii in i.saturating_sub(4)..=(i + 4).min(g.nx - 1) {
+                    cols.insert([ii, jj]);
+                }
+            }
+        }
+        let cols: Vec<[usize; 2]> = cols.into_iter().collect();
+        let frame = match Frame::fit(cpg, &cols, k0, k1) {
+            Ok(f) => f,
+            Err(why) => return Ok(Err(format!("around wells {}: {why}", names(wells, &ws)))),
+        };
+        let at = 0.5 * (frame.h[0] + frame.h[frame.h.len() - 1]);
+        let live = |[i, j]: [usize; 2]| (k0..=k1).all(|k| cpg.live([i, j, k]));
+        let grid = section::grid(g, &frame, at, live);
+        let points: Vec<(String, [f64; 2], f64)> = ws
+            .iter()
+            .map(|&w| {
+                let cs = &paths[w].cells;
+                let m: [f64; 3] = std::array::from_fn(|a| {
+                    cs.iter().map(|&c| cpg.centre(c)[a]).sum::<f64>() / cs.len() as f64
+                });
+                let q = frame.to(m);
+                (wells[w].name.clone(), [q[0], q[1]], wells[w].radius)
+            })
+            .collect();
+        let section = section::mesh(
+            backend,
+            &grid,
+            &points,
+            opts.rings,
+            opts.sectors,
+            opts.outer,
+        )?;
+        let cavities = cavities(&section, [g.nx, g.ny], &live, [k0, k1]);
+        if let Some(c) = cavities
+            .iter()
+            .flat_map(|c| c.cols.iter())
+            .find(|c| !cols.contains(c))
+        {
+            return Ok(Err(format!(
+                "the cavity of wells {} reaches column ({}, {}), past the frame's",
+                names(wells, &ws),
+                c[0] + 1,
+                c[1] + 1
+            )));
+        }
+        let built = cavities
+            .into_iter()
+            .map(|c| {
+                let (cut, cells) = cells::cells(cpg, &frame, &section.mesh, &section.region, &c);
+                (c, cut, cells)
+            })
+            .collect();
+        out.push(Group {
+            frame,
+            section,
+            wells: ws,
+            cavities: built,
+        });
+    }
+    Ok(Ok(out))
+}
+
+/// The section's cavities: its transition and radial cells, by the
+/// 4-connected components of the columns that hold no reservoir cell.
+fn cavities(
+    h: &Hybrid,
+    [nx, ny]: [usize; 2],
+    live: &dyn Fn([usize; 2]) -> bool,
+    k: [usize; 2],
+) -> Vec<Cavity> {
+    let res: BTreeSet<[usize; 2]> = h.ijk.iter().flatten().map(|c| [c[0], c[1]]).collect();
+    let mine: Vec<(usize, [usize; 2])> = (0..h.region.len())
+        .filter(|&c| h.region[c] != Region::Reservoir)
+        .map(|c| (c, [h.host[c][0], h.host[c][1]]))
+        .collect();
+    let mut free: BTreeSet<[usize; 2]> = (0..ny)
+        .flat_map(|j| (0..nx).map(move |i| [i, j]))
+        .filter(|&c| live(c) && !res.contains(&c))
+        .collect();
+    let mut out = vec![];
+    while let Some(&start) = free.iter().next() {
+        let mut cols = BTreeSet::new();
+        let mut stack = vec![start];
+        while let Some(c) = stack.pop() {
+            if !free.remove(&c) {
+                continue;
+            }
+            cols.insert(c);
+            let [i, j] = c;
+            for n in [
+                [i + 1, j],
+                [i, j + 1],
+                [i.wrapping_sub(1), j],
+                [i, j.wrapping_sub(1)],
+            ] {
+                if free.contains(&n) {
+                    stack.push(n);
+                }
+            }
+        }
+        let cells = mine
+            .iter()
+            .filter(|m| cols.contains(&m.1))
+            .map(|m| m.0)
+            .collect();
+        out.push(Cavity { cols, k, cells });
+    }
+    out
+}
+
+fn names(wells: &[Well3], ws: &[usize]) -> String {
+    ws.iter()
+        .map(|&w| wells[w].name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
