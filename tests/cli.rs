@@ -600,10 +600,11 @@ fn hybrid_3d_from_options() {
         assert!(!vtu.exists());
     }
     for (grid, wells, says) in [
+        // (the layered transition's section says so)
         (
             g,
             vec!["W:4:4:0.1", "V:4:4:0.1"],
-            "their radial meshes would overlap",
+            "wells W and V are at the same place",
         ),
         (g, vec!["W:9:4:0.1"], "W: column (9, 4) is not in the grid"),
         (g, vec!["W:4:4:0.1:80:0"], "W: its axis leaves the grid"),

@@ -7,7 +7,7 @@ mod common;
 use common::hybrid3::{lenient, write, write_faulted};
 use orthomesh::backend::compiled;
 use orthomesh::reservoir::hybrid::Region;
-use orthomesh::reservoir::hybrid3::{build, Hybrid3, Hybrid3Options, Well3};
+use orthomesh::reservoir::hybrid3::{build, Hybrid3, Hybrid3Options, Section, Well3};
 use orthomesh::reservoir::CornerPointGrid;
 use std::path::Path;
 
@@ -509,7 +509,13 @@ fn a_horizontal_well_against_thiem() {
 /// sides, each cell with its host's permeability. Returns the relative
 /// error of the pressure drop from the well to r = L/4 against Thiem's for
 /// the layers together (q ln(r2/r1) / (2 pi sum kh)), with the mesh.
-fn vertical_thiem(n: usize, h: f64, depths: &[f64], perm: &[f64]) -> (f64, Hybrid3) {
+fn vertical_thiem(
+    n: usize,
+    h: f64,
+    depths: &[f64],
+    perm: &[f64],
+    layered: Option<Section>,
+) -> (f64, Hybrid3) {
     use orthomesh::reservoir::flow::solve;
     let g = CornerPointGrid::layered([n, n], [h, h], depths);
     let w = Well3 {
@@ -517,7 +523,12 @@ fn vertical_thiem(n: usize, h: f64, depths: &[f64], perm: &[f64]) -> (f64, Hybri
         j: n / 2,
         ..well(0.0)
     };
-    let hy = lenient(&g, w);
+    let opts = Hybrid3Options {
+        allow_sites_outside: true,
+        layered,
+        ..Default::default()
+    };
+    let hy = build(&*compiled()[0], &g, &[w], &opts).unwrap();
     let m = &hy.mesh;
     let k_of = |c: usize| perm[hy.host[c][2]];
     let c = [(n / 2) as f64 * h + h / 2.0, (n / 2) as f64 * h + h / 2.0];
@@ -577,7 +588,7 @@ fn vertical_thiem(n: usize, h: f64, depths: &[f64], perm: &[f64]) -> (f64, Hybri
 /// Thiem's check in a homogeneous block of two layers.
 #[test]
 fn thiem_in_3d() {
-    let (err, hy) = vertical_thiem(15, 10.0, &[0.0, 4.0, 8.0], &[1.0, 1.0]);
+    let (err, hy) = vertical_thiem(15, 10.0, &[0.0, 4.0, 8.0], &[1.0, 1.0], None);
     println!(
         "Thiem check in 3D, 15 x 15 x 2 cells of 10 m x 4 m, rw = 0.1 m, 16 sectors, 6 rings: \
          pressure drop off by {:.3}% ({} transition cells, {} of them with the site outside; {} \
@@ -598,7 +609,13 @@ fn thiem_in_3d() {
 /// and 6 m.
 #[test]
 fn thiem_in_a_layered_block() {
-    let (err, hy) = vertical_thiem(15, 10.0, &[0.0, 4.0, 6.0, 12.0], &[50.0, 200.0, 100.0]);
+    let (err, hy) = vertical_thiem(
+        15,
+        10.0,
+        &[0.0, 4.0, 6.0, 12.0],
+        &[50.0, 200.0, 100.0],
+        None,
+    );
     println!(
         "Thiem check in a layered block (50, 200, 100 mD; 4, 2, 6 m): pressure drop off by {:.3}% \
          ({} of {} transition sites outside, {} non-orthogonal connections)",
@@ -608,6 +625,32 @@ fn thiem_in_a_layered_block() {
         hy.report.non_orthogonal
     );
     assert!(err < 0.005, "{err}");
+}
+
+/// Thiem's check on layered sections (the 2D hybrid's radial meshes,
+/// taken through each layer) in the layered block above.
+#[test]
+fn thiem_on_a_layered_section() {
+    let depths = [0.0, 4.0, 6.0, 12.0];
+    let (err, hy) = vertical_thiem(
+        15,
+        10.0,
+        &depths,
+        &[50.0, 200.0, 100.0],
+        Some(Section::default()),
+    );
+    println!(
+        "Thiem check on layered sections (50, 200, 100 mD; 4, 2, 6 m): pressure drop off by \
+         {:.3}% ({} transition and {} well cells, {} sites outside, {} non-orthogonal connections)",
+        100.0 * err,
+        hy.report.cells[1],
+        hy.report.cells[2],
+        hy.report.sites_outside,
+        hy.report.non_orthogonal
+    );
+    assert_eq!(hy.report.sections.len(), 1);
+    assert_eq!((hy.report.sites_outside, hy.report.non_orthogonal), (0, 0));
+    assert!(err < 0.002, "{err}");
 }
 
 /// A pinched-out layer (no thickness) between two others: left out, the

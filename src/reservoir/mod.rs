@@ -15,5 +15,5 @@ pub use grid::{CornerPointGrid, Fault, FaultFace};
 pub use hybrid::{
     build, demo, Hybrid, HybridOptions, HybridReport, Region, WellAt, WellInput, WellMesh,
 };
-pub use hybrid3::{Hybrid3, Hybrid3Options, Hybrid3Report, Well3};
+pub use hybrid3::{Hybrid3, Hybrid3Options, Hybrid3Report, Section, Well3};
 pub use layers::{extrude, Layered};

@@ -4,7 +4,7 @@
 use crate::deck::{grid_rock, grid_unit, DeckOut, FromInput};
 use crate::{bar, deck_wells, finish_bar, one_based, report_text, write_texts, HybridArgs};
 use crate::{DEFAULT_WELL_RADIUS, MANY_WELLS};
-use orthomesh::reservoir::{hybrid3, Hybrid3Options, Well3};
+use orthomesh::reservoir::{hybrid3, Hybrid3Options, Section, Well3};
 use orthomesh::{io, Backend, Error, Progress, Result};
 use std::io::IsTerminal;
 
@@ -114,6 +114,14 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         outer: a.outer.unwrap_or(1.0),
         allow_sites_outside: !a.strict,
         split_facets: a.split_facets,
+        layered: (!a.transition_3d).then(|| {
+            let d = Section::default();
+            Section {
+                rings: a.rings.unwrap_or(d.rings),
+                sectors: a.sectors.unwrap_or(d.sectors),
+                outer: a.outer.unwrap_or(d.outer),
+            }
+        }),
         // a bar over the cavities when someone watches
         progress: watched.then_some(bar as Progress),
         ..Default::default()
@@ -174,11 +182,36 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             r.connections,
             r.non_orthogonal,
         );
+        for s in &r.sections {
+            let cells: usize = s.cavities.iter().map(|c| c.cells).sum();
+            let inside: usize = s.cavities.iter().map(|c| c.sites_inside).sum();
+            eprintln!(
+                "  layered: wells {} in {} cavities on a section across layers {:.2} degrees \
+                 off horizontal (corners within {:.1e} of their planes); {cells} cells, sites \
+                 inside {inside}; section certificate: {}",
+                s.wells.join(", "),
+                s.cavities.len(),
+                s.dip,
+                s.off_plane,
+                if s.transition.certificate.conforms() {
+                    "conforms"
+                } else {
+                    "FAILS"
+                }
+            );
+        }
         for (pair, c) in &r.by_regions {
             let [median, p99, max] = c.angle;
+            let mirrored = match pair.starts_with("reservoir-") && pair != "reservoir-reservoir" {
+                true => format!(
+                    "; {} orthogonal with the reservoir cell's node mirrored across the face",
+                    c.mirrored
+                ),
+                false => String::new(),
+            };
             eprintln!(
                 "  {pair}: {} links, {} off orthogonal; angle median {median:.3}, 99% \
-                 {p99:.3}, largest {max:.3} degrees; {} with both sites on one side",
+                 {p99:.3}, largest {max:.3} degrees; {} with both sites on one side{mirrored}",
                 c.connections, c.non_orthogonal, c.one_sided
             );
         }

@@ -175,14 +175,17 @@ struct HybridArgs {
     /// polyhedra (type 42) and, with --tough, vertical connections too.
     #[arg(long)]
     layers: bool,
-    /// Rings of each radial mesh (default 12; with --3d, 6).
+    /// Rings of each radial mesh (default 12; with --3d, 6 where the
+    /// transition is meshed in 3D).
     #[arg(long)]
     rings: Option<usize>,
-    /// Sectors of each radial mesh (default 32; with --3d, 16).
+    /// Sectors of each radial mesh (default 32; with --3d, 16 where the
+    /// transition is meshed in 3D).
     #[arg(long)]
     sectors: Option<usize>,
     /// Outer radius of the radial meshes, in shortest sides of the well's
-    /// cell (default 1.9; with --3d, 1.0).
+    /// cell (default 1.9; with --3d, 1.0 where the transition is meshed in
+    /// 3D).
     #[arg(long)]
     outer: Option<f64>,
     /// True 3D: wells from the deck (WELSPECS, COMPDAT's cells and
@@ -191,7 +194,11 @@ struct HybridArgs {
     /// its completed cells (following leaning columns and changes of
     /// column; DIP:AZIMUTH, degrees from vertical and clockwise from +y,
     /// asks for a straight axis instead, 0:0 vertical), in a cavity of the
-    /// cells within one cell of them, meshed by a 3D transition (polyhedra).
+    /// cells within one cell of them (polyhedra). Where those cells lie
+    /// between parallel planes (a dipping layer cake, as SPE9), the
+    /// transition is a 2D section across the layers taken through each
+    /// layer, the radial meshes along the layers' normal; else it is meshed
+    /// in 3D.
     #[arg(long = "3d", conflicts_with_all = ["wells_xy", "faults", "layers", "margin", "svg"])]
     three_d: bool,
     /// Layers of cells added to each cavity around what the radial mesh reaches.
@@ -212,6 +219,10 @@ struct HybridArgs {
     /// stay outside; the points are listed in the report.
     #[arg(long, requires = "three_d")]
     split_facets: bool,
+    /// 3D: mesh the transition in 3D even where the cavities' layers are
+    /// parallel planes (where the layered transition would serve).
+    #[arg(long = "transition-3d", requires = "three_d")]
+    transition_3d: bool,
     /// Also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
     #[arg(long, value_name = "MESH")]
     tough: Option<PathBuf>,

@@ -80,7 +80,7 @@ fn plane_of_pieces(pieces: &[Vec<[f64; 3]>]) -> Plane {
 
 impl Assembly {
     /// The id of point p: points are shared by exact coordinates.
-    fn point(&mut self, p: [f64; 3]) -> u32 {
+    pub(super) fn point(&mut self, p: [f64; 3]) -> u32 {
         let out = &mut self.out;
         *self.ids.entry(p.map(f64::to_bits)).or_insert_with(|| {
             out.points.push(p);
@@ -88,7 +88,7 @@ impl Assembly {
         })
     }
 
-    fn push_cell(
+    pub(super) fn push_cell(
         &mut self,
         faces: Vec<Vec<u32>>,
         site: [f64; 3],
@@ -204,7 +204,7 @@ impl Assembly {
     }
 
     /// A link across a face between cells a and b.
-    fn link(&mut self, a: usize, b: usize, face: Vec<u32>, pl: Plane) {
+    pub(super) fn link(&mut self, a: usize, b: usize, face: Vec<u32>, pl: Plane) {
         if pl.area <= 0.0 || !pl.area.is_finite() {
             return;
         }
@@ -664,26 +664,7 @@ pub(super) fn assemble(
     let first_t = a.res_cell.len();
     let unpaired = a.between_cavities(&cavity_of, first_t);
     let wellbore = super::bend::merge_legs(well_links(&names, &radials, &firsts), &owners);
-    let Assembly {
-        mut out,
-        region,
-        ijk,
-        ..
-    } = a;
-    // A face split in two triangles on one side is two transition faces:
-    // one connection per pair of cells, their areas added.
-    let mut seen: HashMap<[usize; 2], usize> = HashMap::new();
-    let mut merged: Vec<Link3> = vec![];
-    for l in std::mem::take(&mut out.links) {
-        match seen.get(&l.cells) {
-            Some(&i) => merged[i].area += l.area,
-            None => {
-                seen.insert(l.cells, merged.len());
-                merged.push(l);
-            }
-        }
-    }
-    out.links = merged;
+    let (out, region, ijk) = a.finish();
     let by_regions = super::stats::by_regions(&out, &region);
     let first_t = region
         .iter()
@@ -738,6 +719,7 @@ pub(super) fn assemble(
         across_throws: thrown,
         non_orthogonal: by_regions.values().map(|c| c.non_orthogonal).sum(),
         by_regions,
+        sections: vec![],
         slivers,
         smallest_volume_share,
         notes: vec![],
@@ -750,6 +732,33 @@ pub(super) fn assemble(
         wellbore,
         report,
     })
+}
+
+impl Assembly {
+    /// The mesh with one connection per pair of cells, each cell's region
+    /// and grid cell.
+    pub(super) fn finish(self) -> (Mesh3, Vec<Region>, Vec<Option<Ijk>>) {
+        let mut out = self.out;
+        out.links = one_per_pair(std::mem::take(&mut out.links));
+        (out, self.region, self.ijk)
+    }
+}
+
+/// One connection per pair of cells, their areas added: a face split in
+/// two triangles on one side is two transition faces.
+fn one_per_pair(links: Vec<Link3>) -> Vec<Link3> {
+    let mut seen: HashMap<[usize; 2], usize> = HashMap::new();
+    let mut merged: Vec<Link3> = vec![];
+    for l in links {
+        match seen.get(&l.cells) {
+            Some(&i) => merged[i].area += l.area,
+            None => {
+                seen.insert(l.cells, merged.len());
+                merged.push(l);
+            }
+        }
+    }
+    merged
 }
 
 /// Per cell, the grid cell whose rock it takes: a reservoir cell its own;

@@ -26,8 +26,6 @@ mod cavity;
 mod complex;
 mod cpg;
 mod lattice;
-// not yet called by `build`: the assembly of layered cavities comes next
-#[allow(dead_code)]
 mod layered;
 mod path;
 mod radial;
@@ -37,8 +35,8 @@ mod sheet;
 mod stats;
 mod well;
 
-pub use report::{CavityReport, Connections, Hybrid3, Hybrid3Report};
-pub use well::{Hybrid3Options, Well3};
+pub use report::{CavityReport, Connections, Hybrid3, Hybrid3Report, LayeredCavity, SectionReport};
+pub use well::{Hybrid3Options, Section, Well3};
 
 use crate::backend::Backend;
 use crate::conform::D3;
@@ -72,6 +70,16 @@ pub fn build<B: Backend + ?Sized>(
             owner.push(n);
             legs.push(leg);
             paths.push(path);
+        }
+    }
+    if let Some(section) = opts.layered.filter(|_| legs.len() == wells.len()) {
+        match layered::build(backend, &cpg, &legs, &paths, &section)? {
+            Ok(groups) => {
+                let mut h = layered::assemble(&cpg, &legs, &paths, groups)?;
+                h.report.notes = notes;
+                return Ok(h);
+            }
+            Err(why) => notes.push(format!("the transition is meshed in 3D: {why}")),
         }
     }
     let wells = &legs;

@@ -1,7 +1,7 @@
 //! What the 3D hybrid gives: the mesh with its regions, hosts and well
 //! links, and the report of what the build did.
 
-use crate::conform::{Report, D3};
+use crate::conform::{Report, D2, D3};
 use crate::mesh::{CellArray, CellMesh, Cells, Mesh3};
 use crate::reservoir::deck::WellLinks;
 use crate::reservoir::hybrid::Region;
@@ -42,6 +42,40 @@ pub struct CavityReport {
     pub transition: Report<D3>,
 }
 
+/// A section of layered cavities (`layered`): wells meshed on one 2D
+/// section across their layers, taken through each layer.
+#[derive(Debug, Clone, Serialize)]
+pub struct SectionReport {
+    /// Its wells.
+    pub wells: Vec<String>,
+    /// The layers' normal (up).
+    pub normal: [f64; 3],
+    /// Its angle off vertical (degrees): the wells' radial meshes run
+    /// along it.
+    pub dip: f64,
+    /// The largest distance of a corner of the cells it spans from its
+    /// layer boundary's or wall's plane (the data's rounding).
+    pub off_plane: f64,
+    /// Per cavity: its columns, its layers (first, last; 1-based), its
+    /// cells and their sites inside.
+    pub cavities: Vec<LayeredCavity>,
+    /// The section's 2D transition, with its exact certificate.
+    pub transition: Report<D2>,
+}
+
+/// A layered cavity.
+#[derive(Debug, Clone, Serialize)]
+pub struct LayeredCavity {
+    /// Its grid columns.
+    pub columns: usize,
+    /// Its layers, first and last (1-based).
+    pub layers: [usize; 2],
+    /// Its cells (transition and radial).
+    pub cells: usize,
+    /// Those whose site lies inside them.
+    pub sites_inside: usize,
+}
+
 /// Connections between two regions.
 #[derive(Debug, Clone, Serialize, Default, PartialEq)]
 pub struct Connections {
@@ -55,6 +89,12 @@ pub struct Connections {
     /// Those whose two sites lie on one side of their face (a site outside
     /// its cell): a two-point transmissibility negative or infinite.
     pub one_sided: usize,
+    /// Between a reservoir cell and another: those whose other site's foot
+    /// on the face's plane lies inside the face, so that with the reservoir
+    /// cell's node mirrored across the face (its distance to the plane,
+    /// which the transmissibility takes) the link is orthogonal and
+    /// crosses its face.
+    pub mirrored: usize,
 }
 
 /// What the build did.
@@ -64,6 +104,8 @@ pub struct Hybrid3Report {
     pub cells: [usize; 3],
     /// Per cavity, its wells and its transition's report.
     pub cavities: Vec<CavityReport>,
+    /// Layered cavities, per section (then `cavities` is empty).
+    pub sections: Vec<SectionReport>,
     /// Connections between cells.
     pub connections: usize,
     /// Transition faces on a side between two cavities that match no face
@@ -96,6 +138,10 @@ impl Hybrid3Report {
         self.cavities
             .iter()
             .all(|c| c.transition.certificate.conforms())
+            && self
+                .sections
+                .iter()
+                .all(|s| s.transition.certificate.conforms())
     }
 }
 

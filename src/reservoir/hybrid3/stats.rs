@@ -40,6 +40,28 @@ fn one_sided(m: &Mesh3, l: &crate::mesh::Link3) -> bool {
     side(l.cells[0]) * side(l.cells[1]) >= 0.0
 }
 
+/// Whether x's foot on a link's face's plane lies inside the face (within
+/// 1e-9 of its size; a convex polygon).
+fn foot_inside(m: &Mesh3, l: &crate::mesh::Link3, x: [f64; 3]) -> bool {
+    let pts: Vec<[f64; 3]> = l.face.iter().map(|&v| m.points[v as usize]).collect();
+    let n = crate::geom::newell(&pts);
+    let size = pts
+        .iter()
+        .map(|p| crate::geom::dist_f(*p, pts[0]))
+        .fold(0.0, f64::max);
+    let len = crate::geom::dot_f(n, n).sqrt();
+    if pts.len() < 3 || len == 0.0 {
+        return false;
+    }
+    (0..pts.len()).all(|k| {
+        let (a, b) = (pts[k], pts[(k + 1) % pts.len()]);
+        let e: [f64; 3] = std::array::from_fn(|i| b[i] - a[i]);
+        let r: [f64; 3] = std::array::from_fn(|i| x[i] - a[i]);
+        // x left of edge a -> b seen from the normal's tip
+        crate::geom::dot_f(crate::geom::cross_f(e, r), n) / len >= -1e-9 * size * size
+    })
+}
+
 /// The connections per pair of regions ("reservoir-transition", ...).
 pub(super) fn by_regions(m: &Mesh3, region: &[Region]) -> BTreeMap<String, Connections> {
     let name = |r: Region| match r {
@@ -57,6 +79,12 @@ pub(super) fn by_regions(m: &Mesh3, region: &[Region]) -> BTreeMap<String, Conne
         e.connections += 1;
         e.non_orthogonal += usize::from(m.link_defect(l) > 1e-6);
         e.one_sided += usize::from(one_sided(m, l));
+        if let Some(x) = match pair.map(|r| r == Region::Reservoir) {
+            [true, false] => Some(l.cells[usize::from(region[l.cells[0]] == Region::Reservoir)]),
+            _ => None,
+        } {
+            e.mirrored += usize::from(!one_sided(m, l) && foot_inside(m, l, m.sites[x]));
+        }
         angles.entry(key).or_default().push(angle(m, l));
     }
     for (key, mut a) in angles {

@@ -8,16 +8,18 @@
 //! meshes run along the layers' normal through the middle of their
 //! completions (the axis a simulator's connection factors assume).
 
+mod assemble;
 mod cells;
 mod frame;
 mod section;
 
-pub(crate) use cells::{Cavity, Cell};
+pub(crate) use assemble::assemble;
+pub(crate) use cells::{Across, Cavity, Cell};
 pub(crate) use frame::Frame;
 
 use super::cpg::Cpg;
 use super::path::Path;
-use super::well::{Hybrid3Options, Well3};
+use super::well::{Section, Well3};
 use crate::backend::Backend;
 use crate::error::Result;
 use crate::geom::Cutter;
@@ -42,7 +44,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
     cpg: &Cpg,
     wells: &[Well3],
     paths: &[Path],
-    opts: &Hybrid3Options,
+    section: &Section,
 ) -> Result<std::result::Result<Vec<Group>, String>> {
     let g = cpg.g;
     // each well down one column, its completed layers and one beyond
@@ -103,15 +105,15 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 (wells[w].name.clone(), [q[0], q[1]], wells[w].radius)
             })
             .collect();
-        let section = section::mesh(
+        let mesh2 = section::mesh(
             backend,
             &grid,
             &points,
-            opts.rings,
-            opts.sectors,
-            opts.outer,
+            section.rings,
+            section.sectors,
+            section.outer,
         )?;
-        let cavities = cavities(&section, [g.nx, g.ny], &live, [k0, k1]);
+        let cavities = cavities(&mesh2, [g.nx, g.ny], &live, [k0, k1]);
         if let Some(c) = cavities
             .iter()
             .flat_map(|c| c.cols.iter())
@@ -127,13 +129,13 @@ pub(crate) fn build<B: Backend + ?Sized>(
         let built = cavities
             .into_iter()
             .map(|c| {
-                let (cut, cells) = cells::cells(cpg, &frame, &section.mesh, &section.region, &c);
+                let (cut, cells) = cells::cells(cpg, &frame, &mesh2.mesh, &mesh2.region, &c);
                 (c, cut, cells)
             })
             .collect();
         out.push(Group {
             frame,
-            section,
+            section: mesh2,
             wells: ws,
             cavities: built,
         });

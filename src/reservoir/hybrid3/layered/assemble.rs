@@ -1,0 +1,192 @@
+//! The 3D hybrid from layered cavities: the reservoir cells outside them
+//! (as `assembly` has them), the cavities' cells and links, and each
+//! well's links to its innermost ring in its completed layers.
+
+use super::super::assembly::Assembly;
+use super::super::cpg::{Cpg, Ijk};
+use super::super::path::Path;
+use super::super::report::{Hybrid3, Hybrid3Report, LayeredCavity, SectionReport};
+use super::super::well::Well3;
+use super::{Across, Group};
+use crate::error::Result;
+use crate::geom::{dist_f, Plane};
+use crate::reservoir::deck::WellLinks;
+use crate::reservoir::hybrid::Region;
+use std::collections::{BTreeSet, HashMap};
+use std::f64::consts::TAU;
+
+/// The 3D hybrid of layered cavities, with its report.
+pub(crate) fn assemble(
+    cpg: &Cpg,
+    wells: &[Well3],
+    paths: &[Path],
+    groups: Vec<Group>,
+) -> Result<Hybrid3> {
+    let in_cavity: BTreeSet<Ijk> = groups
+        .iter()
+        .flat_map(|g| g.cavities.iter())
+        .flat_map(|(c, _, _)| {
+            c.cols
+                .iter()
+                .flat_map(move |&[i, j]| (c.k[0]..=c.k[1]).map(move |k| [i, j, k]))
+        })
+        .collect();
+    let mut a = Assembly::default();
+    a.reservoir(cpg, &|c| in_cavity.contains(&c));
+    let [unmatched, thrown] = a.reservoir_links(cpg)?;
+    let first_t = a.out.cells.len();
+    let mut wellbore: Vec<Option<WellLinks>> = vec![None; wells.len()];
+    let mut host: Vec<Ijk> = vec![];
+    let mut cavity_of = vec![];
+    let mut sections = vec![];
+    let mut n_cavity = 0;
+    for g in &groups {
+        let mut id: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut reports = vec![];
+        for (cav, cut, cells) in &g.cavities {
+            n_cavity += 1;
+            let at = |p: u32| g.frame.from(cut.points[p as usize]);
+            let cells: Vec<_> = cells.iter().filter(|c| !c.faces.is_empty()).collect();
+            let grid_cells: Vec<Ijk> = cav
+                .cols
+                .iter()
+                .flat_map(|&[i, j]| (cav.k[0]..=cav.k[1]).map(move |k| [i, j, k]))
+                .collect();
+            for cell in &cells {
+                let faces = cell
+                    .faces
+                    .iter()
+                    .map(|(_, pts)| pts.iter().map(|&p| a.point(at(p))).collect())
+                    .collect();
+                let site = g.frame.from(cell.site);
+                id.insert((cell.c, cell.k), a.out.cells.len());
+                a.push_cell(faces, site, g.section.region[cell.c], None);
+                *a.out.site_inside.last_mut().expect("a cell") = cell.inside;
+                host.push(
+                    cpg.locate(site, grid_cells.iter().copied())
+                        .unwrap_or_else(|| {
+                            let d = |c: &Ijk| dist_f(cpg.centre(*c), site);
+                            grid_cells
+                                .iter()
+                                .copied()
+                                .min_by(|x, y| d(x).total_cmp(&d(y)))
+                                .unwrap_or([0; 3])
+                        }),
+                );
+                cavity_of.push(n_cavity);
+            }
+            for cell in &cells {
+                let me = id[&(cell.c, cell.k)];
+                for (across, pts) in &cell.faces {
+                    let other = match across {
+                        Across::Cell(d, k) => id.get(&(*d, *k)).copied().filter(|&o| o > me),
+                        Across::Grid(Some(c)) => a.res_cell.get(c).copied(),
+                        _ => None,
+                    };
+                    if let Some(o) = other {
+                        let face: Vec<u32> = pts.iter().map(|&p| a.point(at(p))).collect();
+                        let xyz: Vec<[f64; 3]> =
+                            face.iter().map(|&v| a.out.points[v as usize]).collect();
+                        a.link(me, o, face, Plane::of(&xyz));
+                    }
+                }
+            }
+            reports.push(LayeredCavity {
+                columns: cav.cols.len(),
+                layers: [cav.k[0] + 1, cav.k[1] + 1],
+                cells: cells.len(),
+                sites_inside: cells.iter().filter(|c| c.inside).count(),
+            });
+        }
+        for (n, &w) in g.wells.iter().enumerate() {
+            wellbore[w] = Some(wellbore_links(g, n, &wells[w].name, &paths[w], &id));
+        }
+        let n = g.frame.n;
+        sections.push(SectionReport {
+            wells: g.wells.iter().map(|&w| wells[w].name.clone()).collect(),
+            normal: n,
+            dip: n[2].clamp(-1.0, 1.0).acos().to_degrees(),
+            off_plane: g.frame.off,
+            cavities: reports,
+            transition: g.section.report.transition.clone(),
+        });
+    }
+    let (out, region, ijk) = a.finish();
+    let by_regions = super::super::stats::by_regions(&out, &region);
+    let t_cells: Vec<usize> = (first_t..region.len())
+        .filter(|&c| region[c] == Region::Transition)
+        .collect();
+    let (slivers, smallest_volume_share) = super::super::stats::slivers(
+        &t_cells.iter().map(|&c| out.volumes[c]).collect::<Vec<_>>(),
+        &t_cells
+            .iter()
+            .map(|&c| cavity_of[c - first_t])
+            .collect::<Vec<_>>(),
+    );
+    let count = |r: Region| region.iter().filter(|&&x| x == r).count();
+    let host = ijk
+        .iter()
+        .take(first_t)
+        .map(|c| c.unwrap_or([0; 3]))
+        .chain(host)
+        .collect();
+    let report = Hybrid3Report {
+        cells: [
+            count(Region::Reservoir),
+            count(Region::Transition),
+            count(Region::Well),
+        ],
+        cavities: vec![],
+        connections: out.links.len(),
+        unpaired_faces: 0,
+        unmatched_faces: unmatched,
+        across_throws: thrown,
+        non_orthogonal: by_regions.values().map(|c| c.non_orthogonal).sum(),
+        by_regions,
+        sites_outside: t_cells.iter().filter(|&&c| !out.site_inside[c]).count(),
+        sections,
+        slivers,
+        smallest_volume_share,
+        notes: vec![],
+    };
+    Ok(Hybrid3 {
+        mesh: out,
+        region,
+        ijk,
+        host,
+        wellbore: wellbore.into_iter().flatten().collect(),
+        report,
+    })
+}
+
+/// Well n of a section's links to its innermost ring in its completed
+/// layers: radial flow from the wellbore to the sites' radius within a
+/// sector, theta L / ln(rho / r_w), L the layer's thickness along the
+/// normal (the radial mesh's axis).
+fn wellbore_links(
+    g: &Group,
+    n: usize,
+    name: &str,
+    path: &Path,
+    id: &HashMap<(usize, usize), usize>,
+) -> WellLinks {
+    let wm = &g.section.wells[n];
+    let theta = TAU / wm.inner.len() as f64;
+    let log = (wm.site_radius / wm.radius).ln();
+    let layers: BTreeSet<usize> = path.cells.iter().map(|c| c[2]).collect();
+    let mut links = vec![];
+    for &k in &layers {
+        let t = k - g.frame.k0;
+        let len = g.frame.h[t] - g.frame.h[t + 1];
+        for &c in &wm.inner {
+            if let Some(&cell) = id.get(&(c as usize, k)) {
+                links.push((cell, theta * len / log));
+            }
+        }
+    }
+    WellLinks {
+        name: name.to_string(),
+        radius: wm.radius,
+        links,
+    }
+}

@@ -1,0 +1,91 @@
+//! Layered cavities (`hybrid3::layered`): SPE9's 26 wells on sections
+//! across its dipping layers, and emerald, whose layers are not planes,
+//! left to the 3D transition. Prints what it measures.
+
+mod common;
+
+use common::hybrid3::write;
+use orthomesh::backend::compiled;
+use orthomesh::reservoir::hybrid3::{build, Hybrid3Options, Section, Well3};
+use std::path::Path;
+
+fn layered() -> Hybrid3Options {
+    Hybrid3Options {
+        allow_sites_outside: true,
+        layered: Some(Section::default()),
+        ..Default::default()
+    }
+}
+
+/// SPE9's grid (dipping 10 degrees, layers 4 to 98 ft thick) with its
+/// deck's 26 wells: every link inside the cavities orthogonal, at least
+/// 99% of the transition sites inside their cells, no slivers but a few.
+#[test]
+fn spe9_all_wells_on_layered_sections() {
+    let data = Path::new("tests/data/grids");
+    let g = orthomesh::io::eclipse::read_grid(&data.join("SPE9.GRDECL")).unwrap();
+    let (ws, _) = orthomesh::io::eclipse::read_wells(&data.join("SPE9_CP.DATA")).unwrap();
+    let wells: Vec<Well3> = ws.into_iter().map(|w| w.well3(0.25)).collect();
+    for b in compiled() {
+        let t = std::time::Instant::now();
+        let h = build(&*b, &g, &wells, &layered()).unwrap();
+        let r = &h.report;
+        let secs = t.elapsed().as_secs_f64();
+        println!(
+            "SPE9, 26 wells, layered ({}): {secs:.1} s; cells {:?}; {} sections, dips {:?}, \
+             corners off their planes by up to {:.1e} ft; {} transition sites outside; {} \
+             slivers (smallest {:.1e} of its cavity's median)",
+            b.name(),
+            r.cells,
+            r.sections.len(),
+            r.sections.iter().map(|s| s.dip).collect::<Vec<_>>(),
+            r.sections.iter().map(|s| s.off_plane).fold(0.0, f64::max),
+            r.sites_outside,
+            r.slivers,
+            r.smallest_volume_share,
+        );
+        for (pair, c) in &r.by_regions {
+            println!(
+                "  {pair}: {} links, {} off orthogonal, {} orthogonal with the reservoir node \
+                 mirrored, angle median {:.2} 99% {:.2} max {:.2}",
+                c.connections, c.non_orthogonal, c.mirrored, c.angle[0], c.angle[1], c.angle[2]
+            );
+        }
+        assert!(r.conforms() && r.cavities.is_empty());
+        assert_eq!(h.wellbore.len(), 26);
+        assert!(h.wellbore.iter().all(|w| !w.links.is_empty()));
+        for pair in ["transition-transition", "transition-well", "well-well"] {
+            assert_eq!(r.by_regions[pair].non_orthogonal, 0, "{pair}");
+        }
+        assert!(r.sites_outside * 100 <= r.cells[1], "{}", r.sites_outside);
+        assert!(h.mesh.volumes.iter().all(|&v| v > 0.0));
+        if b.name() == "cgal" {
+            write("spe9-layered", &h);
+        }
+    }
+}
+
+/// Emerald's layers are not planes: its wells go to the 3D transition,
+/// and the report says why.
+#[test]
+fn emerald_is_left_to_the_3d_transition() {
+    let g =
+        orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
+            .unwrap();
+    let w = Well3 {
+        name: "W".into(),
+        i: 18,
+        j: 17,
+        k: Some([4, 7]),
+        radius: 0.1,
+        ..Default::default()
+    };
+    let h = build(&*compiled()[0], &g, &[w], &layered()).unwrap();
+    println!("emerald (19, 18) 5-8, notes: {:?}", h.report.notes);
+    assert!(h.report.sections.is_empty() && h.report.cavities.len() == 1);
+    assert!(h
+        .report
+        .notes
+        .iter()
+        .any(|n| n.contains("the transition is meshed in 3D")));
+}
