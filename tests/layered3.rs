@@ -47,8 +47,14 @@ fn spe9_all_wells_on_layered_sections() {
         for (pair, c) in &r.by_regions {
             println!(
                 "  {pair}: {} links, {} off orthogonal, {} orthogonal with the reservoir node \
-                 mirrored, angle median {:.2} 99% {:.2} max {:.2}",
-                c.connections, c.non_orthogonal, c.mirrored, c.angle[0], c.angle[1], c.angle[2]
+                 mirrored ({:.1}% of the area), angle median {:.2} 99% {:.2} max {:.2}",
+                c.connections,
+                c.non_orthogonal,
+                c.mirrored,
+                100.0 * c.mirrored_area,
+                c.angle[0],
+                c.angle[1],
+                c.angle[2]
             );
         }
         assert!(r.conforms() && r.cavities.is_empty());

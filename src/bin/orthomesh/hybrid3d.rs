@@ -204,8 +204,10 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             let [median, p99, max] = c.angle;
             let mirrored = match pair.starts_with("reservoir-") && pair != "reservoir-reservoir" {
                 true => format!(
-                    "; {} orthogonal with the reservoir cell's node mirrored across the face",
-                    c.mirrored
+                    "; {} orthogonal with the reservoir cell's node mirrored across the face \
+                     ({:.1}% of the area)",
+                    c.mirrored,
+                    100.0 * c.mirrored_area
                 ),
                 false => String::new(),
             };

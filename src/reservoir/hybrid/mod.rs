@@ -78,6 +78,10 @@ pub struct HybridOptions {
     /// Faults given as map polylines: their parts inside cavities become
     /// constraint chains, ending a quarter cell short of the cavity sides.
     pub fault_lines: Vec<Vec<[f64; 2]>>,
+    /// Column sides inside cavities become constraints too, but for those
+    /// within 1.25 outer radii of a well (the 3D hybrid's layered sections:
+    /// each cell then lies in one column, under one cell above).
+    pub column_sides: bool,
 }
 
 impl Default for HybridOptions {
@@ -95,6 +99,7 @@ impl Default for HybridOptions {
             progress: None,
             allow_sites_outside: false,
             fault_lines: vec![],
+            column_sides: false,
         }
     }
 }

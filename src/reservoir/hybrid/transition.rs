@@ -151,6 +151,41 @@ fn complex(
             }
         }
     }
+    // Column sides inside cavities, where asked (layered 3D cavities, so
+    // that no cell straddles two columns): as fault sides, but for those
+    // that come near a well's outer polygon.
+    if opts.column_sides {
+        for j in 0..ny {
+            for i in 0..nx {
+                if !cavity[col(i, j)] {
+                    continue;
+                }
+                for (a, (p, q)) in [
+                    ((i + 1, j), (view.pid(i + 1, j), view.pid(i + 1, j + 1))),
+                    ((i, j + 1), (view.pid(i, j + 1), view.pid(i + 1, j + 1))),
+                ] {
+                    let key = (p.min(q), p.max(q));
+                    let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
+                    let near = placed.iter().any(|w| {
+                        let r = *w.radii.last().unwrap_or(&0.0);
+                        distance_to_segment(w.centre, pp, pq) <= 1.25 * r
+                    });
+                    if a.0 >= nx || a.1 >= ny || !cavity[col(a.0, a.1)] || near {
+                        continue;
+                    }
+                    if !seen_fault_edges.insert(key) {
+                        continue;
+                    }
+                    let (u, v) = (vertex(&mut cx, p), vertex(&mut cx, q));
+                    for (from, to) in split(&mut cx, u, v, pieces_near_wells(placed, pp, pq)) {
+                        cx.segments.push([from, to]);
+                        anchors.push(None);
+                        owner.push(col(i, j));
+                    }
+                }
+            }
+        }
+    }
     // Fault polylines: the parts inside cavities, pulled back a quarter
     // cell from where they leave one, so that they end inside it.
     let boundary_sides: Vec<[[f64; 2]; 2]> = cx
@@ -293,4 +328,16 @@ pub(super) fn solve<B: Backend + ?Sized>(
             Err(e) => return Err(e),
         }
     }
+}
+
+/// The distance from x to segment a-b.
+fn distance_to_segment(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 {
+        (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (x[0] - a[0] - t * dx).hypot(x[1] - a[1] - t * dy)
 }

@@ -95,6 +95,8 @@ pub struct Connections {
     /// which the transmissibility takes) the link is orthogonal and
     /// crosses its face.
     pub mirrored: usize,
+    /// The share of those links' area that `mirrored` links carry.
+    pub mirrored_area: f64,
 }
 
 /// What the build did.

@@ -71,6 +71,7 @@ pub(super) fn by_regions(m: &Mesh3, region: &[Region]) -> BTreeMap<String, Conne
     };
     let mut angles: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     let mut out: BTreeMap<String, Connections> = BTreeMap::new();
+    let mut areas: BTreeMap<String, [f64; 2]> = BTreeMap::new();
     for l in &m.links {
         let mut pair = l.cells.map(|c| region[c]);
         pair.sort_by_key(|&r| r as u8);
@@ -83,9 +84,18 @@ pub(super) fn by_regions(m: &Mesh3, region: &[Region]) -> BTreeMap<String, Conne
             [true, false] => Some(l.cells[usize::from(region[l.cells[0]] == Region::Reservoir)]),
             _ => None,
         } {
-            e.mirrored += usize::from(!one_sided(m, l) && foot_inside(m, l, m.sites[x]));
+            let ok = !one_sided(m, l) && foot_inside(m, l, m.sites[x]);
+            e.mirrored += usize::from(ok);
+            let a = areas.entry(key.clone()).or_default();
+            a[0] += l.area * f64::from(u8::from(ok));
+            a[1] += l.area;
         }
         angles.entry(key).or_default().push(angle(m, l));
+    }
+    for (key, [ok, all]) in areas {
+        if let Some(e) = out.get_mut(&key) {
+            e.mirrored_area = ok / all;
+        }
     }
     for (key, mut a) in angles {
         a.sort_by(f64::total_cmp);

@@ -57,6 +57,7 @@ pub(super) fn mesh<B: Backend + ?Sized>(
         sectors,
         outer,
         allow_sites_outside: true,
+        column_sides: true,
         ..Default::default()
     };
     hybrid::build(backend, s, &input, &opts)
