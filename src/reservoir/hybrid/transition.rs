@@ -131,59 +131,20 @@ fn complex(
             }
         }
     }
-    // Faults: pillar edges between two cavity columns become chains of
-    // segments with free ends inside the cavity (sides between a cavity
-    // column and another already are segments).
-    let mut seen_fault_edges = crate::FastSet::default();
-    for (p, q, a, b) in fault_edges(grid, k, view) {
-        let in_cavity = |c: (usize, usize)| c.0 < nx && c.1 < ny && cavity[col(c.0, c.1)];
-        if in_cavity(a) && in_cavity(b) && seen_fault_edges.insert((p.min(q), p.max(q))) {
-            // Inside a cavity a fault side may take extra vertices (cells
-            // on both sides are transition cells): pieces no longer than
-            // its distance to the nearest well polygon.
-            let (u, v) = (vertex(&mut cx, p), vertex(&mut cx, q));
-            let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
-            for (from, to) in split(&mut cx, u, v, pieces_near_wells(placed, pp, pq)) {
-                cx.segments.push([from, to]);
-                anchors.push(None);
-                owner.push(col(a.0, a.1));
-                fault_segments += 1;
-            }
-        }
-    }
-    // Column sides inside cavities, where asked (layered 3D cavities, so
-    // that no cell straddles two columns): as fault sides, but for those
-    // that come near a well's outer polygon.
-    if opts.column_sides {
-        for j in 0..ny {
-            for i in 0..nx {
-                if !cavity[col(i, j)] {
-                    continue;
-                }
-                for (a, (p, q)) in [
-                    ((i + 1, j), (view.pid(i + 1, j), view.pid(i + 1, j + 1))),
-                    ((i, j + 1), (view.pid(i, j + 1), view.pid(i + 1, j + 1))),
-                ] {
-                    let key = (p.min(q), p.max(q));
-                    let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
-                    let near = placed.iter().any(|w| {
-                        let r = *w.radii.last().unwrap_or(&0.0);
-                        distance_to_segment(w.centre, pp, pq) <= 1.25 * r
-                    });
-                    if a.0 >= nx || a.1 >= ny || !cavity[col(a.0, a.1)] || near {
-                        continue;
-                    }
-                    if !seen_fault_edges.insert(key) {
-                        continue;
-                    }
-                    let (u, v) = (vertex(&mut cx, p), vertex(&mut cx, q));
-                    for (from, to) in split(&mut cx, u, v, pieces_near_wells(placed, pp, pq)) {
-                        cx.segments.push([from, to]);
-                        anchors.push(None);
-                        owner.push(col(i, j));
-                    }
-                }
-            }
+    // Faults (and, where asked, column sides) between two cavity columns
+    // become chains of segments with free ends inside the cavity (sides
+    // between a cavity column and another already are segments). Inside
+    // a cavity a side may take extra vertices (cells on both sides are
+    // transition cells): pieces no longer than its distance to the nearest
+    // well polygon.
+    for (p, q, home, fault) in inner_sides(layer, placed, cavity, opts) {
+        let (u, v) = (vertex(&mut cx, p), vertex(&mut cx, q));
+        let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
+        for (from, to) in split(&mut cx, u, v, pieces_near_wells(placed, pp, pq)) {
+            cx.segments.push([from, to]);
+            anchors.push(None);
+            owner.push(home);
+            fault_segments += usize::from(fault);
         }
     }
     // Fault polylines: the parts inside cavities, pulled back a quarter
@@ -328,6 +289,49 @@ pub(super) fn solve<B: Backend + ?Sized>(
             Err(e) => return Err(e),
         }
     }
+}
+
+/// Pillar edges between two cavity columns that are constraints: (pillars,
+/// the column they bound, whether a fault's): the faults', then where
+/// asked the other column sides, but within 1.25 outer radii of a well
+/// (layered 3D cavities: each cell then lies in one column).
+fn inner_sides(
+    layer: &Layer,
+    placed: &[Placed],
+    cavity: &[bool],
+    opts: &HybridOptions,
+) -> Vec<(u32, u32, usize, bool)> {
+    let (view, nx, ny) = (&layer.view, layer.nx, layer.ny);
+    let col = |i: usize, j: usize| layer.col(i, j);
+    let in_cavity = |c: (usize, usize)| c.0 < nx && c.1 < ny && cavity[col(c.0, c.1)];
+    let mut seen = crate::FastSet::default();
+    let mut out = vec![];
+    for (p, q, a, b) in fault_edges(layer.grid, layer.k, view) {
+        if in_cavity(a) && in_cavity(b) && seen.insert((p.min(q), p.max(q))) {
+            out.push((p, q, col(a.0, a.1), true));
+        }
+    }
+    if !opts.column_sides {
+        return out;
+    }
+    for j in 0..ny {
+        for i in (0..nx).filter(|&i| cavity[col(i, j)]) {
+            for (a, (p, q)) in [
+                ((i + 1, j), (view.pid(i + 1, j), view.pid(i + 1, j + 1))),
+                ((i, j + 1), (view.pid(i, j + 1), view.pid(i + 1, j + 1))),
+            ] {
+                let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
+                let near = placed.iter().any(|w| {
+                    let r = *w.radii.last().unwrap_or(&0.0);
+                    distance_to_segment(w.centre, pp, pq) <= 1.25 * r
+                });
+                if in_cavity(a) && !near && seen.insert((p.min(q), p.max(q))) {
+                    out.push((p, q, col(i, j), false));
+                }
+            }
+        }
+    }
+    out
 }
 
 /// The distance from x to segment a-b.
