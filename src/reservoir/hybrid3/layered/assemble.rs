@@ -52,12 +52,16 @@ pub(crate) fn assemble(
                 .iter()
                 .flat_map(|&[i, j]| (cav.k[0]..=cav.k[1]).map(move |k| [i, j, k]))
                 .collect();
+            let mut fixed: Vec<Vec<Vec<u32>>> = vec![];
             for cell in &cells {
-                let faces = cell
+                let faces: Vec<Vec<u32>> = cell
                     .faces
                     .iter()
-                    .map(|(_, pts)| pts.iter().map(|&p| a.point(at(p))).collect())
+                    .map(|(_, pts)| clean(pts.iter().map(|&p| a.point(at(p))).collect()))
                     .collect();
+                let faces = on_edges(faces, &a.out.points);
+                fixed.push(faces.clone());
+                let faces = faces.into_iter().filter(|f| f.len() >= 3).collect();
                 let site = g.frame.from(cell.site);
                 id.insert((cell.c, cell.k), a.out.cells.len());
                 a.push_cell(faces, site, g.section.region[cell.c], None);
@@ -75,16 +79,16 @@ pub(crate) fn assemble(
                 );
                 cavity_of.push(n_cavity);
             }
-            for cell in &cells {
+            for (cell, faces) in cells.iter().zip(&fixed) {
                 let me = id[&(cell.c, cell.k)];
-                for (across, pts) in &cell.faces {
+                for ((across, _), face) in cell.faces.iter().zip(faces) {
                     let other = match across {
                         Across::Cell(d, k) => id.get(&(*d, *k)).copied().filter(|&o| o > me),
                         Across::Grid(Some(c)) => a.res_cell.get(c).copied(),
                         _ => None,
                     };
-                    if let Some(o) = other {
-                        let face: Vec<u32> = pts.iter().map(|&p| a.point(at(p))).collect();
+                    if let Some(o) = other.filter(|_| face.len() >= 3) {
+                        let face = face.clone();
                         let xyz: Vec<[f64; 3]> =
                             face.iter().map(|&v| a.out.points[v as usize]).collect();
                         a.link(me, o, face, Plane::of(&xyz));
@@ -189,4 +193,51 @@ fn wellbore_links(
         radius: wm.radius,
         links,
     }
+}
+
+/// A face without repeated points in a row (two cut points that the data's
+/// rounding puts at one place).
+fn clean(mut f: Vec<u32>) -> Vec<u32> {
+    f.dedup();
+    while f.len() > 1 && f.first() == f.last() {
+        f.pop();
+    }
+    f
+}
+
+/// A cell's faces with each point of the cell that lies inside one of
+/// their edges put in it: a face kept whole beside two pieces of a face
+/// across a column line meets them at a point it would otherwise lack.
+fn on_edges(faces: Vec<Vec<u32>>, points: &[[f64; 3]]) -> Vec<Vec<u32>> {
+    let mut all: Vec<u32> = faces.iter().flatten().copied().collect();
+    all.sort_unstable();
+    all.dedup();
+    faces
+        .iter()
+        .map(|f| {
+            let mut out = vec![];
+            for k in 0..f.len() {
+                let (u, v) = (f[k], f[(k + 1) % f.len()]);
+                out.push(u);
+                let (p, q) = (points[u as usize], points[v as usize]);
+                let d: [f64; 3] = std::array::from_fn(|i| q[i] - p[i]);
+                let len2 = crate::geom::dot_f(d, d);
+                let mut inside: Vec<(f64, u32)> = all
+                    .iter()
+                    .filter(|&&w| w != u && w != v)
+                    .filter_map(|&w| {
+                        let x = points[w as usize];
+                        let r: [f64; 3] = std::array::from_fn(|i| x[i] - p[i]);
+                        let t = crate::geom::dot_f(r, d) / len2;
+                        let off: [f64; 3] = std::array::from_fn(|i| r[i] - t * d[i]);
+                        let near = crate::geom::dot_f(off, off) <= 1e-18 * len2;
+                        (t > 1e-9 && t < 1.0 - 1e-9 && near).then_some((t, w))
+                    })
+                    .collect();
+                inside.sort_by(|a, b| a.0.total_cmp(&b.0));
+                out.extend(inside.into_iter().map(|(_, w)| w));
+            }
+            out
+        })
+        .collect()
 }

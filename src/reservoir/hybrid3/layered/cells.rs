@@ -114,7 +114,15 @@ impl Build<'_> {
                 let q: Vec<[f64; 3]> = pts.iter().map(|&p| self.f.to(p)).collect();
                 let (o, n) = super::frame::plane_fit(&q);
                 let c = crate::geom::dot_f(n, o);
-                let id = self.cut.plane(Halfspace { n, c });
+                // walls in one plane (columns along the grid's side) are one
+                // plane, so that a cell's faces there join
+                let tol = PLANAR * self.f.size;
+                let same = self.walls.values().copied().find(|&id| {
+                    let h = self.cut.planes[id as usize];
+                    let d = crate::geom::dot_f(h.n, n);
+                    d.abs() >= 1.0 - 1e-12 && (h.c - d.signum() * c).abs() <= tol
+                });
+                let id = same.unwrap_or_else(|| self.cut.plane(Halfspace { n, c }));
                 self.walls.insert(w, id);
                 id
             }
