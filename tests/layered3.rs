@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::hybrid3::write;
+use common::hybrid3::write_as;
 use orthomesh::backend::compiled;
 use orthomesh::reservoir::hybrid3::{build, Hybrid3Options, Section, Well3};
 use std::path::Path;
@@ -26,7 +26,8 @@ fn spe9_all_wells_on_layered_sections() {
     let g = orthomesh::io::eclipse::read_grid(&data.join("SPE9.GRDECL")).unwrap();
     let (ws, _) = orthomesh::io::eclipse::read_wells(&data.join("SPE9_CP.DATA")).unwrap();
     let wells: Vec<Well3> = ws.into_iter().map(|w| w.well3(0.25)).collect();
-    for b in compiled() {
+    // one backend per pass of the suite (CGAL, then pure alone)
+    for b in compiled().into_iter().take(1) {
         let t = std::time::Instant::now();
         let h = build(&*b, &g, &wells, &layered()).unwrap();
         let r = &h.report;
@@ -65,9 +66,9 @@ fn spe9_all_wells_on_layered_sections() {
         }
         assert!(r.sites_outside * 100 <= r.cells[1], "{}", r.sites_outside);
         assert!(h.mesh.volumes.iter().all(|&v| v > 0.0));
-        if b.name() == "cgal" {
-            write("spe9-layered", &h);
-        }
+        // tests/readers.py validates each cell in its own frame (as for
+        // emerald's twisted cells) and checks the volumes
+        write_as(&format!("twisted3-spe9-layered-{}", b.name()), &h);
     }
 }
 
