@@ -136,6 +136,9 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         for c in &mut h.report.cavities {
             c.transition.timing = None;
         }
+        for s in &mut h.report.sections {
+            s.transition.timing = None;
+        }
     }
     // The network only where a file needs it.
     let network = (a.tough.is_some() || a.simulator.wanted()).then(|| h.mesh.network());
@@ -170,12 +173,13 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
                 s.3 + k.domain_sites,
             )
         });
+        let layered: usize = r.sections.iter().map(|s| s.cavities.len()).sum();
         eprintln!(
-            "3D hybrid: {} wells in {} cavities; {} reservoir, {} transition, {} well cells; {} \
-             connections, {} non-orthogonal; certificates: faces {exact}/{faces} exact, sites \
-             inside {inside}/{sites}",
+            "3D hybrid: {} wells in {} cavities ({layered} layered); {} reservoir, {} transition, \
+             {} well cells; {} connections, {} non-orthogonal; 3D transitions' certificates: \
+             faces {exact}/{faces} exact, sites inside {inside}/{sites}",
             h.wellbore.len(),
-            r.cavities.len(),
+            r.cavities.len() + layered,
             r.cells[0],
             r.cells[1],
             r.cells[2],
