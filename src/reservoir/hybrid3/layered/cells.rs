@@ -39,6 +39,27 @@ pub(crate) struct Cell {
     pub(crate) inside: bool,
 }
 
+/// What lies across a section cell's edge: a cavity cell, the wellbore
+/// (a radial cell's inner edge), the cavity's side (the edge left open,
+/// the cell reaching on to the walls), or the box an open cell is cut to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Edge {
+    Cell(usize),
+    Wellbore,
+    Open,
+    Box,
+}
+
+/// The plane through section points x and y across the layers, its normal
+/// to the right of x -> y.
+fn side_plane(x: [f64; 2], y: [f64; 2]) -> Halfspace {
+    let n = [y[1] - x[1], x[0] - y[0], 0.0];
+    Halfspace {
+        n,
+        c: n[0] * x[0] + n[1] * x[1],
+    }
+}
+
 /// A layered cavity: its columns, layers k0..=k1, and section cells.
 pub(crate) struct Cavity {
     pub(crate) cols: BTreeSet<[usize; 2]>,
@@ -69,6 +90,8 @@ struct Build<'a> {
     lines: HashMap<u32, u32>,
     edges: HashMap<(u32, u32), u32>,
     walls: HashMap<Wall, u32>,
+    /// Per column, its walls' planes and whether each normal points out.
+    sides: HashMap<[usize; 2], [(u32, bool); 4]>,
     slabs: Vec<u32>,
 }
 
@@ -84,22 +107,28 @@ impl Build<'_> {
         l
     }
 
-    /// The plane of section edge p -> q, and whether a cell on its left
-    /// keeps the plane's outside (its normal points right of min -> max).
-    fn edge(&mut self, p: u32, q: u32) -> (u32, bool) {
+    /// The plane of section edge p - q, one for both cells beside it.
+    fn edge(&mut self, p: u32, q: u32) -> u32 {
         let (a, b) = (p.min(q), p.max(q));
-        let id = match self.edges.get(&(a, b)) {
-            Some(&id) => id,
-            None => {
-                let (x, y) = (self.m.points[a as usize], self.m.points[b as usize]);
-                let n = [y[1] - x[1], x[0] - y[0], 0.0];
-                let c = n[0] * x[0] + n[1] * x[1];
-                let id = self.cut.plane(Halfspace { n, c });
-                self.edges.insert((a, b), id);
-                id
-            }
-        };
-        (id, p > q)
+        if let Some(&id) = self.edges.get(&(a, b)) {
+            return id;
+        }
+        let (x, y) = (self.m.points[a as usize], self.m.points[b as usize]);
+        let id = self.cut.plane(side_plane(x, y));
+        self.edges.insert((a, b), id);
+        id
+    }
+
+    /// Column col's walls (`walls`' order): each one's plane, and whether
+    /// its normal points out of the column (its inside then the plane's).
+    fn column(&mut self, col: [usize; 2]) -> [(u32, bool); 4] {
+        if let Some(&s) = self.sides.get(&col) {
+            return s;
+        }
+        let ws = walls(col);
+        let s = std::array::from_fn(|f| self.wall(ws[f].0, col, f));
+        self.sides.insert(col, s);
+        s
     }
 
     /// The plane of a wall, and whether its normal points out of column
@@ -143,20 +172,19 @@ fn outline(
     owner: &HashMap<(u32, u32), u32>,
     region: Region,
     reach: f64,
-) -> Option<(Vec<u32>, Vec<(u32, bool)>, Vec<Option<usize>>)> {
+) -> Option<(Vec<u32>, Vec<u32>, Vec<Edge>)> {
     let poly = b.m.cells[c].clone();
     let n = poly.len();
-    // per edge: Some(neighbour), Some(usize::MAX) the wellbore, None open
     let mut kinds = vec![];
     for k in 0..n {
         let (p, q) = (poly[k], poly[(k + 1) % n]);
         kinds.push(match owner.get(&(q, p)) {
-            Some(&d) if inside(d) => Some(d as usize),
-            _ if region == Region::Well => Some(usize::MAX),
-            _ => None,
+            Some(&d) if inside(d) => Edge::Cell(d as usize),
+            _ if region == Region::Well => Edge::Wellbore,
+            _ => Edge::Open,
         });
     }
-    if kinds.iter().all(Option::is_some) {
+    if !kinds.contains(&Edge::Open) {
         let lines = poly.iter().map(|&p| b.line(p)).collect();
         let sides = (0..n).map(|k| b.edge(poly[k], poly[(k + 1) % n])).collect();
         return Some((lines, sides, kinds));
@@ -168,7 +196,7 @@ fn outline(
     let (lo, hi) = (lo.map(|x| x - 2.0 * reach), hi.map(|x| x + 2.0 * reach));
     let shift = |k: usize| -> ([f64; 2], [f64; 2]) {
         let (a, z) = (pts[k], pts[(k + 1) % n]);
-        if kinds[k].is_some() {
+        if kinds[k] != Edge::Open {
             return (a, z);
         }
         let (dx, dy) = (z[0] - a[0], z[1] - a[1]);
@@ -223,7 +251,7 @@ fn outline(
     for (v, (p, _, after)) in ring.iter().enumerate() {
         let before = ring[(v + ring.len() - 1) % ring.len()].2;
         // a vertex between consecutive closed edges is the polygon's point
-        let closed = |e: usize| e < n && kinds[e].is_some();
+        let closed = |e: usize| e < n && kinds[e] != Edge::Open;
         let l = if closed(before) && closed(*after) && *after == (before + 1) % n {
             b.line(poly[*after])
         } else {
@@ -235,23 +263,12 @@ fn outline(
             across.push(kinds[*after]);
         } else if *after < n {
             let (x, y) = shift(*after);
-            let nrm = [y[1] - x[1], x[0] - y[0], 0.0];
-            let id = b.cut.plane(Halfspace {
-                n: nrm,
-                c: nrm[0] * x[0] + nrm[1] * x[1],
-            });
-            sides.push((id, false));
-            across.push(None);
+            sides.push(b.cut.plane(side_plane(x, y)));
+            across.push(Edge::Open);
         } else {
             let k = *after - n;
-            let (x, y) = (corners[k], corners[(k + 1) % 4]);
-            let nrm = [y[1] - x[1], x[0] - y[0], 0.0];
-            let id = b.cut.plane(Halfspace {
-                n: nrm,
-                c: nrm[0] * x[0] + nrm[1] * x[1],
-            });
-            sides.push((id, false));
-            across.push(Some(usize::MAX - 1));
+            sides.push(b.cut.plane(side_plane(corners[k], corners[(k + 1) % 4])));
+            across.push(Edge::Box);
         }
     }
     Some((lines, sides, across))
@@ -265,7 +282,7 @@ struct At<'s> {
     t: usize,
     nl: usize,
     sides: &'s [u32],
-    kinds: &'s [Option<usize>],
+    kinds: &'s [Edge],
 }
 
 impl Build<'_> {
@@ -291,8 +308,7 @@ impl Build<'_> {
                 continue;
             }
             let mut piece = faces.to_vec();
-            for (fi, (w, _)) in walls(col).into_iter().enumerate() {
-                let (id, out) = self.wall(w, col, fi);
+            for (id, out) in self.column(col) {
                 piece = self.cut.cut(&piece, id, !out);
                 if piece.is_empty() {
                     break;
@@ -318,13 +334,11 @@ impl Build<'_> {
         out: &mut Vec<(Across, u32, Vec<u32>)>,
     ) -> bool {
         let (cpg, k) = (self.cpg, at.k);
+        let sides = self.column(col);
         let wall_ids: Vec<(u32, bool, Option<[usize; 2]>)> = walls(col)
             .into_iter()
-            .enumerate()
-            .map(|(fi, (w, across))| {
-                let (id, out) = self.wall(w, col, fi);
-                (id, out, across)
-            })
+            .zip(sides)
+            .map(|((_, across), (id, out))| (id, out, across))
             .collect();
         let within = wall_ids.iter().all(|&(id, out, _)| {
             let e = self.cut.planes[id as usize].eval(site);
@@ -362,8 +376,8 @@ impl Build<'_> {
                     .position(|&s| s == face.plane)
                     .map(|s| at.kinds[s])
                 {
-                    Some(Some(usize::MAX)) => Across::Wellbore,
-                    Some(Some(d)) if d < usize::MAX - 1 => Across::Cell(d, k),
+                    Some(Edge::Wellbore) => Across::Wellbore,
+                    Some(Edge::Cell(d)) => Across::Cell(d, k),
                     _ => Across::Grid(None),
                 }
             };
@@ -389,6 +403,7 @@ pub(crate) fn cells(
         lines: HashMap::new(),
         edges: HashMap::new(),
         walls: HashMap::new(),
+        sides: HashMap::new(),
         slabs: vec![],
     };
     b.slabs =
@@ -426,14 +441,12 @@ pub(crate) fn cells(
         else {
             continue;
         };
-        let side_ids: Vec<u32> = sides.iter().map(|s| s.0).collect();
         for t in 0..nl {
             let k = cav.k[0] + t;
-            let Some(mut faces) = b.cut.prism(&lines, &side_ids, b.slabs[t + 1], b.slabs[t]) else {
+            let Some(faces) = b.cut.prism(&lines, &sides, b.slabs[t + 1], b.slabs[t]) else {
                 continue;
             };
             let pieces = b.pieces(&faces, &boxes);
-            faces.clear();
             let site2 = m.sites[c];
             let site = [site2[0], site2[1], 0.5 * (f.h[t] + f.h[t + 1])];
             let mut inside_site = false;
@@ -443,7 +456,7 @@ pub(crate) fn cells(
                 k,
                 t,
                 nl,
-                sides: &side_ids,
+                sides: &sides,
                 kinds: &kinds,
             };
             for (col, piece) in &pieces {
@@ -523,11 +536,7 @@ fn lean(cpg: &Cpg, f: &Frame, cav: &Cavity) -> f64 {
     for &[i, j] in &cav.cols {
         for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
             let c = g.coord[(j + dj) * (g.nx + 1) + i + di];
-            let (q0, q1) = (f.to([c[0], c[1], -c[2]]), f.to([c[3], c[4], -c[5]]));
-            let at_h = |h: f64| {
-                let t = (h - q0[2]) / (q1[2] - q0[2]);
-                [q0[0] + t * (q1[0] - q0[0]), q0[1] + t * (q1[1] - q0[1])]
-            };
+            let at_h = |h: f64| f.crossing(c, h);
             let m = at_h(at);
             for h in [top, bottom] {
                 let x = at_h(h);

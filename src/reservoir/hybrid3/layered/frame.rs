@@ -42,6 +42,14 @@ impl Frame {
         std::array::from_fn(|k| self.o[k] + q[0] * self.a[k] + q[1] * self.b[k] + q[2] * self.n[k])
     }
 
+    /// Where a pillar (COORD's top and bottom, depths down) crosses the
+    /// plane at height h: its coordinates along a and b.
+    pub(crate) fn crossing(&self, c: [f64; 6], h: f64) -> [f64; 2] {
+        let (q0, q1) = (self.to([c[0], c[1], -c[2]]), self.to([c[3], c[4], -c[5]]));
+        let t = (h - q0[2]) / (q1[2] - q0[2]);
+        [q0[0] + t * (q1[0] - q0[0]), q0[1] + t * (q1[1] - q0[1])]
+    }
+
     /// The frame of the live cells of columns `cols` over layers k0..=k1,
     /// or why they have none: an inactive or pinched cell, a boundary or a
     /// wall that is not a plane, boundaries that are not parallel.

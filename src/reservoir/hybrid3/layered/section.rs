@@ -20,9 +20,7 @@ pub(super) fn grid(
     let (nx, ny) = (g.nx, g.ny);
     let mut s = CornerPointGrid::layered([nx, ny], [1.0, 1.0], &[0.0, 1.0]);
     for (p, c) in g.coord.iter().enumerate() {
-        let (q0, q1) = (f.to([c[0], c[1], -c[2]]), f.to([c[3], c[4], -c[5]]));
-        let t = (at - q0[2]) / (q1[2] - q0[2]);
-        let (u, v) = (q0[0] + t * (q1[0] - q0[0]), q0[1] + t * (q1[1] - q0[1]));
+        let [u, v] = f.crossing(*c, at);
         s.coord[p] = [u, v, 0.0, u, v, 1.0];
     }
     for j in 0..ny {
