@@ -171,7 +171,8 @@ def volumes_agree(path, grid, floor=0.0):
     """The volumes from the faces as vtk reads them are the file's
     `volume` array, and pyvista reads as many cells. `floor` times the
     cube of a cell's extent is the least tolerance: a sliver's volume is
-    its points' rounding."""
+    its points' rounding. Otherwise 1e-8 of the volume: the writer drops
+    vertices where faces run straight on to 1e-7 (io/vtu.rs `corners`)."""
     n = grid.GetNumberOfCells()
     volume = vtk_to_numpy(grid.GetCellData().GetArray("volume"))
     for c in range(n):
@@ -179,7 +180,7 @@ def volumes_agree(path, grid, floor=0.0):
         total = face_volume(grid, cell)
         b = cell.GetBounds()
         extent = max(b[1] - b[0], b[3] - b[2], b[5] - b[4])
-        tol = max(1e-9 * volume[c], floor * extent**3, 1e-300)
+        tol = max(1e-8 * volume[c], floor * extent**3, 1e-300)
         assert abs(total - volume[c]) <= tol, f"{path}: cell {c}: volume from the faces vtk reads {total}, ours {volume[c]}"
     m = pv.read(path)
     assert m.n_cells == n, f"{path}: pyvista reads {m.n_cells} cells, vtk {n}"
@@ -266,7 +267,26 @@ def check_twisted(path):
     own = validity(cells_in(grid, range(n), lambda p: (p - p.mean(0)) @ ROTATION.T))
     bad = [c for c in range(n) if region[c] == 0 and own[c] & ~48]
     assert not bad, f"{path}: reservoir cells {bad[:10]} flagged {sorted(set(int(own[c]) for c in bad))} in their own frame"
+    if "layered" in path.name:
+        # layered cavities: well cells pass; a transition cell flagged is
+        # one that is not convex (at the cavity's side, beside a pillar)
+        wrong = [c for c in range(n) if own[c] and (region[c] == 2 or (region[c] == 1 and not nonconvex(grid, c)))]
+        assert not wrong, f"{path}: cells {wrong[:10]} flagged {sorted(set(int(own[c]) for c in wrong))} in their own frame, well cells or convex transition cells"
     return [(int(np.count_nonzero(own[region == r])), int(np.sum(region == r))) for r in (0, 1, 2)]
+
+def nonconvex(grid, c):
+    """Whether polyhedron c has a point beyond one of its faces' planes by
+    more than 1e-10 of its extent."""
+    cell = grid.GetCell(c)
+    pts = np.array([grid.GetPoint(cell.GetPointId(k)) for k in range(cell.GetNumberOfPoints())])
+    extent = np.ptp(pts, axis=0).max()
+    for f in range(cell.GetNumberOfFaces()):
+        face = cell.GetFace(f)
+        q = np.array([grid.GetPoint(face.GetPointId(k)) for k in range(face.GetNumberOfPoints())])
+        normal = sum(np.cross(q[k] - q[0], q[k + 1] - q[0]) for k in range(1, len(q) - 1))
+        if ((pts - q[0]) @ normal).max() > 1e-10 * extent * np.linalg.norm(normal):
+            return True
+    return False
 
 def cells_in(grid, cells, frame):
     """A grid of the given polyhedra, each cell's points moved by `frame`

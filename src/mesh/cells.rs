@@ -73,3 +73,48 @@ pub struct CellMesh {
     /// The array a viewer shows first.
     pub scalars: &'static str,
 }
+
+/// Polygons (point ids, all turning the same way) that share edges, joined
+/// into the one polygon they make; None where they make more than one
+/// boundary (apart, or with a hole).
+pub fn join(polys: &[Vec<u32>]) -> Option<Vec<u32>> {
+    let mut edges: std::collections::BTreeSet<(u32, u32)> = Default::default();
+    for p in polys {
+        for k in 0..p.len() {
+            let e = (p[k], p[(k + 1) % p.len()]);
+            if !edges.remove(&(e.1, e.0)) {
+                edges.insert(e);
+            }
+        }
+    }
+    let next: std::collections::BTreeMap<u32, u32> = edges.iter().copied().collect();
+    let start = edges.iter().next()?.0;
+    if next.len() != edges.len() {
+        return None;
+    }
+    let mut cycle = vec![start];
+    let mut at = next[&start];
+    while at != start && cycle.len() <= next.len() {
+        cycle.push(at);
+        at = *next.get(&at)?;
+    }
+    (cycle.len() == next.len()).then_some(cycle)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::join;
+
+    #[test]
+    fn squares_sharing_an_edge_join() {
+        // 3 2 5
+        // 0 1 4
+        let j = join(&[vec![0, 1, 2, 3], vec![1, 4, 5, 2]]).unwrap();
+        let at = j.iter().position(|&x| x == 0).unwrap();
+        let turned: Vec<u32> = (0..j.len()).map(|k| j[(at + k) % j.len()]).collect();
+        assert_eq!(turned, vec![0, 1, 4, 5, 2, 3]);
+        // apart: two boundaries
+        assert_eq!(join(&[vec![0, 1, 2], vec![3, 4, 5]]), None);
+        assert_eq!(join(&[]), None);
+    }
+}

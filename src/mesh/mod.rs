@@ -8,7 +8,7 @@ mod d3;
 mod network;
 mod weld;
 
-pub use cells::{CellArray, CellMesh, Cells, Values};
+pub use cells::{join, CellArray, CellMesh, Cells, Values};
 pub use d2::{Collapsed, Mesh};
 pub use d3::{FacetFace, Link3, Mesh3};
 pub use network::{Connection, Element, Network};

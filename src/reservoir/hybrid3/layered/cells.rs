@@ -488,38 +488,9 @@ fn merge(faces: Vec<(Across, u32, Vec<u32>)>) -> Vec<(Across, Vec<u32>)> {
             out.extend(polys.into_iter().map(|p| (a, p)));
             continue;
         }
-        let mut edges: BTreeSet<(u32, u32)> = BTreeSet::new();
-        for p in &polys {
-            for k in 0..p.len() {
-                let e = (p[k], p[(k + 1) % p.len()]);
-                if !edges.remove(&(e.1, e.0)) {
-                    edges.insert(e);
-                }
-            }
-        }
-        let next: BTreeMap<u32, u32> = edges.iter().copied().collect();
-        let one_cycle = next.len() == edges.len() && {
-            let start = edges.iter().next().map(|e| e.0);
-            let mut seen = 0;
-            let mut at = start;
-            let mut cycle = vec![];
-            while let Some(x) = at {
-                cycle.push(x);
-                seen += 1;
-                at = next.get(&x).copied().filter(|&y| Some(y) != start);
-                if seen > next.len() {
-                    break;
-                }
-            }
-            if seen == next.len() {
-                out.push((a, cycle));
-                true
-            } else {
-                false
-            }
-        };
-        if !one_cycle {
-            out.extend(polys.into_iter().map(|p| (a, p)));
+        match crate::mesh::join(&polys) {
+            Some(cycle) => out.push((a, cycle)),
+            None => out.extend(polys.into_iter().map(|p| (a, p))),
         }
     }
     out
