@@ -83,6 +83,10 @@ struct Thiem {
     /// domain's side.
     kh: f64,
     side: f64,
+    /// Per element, whether Thiem is taken with the rate per length that
+    /// comes in there (the middle of a horizontal well) rather than the
+    /// well's mean: decks.py reads that share from the connections.
+    local: Option<Vec<bool>>,
 }
 
 impl Thiem {
@@ -97,10 +101,24 @@ impl Thiem {
 
     fn deck(&self, stem: &str, net: &Network, wells: &[WellLinks]) {
         let rock = Rock::uniform(net.elements.len(), [PERM; 3], 0.2);
-        self.deck_in(stem, net, wells, &rock)
+        self.deck_in(stem, net, wells, &rock, None)
     }
 
-    fn deck_in(&self, stem: &str, net: &Network, wells: &[WellLinks], rock: &Rock) {
+    /// As `deck`, with the check's tolerance (relative; decks.py's default
+    /// otherwise).
+    fn deck_tolerance(&self, stem: &str, net: &Network, wells: &[WellLinks], tol: f64) {
+        let rock = Rock::uniform(net.elements.len(), [PERM; 3], 0.2);
+        self.deck_in(stem, net, wells, &rock, Some(tol))
+    }
+
+    fn deck_in(
+        &self,
+        stem: &str,
+        net: &Network,
+        wells: &[WellLinks],
+        rock: &Rock,
+        tol: Option<f64>,
+    ) {
         // Compressible enough for Flow's time stepping: the interior settles
         // within a day (phi mu c_t L^2 / (c k)), and in 20 days the boundary,
         // of a million times its pore volume, drifts by 1e-3 bar.
@@ -141,13 +159,23 @@ impl Thiem {
             .collect();
         d.watch.extend(d.wells[0].connections.iter().map(|c| c.0));
         let first = d.wells[0].connections[0].0;
-        let sidecar = json!({
+        let mut sidecar = json!({
             "thiem": {
                 "well": wells[0].name, "rw": RW, "slope": self.slope(), "band": band,
                 "ref_depth": d.cells[first].depth, "gradient": GRADIENT,
-                "inner": d.wells[0].connections.iter().map(|c| json!([c.0 + 1, d.cells[c.0].depth])).collect::<Vec<_>>()
+                "inner": d.wells[0].connections.iter().map(|c| json!([c.0 + 1, d.cells[c.0].depth, c.1])).collect::<Vec<_>>()
             }
         });
+        if let Some(tol) = tol {
+            sidecar["thiem"]["tolerance"] = json!(tol);
+        }
+        if let Some(local) = &self.local {
+            let cells: Vec<usize> = (0..local.len())
+                .filter(|&e| local[e])
+                .map(|e| position[e] + 1)
+                .collect();
+            sidecar["thiem"]["local"] = json!(cells);
+        }
         write(stem, &d, sidecar);
     }
 }
@@ -192,6 +220,7 @@ fn thiem_decks_in_2d_and_25d() {
             band,
             kh: PERM * layers as f64 * dz,
             side,
+            local: None,
         };
         if layers == 1 {
             let net = h.network();
@@ -274,6 +303,7 @@ fn thiem_deck_with_peacemans_factor_in_a_conform_mesh() {
             .collect(),
         kh: PERM * thickness,
         side,
+        local: None,
     };
     t.deck("thiem-peaceman", &net, &wells);
 }
@@ -324,6 +354,7 @@ fn thiem_3d(depths: &[f64], perm: &[f64]) -> (hybrid3::Hybrid3, Thiem) {
             .map(|k| perm[k] * (depths[k + 1] - depths[k]))
             .sum(),
         side,
+        local: None,
     };
     (h, t)
 }
@@ -404,7 +435,64 @@ fn thiem_deck_in_a_layered_block() {
         perm: h.host.iter().map(|c| [perm[c[2]]; 3]).collect(),
         poro: vec![0.2; h.host.len()],
     };
-    t.deck_in("thiem-3d-layered", &h.mesh.network(), &h.wellbore, &rock);
+    t.deck_in(
+        "thiem-3d-layered",
+        &h.mesh.network(),
+        &h.wellbore,
+        &rock,
+        None,
+    );
+}
+
+/// The horizontal well of tests/hybrid3.rs (160 m along x in the middle of
+/// layer 4 of a box of 25 x 11 x 6 cells of 10 m), for decks.py's Thiem
+/// check in Flow: Thiem's pressure about the axis held on the box's sides,
+/// the drop from the well to 15 m from the axis (a quarter of the box's
+/// height) in the middle 50 m, within 1%. Flow's well is at one pressure
+/// along its length, so more of the rate comes in near its ends than in
+/// the crate's check, which spreads it evenly.
+#[test]
+fn thiem_deck_for_a_horizontal_well() {
+    let ([nx, ny, nz], h) = ([25, 11, 6], 10.0);
+    let g = CornerPointGrid::cartesian([nx, ny, nz], [h, h, h]);
+    let (y, depth, length) = (55.0, 35.0, 160.0);
+    let w = Well3 {
+        name: "H".into(),
+        radius: RW,
+        path: Some(vec![[45.0, y, depth], [125.0, y, depth], [205.0, y, depth]]),
+        ..Default::default()
+    };
+    let hy = lenient(&g, w);
+    assert_eq!(hy.report.sites_outside, 0);
+    let m = &hy.mesh;
+    let dist = |x: [f64; 3]| (x[1] - y).hypot(x[2] + depth);
+    let side = |k: usize| {
+        hy.ijk[k].is_some_and(|[i, j, kk]| {
+            i == 0 || j == 0 || kk == 0 || i == nx - 1 || j == ny - 1 || kk == nz - 1
+        })
+    };
+    let band = |k: usize| {
+        hy.region[k] == Region::Reservoir
+            && (100.0..=150.0).contains(&m.sites[k][0])
+            && (dist(m.sites[k]) - 15.0).abs() <= h / 2.0
+    };
+    let cells = m.sites.len();
+    let t = Thiem {
+        // (cells beyond the well's ends may have their sites on its axis)
+        radius: m.sites.iter().map(|&p| dist(p).max(RW)).collect(),
+        boundary: (0..cells).map(side).collect(),
+        band: (0..cells).map(band).collect(),
+        // along the well, per unit of its length; Thiem's pressure is
+        // taken about 30 m from the axis (half the box's height)
+        kh: PERM * length,
+        side: nz as f64 * h,
+        local: Some(
+            (0..cells)
+                .map(|k| (100.0..=150.0).contains(&m.sites[k][0]))
+                .collect(),
+        ),
+    };
+    t.deck_tolerance("thiem-3d-horizontal", &m.network(), &hy.wellbore, 0.01);
 }
 
 /// The demo's mesh and SPE9's top layer with its 26 wells, as the CLI
