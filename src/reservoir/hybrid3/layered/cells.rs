@@ -418,7 +418,9 @@ pub(crate) fn cells(
     let set: BTreeSet<u32> = cav.cells.iter().map(|&c| c as u32).collect();
     let inside = |d: u32| set.contains(&d);
     let owner: HashMap<(u32, u32), u32> = m.edge_owners().into_iter().collect();
-    let reach = lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
+    // from a side moved in by up to the lean (`section::inset`) out to
+    // the wall, leaning out as far
+    let reach = 2.0 * lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
     let nl = cav.k[1] - cav.k[0] + 1;
     // the columns' outlines at the cavity's top and bottom, for quick tests
     let boxes: BTreeMap<[usize; 2], ([f64; 2], [f64; 2])> = cav
