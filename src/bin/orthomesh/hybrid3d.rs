@@ -192,11 +192,13 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
             eprintln!(
                 "  layered: wells {} in {} cavities on a section across layers {:.2} degrees \
                  off horizontal (corners within {:.1e} of their planes); {cells} cells, sites \
-                 inside {inside}; section certificate: {}",
+                 inside {inside}, filling their cavities' grid cells to {:.1e} of their volume; \
+                 section certificate: {}",
                 s.wells.join(", "),
                 s.cavities.len(),
                 s.dip,
                 s.off_plane,
+                s.cavities.iter().map(|c| c.volume_gap).fold(0.0, f64::max),
                 if s.transition.certificate.conforms() {
                     "conforms"
                 } else {

@@ -40,6 +40,9 @@ pub(crate) fn assemble(
     let mut cavity_of = vec![];
     let mut sections = vec![];
     let mut n_cavity = 0;
+    // faces toward a grid cell that is in a cavity: they have no cell
+    // across (0: sections keep their cavities apart)
+    let mut unpaired = 0;
     for g in &groups {
         let mut id: HashMap<(usize, usize), usize> = HashMap::new();
         let mut reports = vec![];
@@ -84,7 +87,10 @@ pub(crate) fn assemble(
                 for ((across, _), face) in cell.faces.iter().zip(faces) {
                     let other = match across {
                         Across::Cell(d, k) => id.get(&(*d, *k)).copied().filter(|&o| o > me),
-                        Across::Grid(Some(c)) => a.res_cell.get(c).copied(),
+                        Across::Grid(Some(c)) => {
+                            unpaired += usize::from(in_cavity.contains(c));
+                            a.res_cell.get(c).copied()
+                        }
                         _ => None,
                     };
                     if let Some(o) = other.filter(|_| face.len() >= 3) {
@@ -100,6 +106,7 @@ pub(crate) fn assemble(
                 layers: [cav.k[0] + 1, cav.k[1] + 1],
                 cells: cells.len(),
                 sites_inside: cells.iter().filter(|c| c.inside).count(),
+                volume_gap: grid_cells.iter().map(|&c| grid_volume(cpg, c)).sum(),
             });
         }
         for (n, &w) in g.wells.iter().enumerate() {
@@ -116,6 +123,19 @@ pub(crate) fn assemble(
         });
     }
     let (out, region, ijk) = a.finish();
+    // each cavity's cells' volumes against its grid cells' (held in
+    // volume_gap until now)
+    let mut filled = vec![0.0; n_cavity + 1];
+    for c in first_t..region.len() {
+        filled[cavity_of[c - first_t]] += out.volumes[c];
+    }
+    let mut n = 0;
+    for s in &mut sections {
+        for cav in &mut s.cavities {
+            n += 1;
+            cav.volume_gap = (filled[n] - cav.volume_gap).abs() / cav.volume_gap;
+        }
+    }
     let by_regions = super::super::stats::by_regions(&out, &region);
     let t_cells: Vec<usize> = (first_t..region.len())
         .filter(|&c| region[c] == Region::Transition)
@@ -142,7 +162,7 @@ pub(crate) fn assemble(
         ],
         cavities: vec![],
         connections: out.links.len(),
-        unpaired_faces: 0,
+        unpaired_faces: unpaired,
         unmatched_faces: unmatched,
         across_throws: thrown,
         non_orthogonal: by_regions.values().map(|c| c.non_orthogonal).sum(),
@@ -240,4 +260,25 @@ fn on_edges(faces: Vec<Vec<u32>>, points: &[[f64; 3]]) -> Vec<Vec<u32>> {
             out
         })
         .collect()
+}
+
+/// A grid cell's volume: its faces (twisted ones as two triangles) about
+/// its first corner.
+fn grid_volume(cpg: &Cpg, c: Ijk) -> f64 {
+    let o = cpg.corner(c, 0);
+    let mut six = 0.0;
+    for f in 0..6 {
+        let (q, pieces) = cpg.face_pieces(c, f);
+        let q: Vec<[f64; 3]> = q
+            .iter()
+            .map(|p| std::array::from_fn(|k| p[k] - o[k]))
+            .collect();
+        for piece in pieces {
+            for t in 1..piece.len() - 1 {
+                let (a, b, d) = (q[piece[0]], q[piece[t]], q[piece[t + 1]]);
+                six += crate::geom::dot_f(a, crate::geom::cross_f(b, d));
+            }
+        }
+    }
+    six / 6.0
 }

@@ -93,6 +93,10 @@ struct Build<'a> {
     /// Per column, its walls' planes and whether each normal points out.
     sides: HashMap<[usize; 2], [(u32, bool); 4]>,
     slabs: Vec<u32>,
+    /// The cavity's outline in the section: its edges (cells' open edges)
+    /// by their first point, and by their last, each with its cell.
+    open_from: HashMap<u32, (u32, usize)>,
+    open_to: HashMap<u32, (u32, usize)>,
 }
 
 impl Build<'_> {
@@ -215,8 +219,14 @@ fn outline(
     let mut ring: Vec<([f64; 2], usize, usize)> = (0..4)
         .map(|k| (corners[k], n + (k + 3) % 4, n + k))
         .collect();
-    for k in 0..n {
-        let (a, z) = shift(k);
+    // and the bisectors at the outline's reflex corners, as n+4..
+    let extra = bisectors(b, c, &poly, &kinds);
+    let plane = |k: usize| match k < n {
+        true => shift(k),
+        false => (extra[k - n - 4].0, extra[k - n - 4].1),
+    };
+    for k in (0..n).chain(n + 4..n + 4 + extra.len()) {
+        let (a, z) = plane(k);
         let side = |x: [f64; 2]| (z[0] - a[0]) * (x[1] - a[1]) - (z[1] - a[1]) * (x[0] - a[0]);
         let mut next = vec![];
         for e in 0..ring.len() {
@@ -265,6 +275,10 @@ fn outline(
             let (x, y) = shift(*after);
             sides.push(b.cut.plane(side_plane(x, y)));
             across.push(Edge::Open);
+        } else if *after >= n + 4 {
+            let (x, y, kind) = extra[*after - n - 4];
+            sides.push(b.cut.plane(side_plane(x, y)));
+            across.push(kind);
         } else {
             let k = *after - n;
             sides.push(b.cut.plane(side_plane(corners[k], corners[(k + 1) % 4])));
@@ -272,6 +286,59 @@ fn outline(
         }
     }
     Some((lines, sides, across))
+}
+
+/// Where an open edge of cell c ends at a reflex corner of the cavity's
+/// outline, the bisector of the outside's wedge there, as a half-plane
+/// (a, z: kept on the left of a -> z) with the cell across it: the two
+/// cells whose edges meet there reach out into the wedge where the walls
+/// lean out, each to its half. Left out where c itself lies across it.
+fn bisectors(b: &Build, c: usize, poly: &[u32], kinds: &[Edge]) -> Vec<([f64; 2], [f64; 2], Edge)> {
+    let at = |p: u32| b.m.points[p as usize];
+    let unit = |x: [f64; 2], y: [f64; 2]| {
+        let (dx, dy) = (y[0] - x[0], y[1] - x[1]);
+        let l = dx.hypot(dy);
+        [dx / l, dy / l]
+    };
+    let n = poly.len();
+    let mut out = vec![];
+    for k in (0..n).filter(|&k| kinds[k] == Edge::Open) {
+        let (p, q) = (poly[k], poly[(k + 1) % n]);
+        // the outline's edges before p and after q: (corner, the other
+        // edge's far end, this edge's, the cell across, whether this
+        // edge runs into the corner)
+        let ends = [
+            b.open_to.get(&p).map(|&(o, d)| (p, o, q, d, false)),
+            b.open_from.get(&q).map(|&(r, d)| (q, r, p, d, true)),
+        ];
+        for (v, other, mine, d, into) in ends.into_iter().flatten() {
+            let (u, w) = (unit(at(v), at(mine)), unit(at(v), at(other)));
+            // a reflex corner turns right (the cavity on the left)
+            let (i, o) = match into {
+                true => ([-u[0], -u[1]], w),
+                false => ([-w[0], -w[1]], u),
+            };
+            if i[0] * o[1] - i[1] * o[0] >= 0.0 || d == c {
+                continue;
+            }
+            // the outside's wedge lies between the two edges' rays
+            let x = at(v);
+            let z = [x[0] + u[0] + w[0], x[1] + u[1] + w[1]];
+            let left = |a: [f64; 2], z: [f64; 2], y: [f64; 2]| {
+                (z[0] - a[0]) * (y[1] - a[1]) - (z[1] - a[1]) * (y[0] - a[0])
+            };
+            // kept: this cell's edge's side
+            let (a, z) = match left(x, z, at(mine)) >= 0.0 {
+                true => (x, z),
+                false => (z, x),
+            };
+            let tol = 1e-9 * left(a, z, at(mine)).abs();
+            if poly.iter().all(|&y| left(a, z, at(y)) >= -tol) {
+                out.push((a, z, Edge::Cell(d)));
+            }
+        }
+    }
+    out
 }
 
 /// A cell being labelled: section cell c in layer k (the cavity's t-th of
@@ -405,6 +472,8 @@ pub(crate) fn cells(
         walls: HashMap::new(),
         sides: HashMap::new(),
         slabs: vec![],
+        open_from: HashMap::new(),
+        open_to: HashMap::new(),
     };
     b.slabs =
         f.h.iter()
@@ -418,9 +487,17 @@ pub(crate) fn cells(
     let set: BTreeSet<u32> = cav.cells.iter().map(|&c| c as u32).collect();
     let inside = |d: u32| set.contains(&d);
     let owner: HashMap<(u32, u32), u32> = m.edge_owners().into_iter().collect();
-    // from a side moved in by up to the lean (`section::inset`) out to
-    // the wall, leaning out as far
-    let reach = 2.0 * lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
+    for &c in cav.cells.iter().filter(|&&c| region[c] != Region::Well) {
+        let poly = &m.cells[c];
+        for k in 0..poly.len() {
+            let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+            if !owner.get(&(q, p)).is_some_and(|&d| inside(d)) {
+                b.open_from.insert(p, (q, c));
+                b.open_to.insert(q, (p, c));
+            }
+        }
+    }
+    let reach = lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
     let nl = cav.k[1] - cav.k[0] + 1;
     // the columns' outlines at the cavity's top and bottom, for quick tests
     let boxes: BTreeMap<[usize; 2], ([f64; 2], [f64; 2])> = cav

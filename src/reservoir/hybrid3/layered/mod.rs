@@ -61,13 +61,14 @@ pub(crate) fn build<B: Backend + ?Sized>(
         let k1 = p.cells.iter().map(|c| c[2]).max().unwrap_or(0);
         spans.push([k0.saturating_sub(1), (k1 + 1).min(g.nz - 1)]);
     }
-    // wells whose spans overlap share a section
+    // wells whose spans overlap or touch share a section (so that
+    // cavities of two sections never meet face to face)
     let mut order: Vec<usize> = (0..wells.len()).collect();
     order.sort_by_key(|&w| spans[w]);
     let mut groups: Vec<(Vec<usize>, [usize; 2])> = vec![];
     for w in order {
         match groups.last_mut() {
-            Some((ws, s)) if spans[w][0] <= s[1] => {
+            Some((ws, s)) if spans[w][0] <= s[1] + 1 => {
                 ws.push(w);
                 s[1] = s[1].max(spans[w][1]);
             }
@@ -105,35 +106,15 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 (wells[w].name.clone(), [q[0], q[1]], wells[w].radius)
             })
             .collect();
-        let mesh = |grid: &_| {
-            section::mesh(
-                backend,
-                grid,
-                &points,
-                section.rings,
-                section.sectors,
-                section.outer,
-            )
-        };
-        let mut mesh2 = mesh(&grid)?;
-        let mut cavities = cavities(&mesh2, [g.nx, g.ny], &live, [k0, k1]);
-        // again with the cavities' sides moved in, kept if the cavities
-        // stay the same
-        let mut inset = grid.clone();
-        let heights = [at, frame.h[0], frame.h[frame.h.len() - 1]];
-        let sets: Vec<&BTreeSet<[usize; 2]>> = cavities.iter().map(|c| &c.cols).collect();
-        if section::inset(g, &frame, heights, &mut inset, &sets) {
-            if let Ok(m) = mesh(&inset) {
-                let again = self::cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
-                if again
-                    .iter()
-                    .map(|c| &c.cols)
-                    .eq(cavities.iter().map(|c| &c.cols))
-                {
-                    (mesh2, cavities) = (m, again);
-                }
-            }
-        }
+        let mesh2 = section::mesh(
+            backend,
+            &grid,
+            &points,
+            section.rings,
+            section.sectors,
+            section.outer,
+        )?;
+        let cavities = cavities(&mesh2, [g.nx, g.ny], &live, [k0, k1]);
         if let Some(c) = cavities
             .iter()
             .flat_map(|c| c.cols.iter())
