@@ -69,17 +69,7 @@ pub(crate) fn assemble(
                 id.insert((cell.c, cell.k), a.out.cells.len());
                 a.push_cell(faces, site, g.section.region[cell.c], None);
                 *a.out.site_inside.last_mut().expect("a cell") = cell.inside;
-                host.push(
-                    cpg.locate(site, grid_cells.iter().copied())
-                        .unwrap_or_else(|| {
-                            let d = |c: &Ijk| dist_f(cpg.centre(*c), site);
-                            grid_cells
-                                .iter()
-                                .copied()
-                                .min_by(|x, y| d(x).total_cmp(&d(y)))
-                                .unwrap_or([0; 3])
-                        }),
-                );
+                host.push(host_of(cpg, site, &grid_cells));
                 cavity_of.push(n_cavity);
             }
             for (cell, faces) in cells.iter().zip(&fixed) {
@@ -123,19 +113,7 @@ pub(crate) fn assemble(
         });
     }
     let (out, region, ijk) = a.finish();
-    // each cavity's cells' volumes against its grid cells' (held in
-    // volume_gap until now)
-    let mut filled = vec![0.0; n_cavity + 1];
-    for c in first_t..region.len() {
-        filled[cavity_of[c - first_t]] += out.volumes[c];
-    }
-    let mut n = 0;
-    for s in &mut sections {
-        for cav in &mut s.cavities {
-            n += 1;
-            cav.volume_gap = (filled[n] - cav.volume_gap).abs() / cav.volume_gap;
-        }
-    }
+    volume_gaps(&mut sections, &out.volumes[first_t..], &cavity_of);
     let by_regions = super::super::stats::by_regions(&out, &region);
     let t_cells: Vec<usize> = (first_t..region.len())
         .filter(|&c| region[c] == Region::Transition)
@@ -260,6 +238,35 @@ fn on_edges(faces: Vec<Vec<u32>>, points: &[[f64; 3]]) -> Vec<Vec<u32>> {
             out
         })
         .collect()
+}
+
+/// The grid cell of the cavity that holds a site, or else the nearest by
+/// its centre (a site outside its cell).
+fn host_of(cpg: &Cpg, site: [f64; 3], grid_cells: &[Ijk]) -> Ijk {
+    cpg.locate(site, grid_cells.iter().copied())
+        .unwrap_or_else(|| {
+            let d = |c: &Ijk| dist_f(cpg.centre(*c), site);
+            grid_cells
+                .iter()
+                .copied()
+                .min_by(|x, y| d(x).total_cmp(&d(y)))
+                .unwrap_or([0; 3])
+        })
+}
+
+/// Each cavity's cells' volumes (per cavity cell, its volume and cavity,
+/// numbered from 1) against its grid cells' (held in volume_gap until
+/// now).
+fn volume_gaps(sections: &mut [SectionReport], volumes: &[f64], cavity_of: &[usize]) {
+    let n_cavity = cavity_of.iter().copied().max().unwrap_or(0);
+    let mut filled = vec![0.0; n_cavity + 1];
+    for (v, &c) in volumes.iter().zip(cavity_of) {
+        filled[c] += v;
+    }
+    let cavities = sections.iter_mut().flat_map(|s| s.cavities.iter_mut());
+    for (n, cav) in cavities.enumerate() {
+        cav.volume_gap = (filled[n + 1] - cav.volume_gap).abs() / cav.volume_gap;
+    }
 }
 
 /// A grid cell's volume: its faces (twisted ones as two triangles) about
