@@ -292,7 +292,8 @@ fn outline(
 /// outline, the bisector of the outside's wedge there, as a half-plane
 /// (a, z: kept on the left of a -> z) with the cell across it: the two
 /// cells whose edges meet there reach out into the wedge where the walls
-/// lean out, each to its half. Left out where c itself lies across it.
+/// lean out, each to its half. Left out where either cell lies across it
+/// (both then reach on as before).
 fn bisectors(b: &Build, c: usize, poly: &[u32], kinds: &[Edge]) -> Vec<([f64; 2], [f64; 2], Edge)> {
     let at = |p: u32| b.m.points[p as usize];
     let unit = |x: [f64; 2], y: [f64; 2]| {
@@ -327,13 +328,16 @@ fn bisectors(b: &Build, c: usize, poly: &[u32], kinds: &[Edge]) -> Vec<([f64; 2]
             let left = |a: [f64; 2], z: [f64; 2], y: [f64; 2]| {
                 (z[0] - a[0]) * (y[1] - a[1]) - (z[1] - a[1]) * (y[0] - a[0])
             };
-            // kept: this cell's edge's side
+            // kept: this cell's edge's side; the other cell keeps the
+            // other, so both must lie on their sides
             let (a, z) = match left(x, z, at(mine)) >= 0.0 {
                 true => (x, z),
                 false => (z, x),
             };
             let tol = 1e-9 * left(a, z, at(mine)).abs();
-            if poly.iter().all(|&y| left(a, z, at(y)) >= -tol) {
+            let mine_ok = poly.iter().all(|&y| left(a, z, at(y)) >= -tol);
+            let theirs_ok = b.m.cells[d].iter().all(|&y| left(a, z, at(y)) <= tol);
+            if mine_ok && theirs_ok {
                 out.push((a, z, Edge::Cell(d)));
             }
         }
