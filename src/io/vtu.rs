@@ -173,11 +173,9 @@ fn coplanar_joined(points: &[[f64; 3]], faces: &[Vec<u32>]) -> Vec<Vec<u32>> {
     let planes: Vec<(Vector3<f64>, Vector3<f64>)> = faces
         .iter()
         .map(|f| {
-            let o = p(f[0]);
-            let n: Vector3<f64> = (1..f.len().saturating_sub(1))
-                .map(|k| (p(f[k]) - o).cross(&(p(f[k + 1]) - o)))
-                .sum();
-            (o, n.normalize())
+            let pts: Vec<[f64; 3]> = f.iter().map(|&v| points[v as usize]).collect();
+            let plane = crate::geom::Plane::of(&pts);
+            (Vector3::from(plane.origin), Vector3::from(plane.unit))
         })
         .collect();
     let size = faces

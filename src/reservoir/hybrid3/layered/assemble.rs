@@ -9,7 +9,7 @@ use super::super::report::{Hybrid3, Hybrid3Report, LayeredCavity, SectionReport}
 use super::super::well::Well3;
 use super::{Across, Group};
 use crate::error::Result;
-use crate::geom::{dist_f, Plane};
+use crate::geom::{dist_f, volume, Plane};
 use crate::reservoir::deck::WellLinks;
 use crate::reservoir::hybrid::Region;
 use std::collections::{BTreeSet, HashMap};
@@ -39,15 +39,15 @@ pub(crate) fn assemble(
     let mut host: Vec<Ijk> = vec![];
     let mut cavity_of = vec![];
     let mut sections = vec![];
-    let mut n_cavity = 0;
     // faces toward a grid cell that is in a cavity: they have no cell
     // across (0: sections keep their cavities apart)
     let mut unpaired = 0;
+    // per cavity, its grid cells' volume (cavities numbered from 1)
+    let mut grid_volumes = vec![];
     for g in &groups {
         let mut id: HashMap<(usize, usize), usize> = HashMap::new();
         let mut reports = vec![];
         for (cav, cut, cells) in &g.cavities {
-            n_cavity += 1;
             let at = |p: u32| g.frame.from(cut.points[p as usize]);
             let cells: Vec<_> = cells.iter().filter(|c| !c.faces.is_empty()).collect();
             let grid_cells: Vec<Ijk> = cav
@@ -70,7 +70,7 @@ pub(crate) fn assemble(
                 a.push_cell(faces, site, g.section.region[cell.c], None);
                 *a.out.site_inside.last_mut().expect("a cell") = cell.inside;
                 host.push(host_of(cpg, site, &grid_cells));
-                cavity_of.push(n_cavity);
+                cavity_of.push(grid_volumes.len() + 1);
             }
             for (cell, faces) in cells.iter().zip(&fixed) {
                 let me = id[&(cell.c, cell.k)];
@@ -96,8 +96,9 @@ pub(crate) fn assemble(
                 layers: [cav.k[0] + 1, cav.k[1] + 1],
                 cells: cells.len(),
                 sites_inside: cells.iter().filter(|c| c.inside).count(),
-                volume_gap: grid_cells.iter().map(|&c| grid_volume(cpg, c)).sum(),
+                volume_gap: 0.0,
             });
+            grid_volumes.push(grid_cells.iter().map(|&c| grid_volume(cpg, c)).sum());
         }
         for (n, &w) in g.wells.iter().enumerate() {
             wellbore[w] = Some(wellbore_links(g, n, &wells[w].name, &paths[w], &id));
@@ -113,7 +114,12 @@ pub(crate) fn assemble(
         });
     }
     let (out, region, ijk) = a.finish();
-    volume_gaps(&mut sections, &out.volumes[first_t..], &cavity_of);
+    volume_gaps(
+        &mut sections,
+        &grid_volumes,
+        &out.volumes[first_t..],
+        &cavity_of,
+    );
     let by_regions = super::super::stats::by_regions(&out, &region);
     let t_cells: Vec<usize> = (first_t..region.len())
         .filter(|&c| region[c] == Region::Transition)
@@ -255,37 +261,31 @@ fn host_of(cpg: &Cpg, site: [f64; 3], grid_cells: &[Ijk]) -> Ijk {
 }
 
 /// Each cavity's cells' volumes (per cavity cell, its volume and cavity,
-/// numbered from 1) against its grid cells' (held in volume_gap until
-/// now).
-fn volume_gaps(sections: &mut [SectionReport], volumes: &[f64], cavity_of: &[usize]) {
-    let n_cavity = cavity_of.iter().copied().max().unwrap_or(0);
-    let mut filled = vec![0.0; n_cavity + 1];
+/// numbered from 1) against its grid cells' volume.
+fn volume_gaps(sections: &mut [SectionReport], grid: &[f64], volumes: &[f64], cavity_of: &[usize]) {
+    let mut filled = vec![0.0; grid.len() + 1];
     for (v, &c) in volumes.iter().zip(cavity_of) {
         filled[c] += v;
     }
     let cavities = sections.iter_mut().flat_map(|s| s.cavities.iter_mut());
     for (n, cav) in cavities.enumerate() {
-        cav.volume_gap = (filled[n + 1] - cav.volume_gap).abs() / cav.volume_gap;
+        cav.volume_gap = (filled[n + 1] - grid[n]).abs() / grid[n];
     }
 }
 
-/// A grid cell's volume: its faces (twisted ones as two triangles) about
-/// its first corner.
+/// A grid cell's volume: its faces, twisted ones as two triangles.
 fn grid_volume(cpg: &Cpg, c: Ijk) -> f64 {
-    let o = cpg.corner(c, 0);
-    let mut six = 0.0;
+    let mut points = vec![];
+    let mut faces = vec![];
     for f in 0..6 {
         let (q, pieces) = cpg.face_pieces(c, f);
-        let q: Vec<[f64; 3]> = q
-            .iter()
-            .map(|p| std::array::from_fn(|k| p[k] - o[k]))
-            .collect();
-        for piece in pieces {
-            for t in 1..piece.len() - 1 {
-                let (a, b, d) = (q[piece[0]], q[piece[t]], q[piece[t + 1]]);
-                six += crate::geom::dot_f(a, crate::geom::cross_f(b, d));
-            }
-        }
+        let at = points.len() as u32;
+        points.extend(q);
+        faces.extend(
+            pieces
+                .iter()
+                .map(|p| p.iter().map(|&k| at + k as u32).collect()),
+        );
     }
-    six / 6.0
+    volume(&faces, &points)
 }
