@@ -744,19 +744,34 @@ impl Assembly {
     }
 }
 
-/// One connection per pair of cells, their areas added: a face split in
-/// two triangles on one side is two transition faces.
+/// One connection per pair of cells: a face split in two triangles on one
+/// side is two transition faces (their areas added), and a cell beside a
+/// cavity's side may touch a grid cell across two walls (a corner of it
+/// past a pillar). The connection then takes its largest face (plane,
+/// distances), its area scaled so that area / (d0 + d1) adds up the
+/// faces' (exact where the two cells' permeabilities are equal).
 fn one_per_pair(links: Vec<Link3>) -> Vec<Link3> {
     let mut seen: HashMap<[usize; 2], usize> = HashMap::new();
     let mut merged: Vec<Link3> = vec![];
     for l in links {
-        match seen.get(&l.cells) {
-            Some(&i) => merged[i].area += l.area,
-            None => {
-                seen.insert(l.cells, merged.len());
-                merged.push(l);
-            }
+        let Some(&i) = seen.get(&l.cells) else {
+            seen.insert(l.cells, merged.len());
+            merged.push(l);
+            continue;
+        };
+        let m = &mut merged[i];
+        let (dm, dl) = (m.d[0] + m.d[1], l.d[0] + l.d[1]);
+        let coplanar = crate::geom::dot_f(m.normal, l.normal).abs() >= 1.0 - 1e-12
+            && (dm - dl).abs() <= 1e-9 * dm.max(dl);
+        if coplanar || dm <= 0.0 || dl <= 0.0 {
+            m.area += l.area;
+            continue;
         }
+        let t = m.area / dm + l.area / dl;
+        if l.area > m.area {
+            *m = Link3 { area: 0.0, ..l };
+        }
+        m.area = t * (m.d[0] + m.d[1]);
     }
     merged
 }
