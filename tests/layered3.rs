@@ -18,8 +18,8 @@ fn layered() -> Hybrid3Options {
 }
 
 /// SPE9's grid (dipping 10 degrees, layers 4 to 98 ft thick) with its
-/// deck's 26 wells: every link inside the cavities orthogonal, at least
-/// 99% of the transition sites inside their cells, no slivers but a few.
+/// deck's 26 wells: every link inside the cavities orthogonal, every
+/// transition site inside its cell, the cavities filled once.
 #[test]
 fn spe9_all_wells_on_layered_sections() {
     let data = Path::new("tests/data/grids");
@@ -68,19 +68,20 @@ fn spe9_all_wells_on_layered_sections() {
             r.unpaired_faces
         );
         assert!(r.conforms() && r.cavities.is_empty() && r.unpaired_faces == 0);
-        // INJE1's cavity (the grid's corner, layers 10-15) overlaps by
-        // 1.2e-4 where bands meet at convex corners; the producers' 8e-8
-        assert!(gap < 2e-4, "{gap}");
+        // the wellbores aside, filled once (SPE9's corners lie within 5e-5
+        // ft of their planes)
+        assert!(gap < 1e-7, "{gap}");
         assert_eq!(h.wellbore.len(), 26);
         assert!(h.wellbore.iter().all(|w| !w.links.is_empty()));
-        for pair in ["transition-well", "well-well"] {
+        // past the section's outline too (power bisectors out to the walls)
+        for pair in ["transition-transition", "transition-well", "well-well"] {
             assert_eq!(r.by_regions[pair].non_orthogonal, 0, "{pair}");
         }
-        // but across the bisectors of the outside's wedge at the cavities'
-        // reflex corners, where the walls lean out (90 of 26,500)
-        let tt = &r.by_regions["transition-transition"];
-        assert!(tt.non_orthogonal * 200 <= tt.connections, "{tt:?}");
-        assert!(r.sites_outside * 100 <= r.cells[1], "{}", r.sites_outside);
+        // the sections' outlines moved in by the walls' lean (INJE1's
+        // cavity: 6 layers, walls drifting 19 ft)
+        assert_eq!(r.sites_outside, 0);
+        // no connection whose sites lie on one side of its face
+        assert!(r.by_regions.values().all(|c| c.one_sided == 0));
         assert!(h.mesh.volumes.iter().all(|&v| v > 0.0));
         // tests/readers.py validates each cell in its own frame (as for
         // emerald's twisted cells) and checks the volumes

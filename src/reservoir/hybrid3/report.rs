@@ -74,9 +74,9 @@ pub struct LayeredCavity {
     pub cells: usize,
     /// Those whose site lies inside them.
     pub sites_inside: usize,
-    /// The cells' volumes added up against the grid cells' they replace:
-    /// |difference| / the grid cells' (0 up to rounding and the data's
-    /// planes: the cells fill the cavity once).
+    /// The cells' volumes added up against the grid cells' they replace,
+    /// less the wellbores: |difference| / the grid cells' (0 up to
+    /// rounding and the data's planes: the cells fill the cavity once).
     pub volume_gap: f64,
 }
 

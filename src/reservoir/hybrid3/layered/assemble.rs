@@ -7,7 +7,7 @@ use super::super::cpg::{Cpg, Ijk};
 use super::super::path::Path;
 use super::super::report::{Hybrid3, Hybrid3Report, LayeredCavity, SectionReport};
 use super::super::well::Well3;
-use super::{Across, Group};
+use super::{Across, Cavity, Group};
 use crate::error::Result;
 use crate::geom::{dist_f, volume, Plane};
 use crate::reservoir::deck::WellLinks;
@@ -98,7 +98,7 @@ pub(crate) fn assemble(
                 sites_inside: cells.iter().filter(|c| c.inside).count(),
                 volume_gap: 0.0,
             });
-            grid_volumes.push(grid_cells.iter().map(|&c| grid_volume(cpg, c)).sum());
+            grid_volumes.push(to_fill(cpg, g, cav, &grid_cells));
         }
         for (n, &w) in g.wells.iter().enumerate() {
             wellbore[w] = Some(wellbore_links(g, n, &wells[w].name, &paths[w], &id));
@@ -271,6 +271,32 @@ fn volume_gaps(sections: &mut [SectionReport], grid: &[f64], volumes: &[f64], ca
     for (n, cav) in cavities.enumerate() {
         cav.volume_gap = (filled[n + 1] - grid[n]).abs() / grid[n];
     }
+}
+
+/// The volume a cavity's cells should fill: its grid cells' less its
+/// wellbores (the holes its radial cells leave, prisms through all its
+/// layers: their polygons' area in the section, from the radial cells'
+/// edges with no cell across taken backwards, times the cavity's height).
+fn to_fill(cpg: &Cpg, g: &Group, cav: &Cavity, grid_cells: &[Ijk]) -> f64 {
+    let grid: f64 = grid_cells.iter().map(|&c| grid_volume(cpg, c)).sum();
+    let m = &g.section.mesh;
+    let owner = m.edge_owners();
+    let mut area = 0.0;
+    for &c in cav
+        .cells
+        .iter()
+        .filter(|&&c| g.section.region[c] == Region::Well)
+    {
+        let poly = &m.cells[c];
+        for k in 0..poly.len() {
+            let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+            if !owner.contains_key(&(q, p)) {
+                let (a, b) = (m.points[p as usize], m.points[q as usize]);
+                area -= 0.5 * (a[0] * b[1] - a[1] * b[0]);
+            }
+        }
+    }
+    grid - area * (g.frame.h[g.frame.h.len() - 1] - g.frame.h[0]).abs()
 }
 
 /// A grid cell's volume: its faces, twisted ones as two triangles.

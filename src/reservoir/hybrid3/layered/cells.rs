@@ -3,8 +3,11 @@
 //! (so every link inside the cavity is orthogonal: the section's faces
 //! stand across the layers, the layers' planes lie across the prisms), cut
 //! by the walls of the cavity's columns. A section cell on the cavity's
-//! side reaches on, along its faces with its neighbours, to the walls
-//! (which lean off the prisms' axis where the layers dip).
+//! side reaches on to the walls (which lean off the prisms' axis where the
+//! layers dip), bounded there as the section's power diagram would bound
+//! it: along its faces with its neighbours, and by its power bisectors
+//! with the other cells on the side, so that the cells fill the cavity
+//! once and every link between them stays orthogonal.
 
 use super::super::cpg::{Cpg, Ijk};
 use super::frame::{Frame, PLANAR};
@@ -93,10 +96,8 @@ struct Build<'a> {
     /// Per column, its walls' planes and whether each normal points out.
     sides: HashMap<[usize; 2], [(u32, bool); 4]>,
     slabs: Vec<u32>,
-    /// The cavity's outline in the section: its edges (cells' open edges)
-    /// by their first point, and by their last, each with its cell.
-    open_from: HashMap<u32, (u32, usize)>,
-    open_to: HashMap<u32, (u32, usize)>,
+    /// The section cells with an edge on the cavity's side.
+    open: BTreeSet<usize>,
 }
 
 impl Build<'_> {
@@ -219,8 +220,8 @@ fn outline(
     let mut ring: Vec<([f64; 2], usize, usize)> = (0..4)
         .map(|k| (corners[k], n + (k + 3) % 4, n + k))
         .collect();
-    // and the bisectors at the outline's reflex corners, as n+4..
-    let extra = bisectors(b, c, &poly, &kinds);
+    // and the power bisectors with other open cells nearby, as n+4..
+    let extra = bisectors(b, c, &poly, &kinds, reach);
     let plane = |k: usize| match k < n {
         true => shift(k),
         false => (extra[k - n - 4].0, extra[k - n - 4].1),
@@ -288,58 +289,59 @@ fn outline(
     Some((lines, sides, across))
 }
 
-/// Where an open edge of cell c ends at a reflex corner of the cavity's
-/// outline, the bisector of the outside's wedge there, as a half-plane
-/// (a, z: kept on the left of a -> z) with the cell across it: the two
-/// cells whose edges meet there reach out into the wedge where the walls
-/// lean out, each to its half. Left out where either cell lies across it
-/// (both then reach on as before).
-fn bisectors(b: &Build, c: usize, poly: &[u32], kinds: &[Edge]) -> Vec<([f64; 2], [f64; 2], Edge)> {
+/// Where cell c's reach past the cavity's side may meet another open
+/// cell's, the power bisector of their section sites as a half-plane (a,
+/// z: kept on the left of a -> z) with that cell across: the section's
+/// diagram carried on past the outline, so that open cells share what the
+/// leaning walls add without overlapping, and their faces there stay
+/// orthogonal to their links. Through the point the two cells share, if
+/// any (exactly); left out where either polygon lies across it (rounding).
+fn bisectors(
+    b: &Build,
+    c: usize,
+    poly: &[u32],
+    kinds: &[Edge],
+    reach: f64,
+) -> Vec<([f64; 2], [f64; 2], Edge)> {
     let at = |p: u32| b.m.points[p as usize];
-    let unit = |x: [f64; 2], y: [f64; 2]| {
-        let (dx, dy) = (y[0] - x[0], y[1] - x[1]);
-        let l = dx.hypot(dy);
-        [dx / l, dy / l]
+    let bbox = |d: usize| {
+        let pts: Vec<[f64; 2]> = b.m.cells[d].iter().map(|&p| at(p)).collect();
+        crate::geom::bbox(&pts)
     };
-    let n = poly.len();
+    let (lo, hi) = bbox(c);
+    let near = |d: usize| {
+        let (l, h) = bbox(d);
+        (0..2).all(|a| l[a] <= hi[a] + 2.0 * reach && h[a] >= lo[a] - 2.0 * reach)
+    };
+    let left = |a: [f64; 2], z: [f64; 2], y: [f64; 2]| {
+        (z[0] - a[0]) * (y[1] - a[1]) - (z[1] - a[1]) * (y[0] - a[0])
+    };
+    let (sc, wc) = (b.m.sites[c], b.m.weights[c]);
     let mut out = vec![];
-    for k in (0..n).filter(|&k| kinds[k] == Edge::Open) {
-        let (p, q) = (poly[k], poly[(k + 1) % n]);
-        // the outline's edges before p and after q: (corner, the other
-        // edge's far end, this edge's, the cell across, whether this
-        // edge runs into the corner)
-        let ends = [
-            b.open_to.get(&p).map(|&(o, d)| (p, o, q, d, false)),
-            b.open_from.get(&q).map(|&(r, d)| (q, r, p, d, true)),
-        ];
-        for (v, other, mine, d, into) in ends.into_iter().flatten() {
-            let (u, w) = (unit(at(v), at(mine)), unit(at(v), at(other)));
-            // a reflex corner turns right (the cavity on the left)
-            let (i, o) = match into {
-                true => ([-u[0], -u[1]], w),
-                false => ([-w[0], -w[1]], u),
-            };
-            if i[0] * o[1] - i[1] * o[0] >= 0.0 || d == c {
-                continue;
-            }
-            // the outside's wedge lies between the two edges' rays
-            let x = at(v);
-            let z = [x[0] + u[0] + w[0], x[1] + u[1] + w[1]];
-            let left = |a: [f64; 2], z: [f64; 2], y: [f64; 2]| {
-                (z[0] - a[0]) * (y[1] - a[1]) - (z[1] - a[1]) * (y[0] - a[0])
-            };
-            // kept: this cell's edge's side; the other cell keeps the
-            // other, so both must lie on their sides
-            let (a, z) = match left(x, z, at(mine)) >= 0.0 {
-                true => (x, z),
-                false => (z, x),
-            };
-            let tol = 1e-9 * left(a, z, at(mine)).abs();
-            let mine_ok = poly.iter().all(|&y| left(a, z, at(y)) >= -tol);
-            let theirs_ok = b.m.cells[d].iter().all(|&y| left(a, z, at(y)) <= tol);
-            if mine_ok && theirs_ok {
-                out.push((a, z, Edge::Cell(d)));
-            }
+    for &d in &b.open {
+        if d == c || kinds.contains(&Edge::Cell(d)) || !near(d) {
+            continue;
+        }
+        // power_c(y) <= power_d(y) where n . y <= k
+        let (sd, wd) = (b.m.sites[d], b.m.weights[d]);
+        let n = [2.0 * (sd[0] - sc[0]), 2.0 * (sd[1] - sc[1])];
+        let k = sd[0] * sd[0] + sd[1] * sd[1] - sc[0] * sc[0] - sc[1] * sc[1] - wd + wc;
+        let nn = n[0] * n[0] + n[1] * n[1];
+        if nn == 0.0 {
+            continue;
+        }
+        let a = match poly.iter().find(|p| b.m.cells[d].contains(p)) {
+            Some(&p) => at(p),
+            None => [n[0] * k / nn, n[1] * k / nn],
+        };
+        // c's side (n . y <= k) on the left
+        let z = [a[0] - n[1], a[1] + n[0]];
+        let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        let tol = 1e-9 * nn.sqrt() * size;
+        let mine_ok = poly.iter().all(|&y| left(a, z, at(y)) >= -tol);
+        let theirs_ok = b.m.cells[d].iter().all(|&y| left(a, z, at(y)) <= tol);
+        if mine_ok && theirs_ok {
+            out.push((a, z, Edge::Cell(d)));
         }
     }
     out
@@ -476,8 +478,7 @@ pub(crate) fn cells(
         walls: HashMap::new(),
         sides: HashMap::new(),
         slabs: vec![],
-        open_from: HashMap::new(),
-        open_to: HashMap::new(),
+        open: BTreeSet::new(),
     };
     b.slabs =
         f.h.iter()
@@ -493,15 +494,18 @@ pub(crate) fn cells(
     let owner: HashMap<(u32, u32), u32> = m.edge_owners().into_iter().collect();
     for &c in cav.cells.iter().filter(|&&c| region[c] != Region::Well) {
         let poly = &m.cells[c];
-        for k in 0..poly.len() {
-            let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
-            if !owner.get(&(q, p)).is_some_and(|&d| inside(d)) {
-                b.open_from.insert(p, (q, c));
-                b.open_to.insert(q, (p, c));
-            }
+        let n = poly.len();
+        if (0..n).any(|k| {
+            !owner
+                .get(&(poly[(k + 1) % n], poly[k]))
+                .is_some_and(|&d| inside(d))
+        }) {
+            b.open.insert(c);
         }
     }
-    let reach = lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
+    // from a side moved in by up to the lean (`section::inset`) out to
+    // the wall, leaning out as far
+    let reach = 2.0 * lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
     let nl = cav.k[1] - cav.k[0] + 1;
     // the columns' outlines at the cavity's top and bottom, for quick tests
     let boxes: BTreeMap<[usize; 2], ([f64; 2], [f64; 2])> = cav

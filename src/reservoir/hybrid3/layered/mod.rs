@@ -106,15 +106,35 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 (wells[w].name.clone(), [q[0], q[1]], wells[w].radius)
             })
             .collect();
-        let mesh2 = section::mesh(
-            backend,
-            &grid,
-            &points,
-            section.rings,
-            section.sectors,
-            section.outer,
-        )?;
-        let cavities = cavities(&mesh2, [g.nx, g.ny], &live, [k0, k1]);
+        let mesh = |grid: &_| {
+            section::mesh(
+                backend,
+                grid,
+                &points,
+                section.rings,
+                section.sectors,
+                section.outer,
+            )
+        };
+        let mut mesh2 = mesh(&grid)?;
+        let mut cavities = cavities(&mesh2, [g.nx, g.ny], &live, [k0, k1]);
+        // again with the cavities' sides moved in, kept if the cavities
+        // stay the same
+        let mut inset = grid.clone();
+        let heights = [at, frame.h[0], frame.h[frame.h.len() - 1]];
+        let sets: Vec<&BTreeSet<[usize; 2]>> = cavities.iter().map(|c| &c.cols).collect();
+        if section::inset(g, &frame, heights, &mut inset, &sets) {
+            if let Ok(m) = mesh(&inset) {
+                let again = self::cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
+                if again
+                    .iter()
+                    .map(|c| &c.cols)
+                    .eq(cavities.iter().map(|c| &c.cols))
+                {
+                    (mesh2, cavities) = (m, again);
+                }
+            }
+        }
         if let Some(c) = cavities
             .iter()
             .flat_map(|c| c.cols.iter())

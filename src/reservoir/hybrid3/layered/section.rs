@@ -7,6 +7,7 @@ use crate::backend::Backend;
 use crate::error::Result;
 use crate::reservoir::hybrid::{self, Hybrid, HybridOptions, WellAt, WellInput};
 use crate::reservoir::CornerPointGrid;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// The one-layer grid of the pillars' crossings of the plane at height
 /// `at` (frame coordinates; pillars vertical in it), its columns active
@@ -59,4 +60,84 @@ pub(super) fn mesh<B: Backend + ?Sized>(
         ..Default::default()
     };
     hybrid::build(backend, s, &input, &opts)
+}
+
+/// The section's pillars on the cavities' sides moved in, each side as far
+/// as its wall leans in between the cavity's top and bottom, so that no
+/// prism of the section crosses an outer wall within the cavity's layers
+/// (a cell cut there has a corner of a face on the wall, far from its
+/// site); the cells beside the sides then reach out to the walls. False
+/// where a cavity touches itself at a pillar (the grid left as it was).
+pub(super) fn inset(
+    g: &CornerPointGrid,
+    f: &Frame,
+    [at, top, bottom]: [f64; 3],
+    s: &mut CornerPointGrid,
+    cavities: &[&BTreeSet<[usize; 2]>],
+) -> bool {
+    let pid = |i: usize, j: usize| j * (g.nx + 1) + i;
+    let mid = |p: usize| f.crossing(g.coord[p], at);
+    // per pillar, the lines its sides are moved to: inward unit normal n
+    // and offset c (points x with n.x = c)
+    let mut lines: BTreeMap<usize, Vec<([f64; 2], f64)>> = BTreeMap::new();
+    for cols in cavities {
+        for &[i, j] in cols.iter() {
+            let centre = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                .map(|(di, dj)| mid(pid(i + di, j + dj)))
+                .iter()
+                .fold([0.0; 2], |a, p| [a[0] + p[0] / 4.0, a[1] + p[1] / 4.0]);
+            let sides = [
+                (i.checked_sub(1).map(|i| [i, j]), pid(i, j), pid(i, j + 1)),
+                (Some([i + 1, j]), pid(i + 1, j), pid(i + 1, j + 1)),
+                (j.checked_sub(1).map(|j| [i, j]), pid(i, j), pid(i + 1, j)),
+                (Some([i, j + 1]), pid(i, j + 1), pid(i + 1, j + 1)),
+            ];
+            for (across, p, q) in sides {
+                if across.is_some_and(|c| cols.contains(&c)) {
+                    continue;
+                }
+                let (x, y) = (mid(p), mid(q));
+                let (dx, dy) = (y[0] - x[0], y[1] - x[1]);
+                let len = dx.hypot(dy);
+                let mut n = [-dy / len, dx / len];
+                if n[0] * (centre[0] - x[0]) + n[1] * (centre[1] - x[1]) < 0.0 {
+                    n = [-n[0], -n[1]];
+                }
+                let mut shift: f64 = 0.0;
+                for r in [p, q] {
+                    let m = mid(r);
+                    for h in [top, bottom] {
+                        let c = f.crossing(g.coord[r], h);
+                        shift = shift.max(n[0] * (c[0] - m[0]) + n[1] * (c[1] - m[1]));
+                    }
+                }
+                let c = n[0] * x[0] + n[1] * x[1] + shift;
+                lines.entry(p).or_default().push((n, c));
+                lines.entry(q).or_default().push((n, c));
+            }
+        }
+    }
+    let mut moved = vec![];
+    for (p, ls) in lines {
+        let [(n1, c1), (n2, c2)] = ls[..] else {
+            return false;
+        };
+        let det = n1[0] * n2[1] - n1[1] * n2[0];
+        let x = if det.abs() > 1e-6 {
+            [
+                (c1 * n2[1] - c2 * n1[1]) / det,
+                (n1[0] * c2 - n2[0] * c1) / det,
+            ]
+        } else {
+            // one straight side through the pillar
+            let m = mid(p);
+            let shift = (c1 - n1[0] * m[0] - n1[1] * m[1]).max(c2 - n2[0] * m[0] - n2[1] * m[1]);
+            [m[0] + shift * n1[0], m[1] + shift * n1[1]]
+        };
+        moved.push((p, x));
+    }
+    for (p, [u, v]) in moved {
+        s.coord[p] = [u, v, 0.0, u, v, 1.0];
+    }
+    true
 }
