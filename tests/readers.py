@@ -269,10 +269,29 @@ def check_twisted(path):
     assert not bad, f"{path}: reservoir cells {bad[:10]} flagged {sorted(set(int(own[c]) for c in bad))} in their own frame"
     if "layered" in path.name:
         # layered cavities: well cells pass; a transition cell flagged is
-        # one that is not convex (at the cavity's side, beside a pillar)
-        wrong = [c for c in range(n) if own[c] and (region[c] == 2 or (region[c] == 1 and not nonconvex(grid, c)))]
+        # one that is not convex (at the cavity's side, beside a pillar),
+        # or one vtk calls misoriented (32) where a face runs straight on
+        # through a point its neighbouring faces turn at (past a pillar:
+        # dropping the point would leave it hanging, 1; vtk's test has no
+        # tolerance for the straight angle)
+        def explained(c):
+            return nonconvex(grid, c) or (own[c] == 32 and straight_point(grid, c))
+        wrong = [c for c in range(n) if own[c] and (region[c] == 2 or (region[c] == 1 and not explained(c)))]
         assert not wrong, f"{path}: cells {wrong[:10]} flagged {sorted(set(int(own[c]) for c in wrong))} in their own frame, well cells or convex transition cells"
     return [(int(np.count_nonzero(own[region == r])), int(np.sum(region == r))) for r in (0, 1, 2)]
+
+def straight_point(grid, c):
+    """Whether a face of polyhedron c runs straight on (sine of its turn
+    under 1e-7) through one of its points."""
+    cell = grid.GetCell(c)
+    for f in range(cell.GetNumberOfFaces()):
+        face = cell.GetFace(f)
+        q = np.array([grid.GetPoint(face.GetPointId(k)) for k in range(face.GetNumberOfPoints())])
+        for k in range(len(q)):
+            a, b = q[k] - q[k - 1], q[(k + 1) % len(q)] - q[k]
+            if np.linalg.norm(np.cross(a, b)) <= 1e-7 * np.linalg.norm(a) * np.linalg.norm(b) and a @ b > 0:
+                return True
+    return False
 
 def nonconvex(grid, c):
     """Whether polyhedron c has a point beyond one of its faces' planes by

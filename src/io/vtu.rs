@@ -4,6 +4,7 @@
 //! form, so they read back exactly.
 
 use crate::mesh::{CellArray, CellMesh, Cells, Values};
+use std::collections::BTreeSet;
 use std::fmt::Write;
 
 /// The .vtu text of a mesh. Polyhedra faces lose the vertices where they
@@ -55,10 +56,13 @@ fn polyhedra(s: &mut String, points: &[[f64; 3]], cells: &[Vec<Vec<u32>>]) {
     let cells: Vec<Vec<Vec<u32>>> = cells
         .iter()
         .map(|faces| {
-            coplanar_joined(points, faces)
+            let joined = coplanar_joined(points, faces);
+            // a point another face of the cell turns at stays in each face
+            let turns: BTreeSet<u32> = joined
                 .iter()
-                .map(|f| corners(points, f))
-                .collect()
+                .flat_map(|f| corners(points, f, &Default::default()))
+                .collect();
+            joined.iter().map(|f| corners(points, f, &turns)).collect()
         })
         .collect();
     let mut offsets = vec![];
@@ -227,8 +231,9 @@ fn coplanar_joined(points: &[[f64; 3]], faces: &[Vec<u32>]) -> Vec<Vec<u32>> {
 /// cell's edge is exactly on that edge, but rounded to doubles it makes the
 /// face slightly non-convex, and vtk's convexity test has no tolerance
 /// (vtkCellValidator then flags the cell, state 32). The neighbour keeps
-/// it as its corner.
-fn corners(points: &[[f64; 3]], face: &[u32]) -> Vec<u32> {
+/// it as its corner, and so does this face where another face of the cell
+/// turns at it (in `keep`: else the cell has a hanging point, state 1).
+fn corners(points: &[[f64; 3]], face: &[u32], keep: &BTreeSet<u32>) -> Vec<u32> {
     let n = face.len();
     let p = |k: usize| nalgebra::Vector3::from(points[face[k % n] as usize]);
     let kept: Vec<u32> = (0..n)
@@ -236,7 +241,9 @@ fn corners(points: &[[f64; 3]], face: &[u32]) -> Vec<u32> {
             let (a, b) = (p(k + n) - p(k + n - 1), p(k + 1) - p(k));
             // the sine of the turn: layered cells' points, found by
             // cutting planes and welded within 1e-7 of the block, leave 1e-8
-            a.cross(&b).norm() > 1e-7 * a.norm() * b.norm() || a.dot(&b) < 0.0
+            keep.contains(&face[k])
+                || a.cross(&b).norm() > 1e-7 * a.norm() * b.norm()
+                || a.dot(&b) < 0.0
         })
         .map(|k| face[k])
         .collect();
@@ -303,7 +310,10 @@ mod tests {
         assert_eq!(joined.len(), 6);
         assert!(joined.contains(&vec![0, 3, 9, 2, 1, 8]), "{joined:?}");
         // every edge left is paired
-        let faces: Vec<Vec<u32>> = joined.iter().map(|f| corners(&pts, f)).collect();
+        let faces: Vec<Vec<u32>> = joined
+            .iter()
+            .map(|f| corners(&pts, f, &BTreeSet::new()))
+            .collect();
         for f in &faces {
             for k in 0..f.len() {
                 let (x, y) = (f[k], f[(k + 1) % f.len()]);
@@ -325,11 +335,15 @@ mod tests {
             [0.0, 1.0, 0.0],
             [0.5, 1e-17, 0.0],
         ];
-        assert_eq!(corners(&pts, &[0, 4, 1, 2, 3]), vec![0, 1, 2, 3]);
-        assert_eq!(corners(&pts, &[4, 1, 2, 3, 0]), vec![1, 2, 3, 0]);
+        let none = BTreeSet::new();
+        assert_eq!(corners(&pts, &[0, 4, 1, 2, 3], &none), vec![0, 1, 2, 3]);
+        assert_eq!(corners(&pts, &[4, 1, 2, 3, 0], &none), vec![1, 2, 3, 0]);
+        // but where another face of the cell turns at it
+        let turns = BTreeSet::from([4]);
+        assert_eq!(corners(&pts, &[0, 4, 1, 2, 3], &turns), vec![0, 4, 1, 2, 3]);
         // a real corner stays
         let mut bent = pts;
         bent[4][1] = -0.1;
-        assert_eq!(corners(&bent, &[0, 4, 1, 2, 3]), vec![0, 4, 1, 2, 3]);
+        assert_eq!(corners(&bent, &[0, 4, 1, 2, 3], &none), vec![0, 4, 1, 2, 3]);
     }
 }
