@@ -117,24 +117,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
             )
         };
         let mut mesh2 = mesh(&grid)?;
-        let mut cavities = cavities(&mesh2, [g.nx, g.ny], &live, [k0, k1]);
-        // again with the cavities' sides moved in, kept if the cavities
-        // stay the same
-        let mut inset = grid.clone();
-        let heights = [at, frame.h[0], frame.h[frame.h.len() - 1]];
-        let sets: Vec<&BTreeSet<[usize; 2]>> = cavities.iter().map(|c| &c.cols).collect();
-        if section::inset(g, &frame, heights, &mut inset, &sets) {
-            if let Ok(m) = mesh(&inset) {
-                let again = self::cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
-                if again
-                    .iter()
-                    .map(|c| &c.cols)
-                    .eq(cavities.iter().map(|c| &c.cols))
-                {
-                    (mesh2, cavities) = (m, again);
-                }
-            }
-        }
+        let cavities = cavities(&mesh2, [g.nx, g.ny], &live, [k0, k1]);
         if let Some(c) = cavities
             .iter()
             .flat_map(|c| c.cols.iter())
@@ -147,13 +130,34 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 c[1] + 1
             )));
         }
-        let built = cavities
-            .into_iter()
-            .map(|c| {
-                let (cut, cells) = cells::cells(cpg, &frame, &mesh2.mesh, &mesh2.region, &c);
-                (c, cut, cells)
-            })
-            .collect();
+        let cells_of = |m: &Hybrid, cavities: Vec<Cavity>| -> Vec<(Cavity, Cutter, Vec<Cell>)> {
+            cavities
+                .into_iter()
+                .map(|c| {
+                    let (cut, cells) = cells::cells(cpg, &frame, &m.mesh, &m.region, &c);
+                    (c, cut, cells)
+                })
+                .collect()
+        };
+        let sets: Vec<BTreeSet<[usize; 2]>> = cavities.iter().map(|c| c.cols.clone()).collect();
+        let mut built = cells_of(&mesh2, cavities);
+        // where a wall leaning in cuts a site off its cell: again with the
+        // cavities' sides moved in, kept if the cavities stay the same
+        let outside = built
+            .iter()
+            .any(|(_, _, cells)| cells.iter().any(|c| !c.inside));
+        let mut inset = grid.clone();
+        let heights = [at, frame.h[0], frame.h[frame.h.len() - 1]];
+        let refs: Vec<&BTreeSet<[usize; 2]>> = sets.iter().collect();
+        if outside && section::inset(g, &frame, heights, &mut inset, &refs) {
+            if let Ok(m) = mesh(&inset) {
+                let again = self::cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
+                if again.iter().map(|c| &c.cols).eq(sets.iter()) {
+                    built = cells_of(&m, again);
+                    mesh2 = m;
+                }
+            }
+        }
         out.push(Group {
             frame,
             section: mesh2,
