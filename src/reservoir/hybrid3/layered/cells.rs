@@ -63,6 +63,11 @@ fn side_plane(x: [f64; 2], y: [f64; 2]) -> Halfspace {
     }
 }
 
+/// How far y lies left of the line a -> z (times |z - a|).
+fn left_of(a: [f64; 2], z: [f64; 2], y: [f64; 2]) -> f64 {
+    (z[0] - a[0]) * (y[1] - a[1]) - (z[1] - a[1]) * (y[0] - a[0])
+}
+
 /// A layered cavity: its columns, layers k0..=k1, and section cells.
 pub(crate) struct Cavity {
     pub(crate) cols: BTreeSet<[usize; 2]>,
@@ -228,7 +233,7 @@ fn outline(
     };
     for k in (0..n).chain(n + 4..n + 4 + extra.len()) {
         let (a, z) = plane(k);
-        let side = |x: [f64; 2]| (z[0] - a[0]) * (x[1] - a[1]) - (z[1] - a[1]) * (x[0] - a[0]);
+        let side = |x: [f64; 2]| left_of(a, z, x);
         let mut next = vec![];
         for e in 0..ring.len() {
             let (x, y) = (ring[e], ring[(e + 1) % ring.len()]);
@@ -313,9 +318,6 @@ fn bisectors(
         let (l, h) = bbox(d);
         (0..2).all(|a| l[a] <= hi[a] + 2.0 * reach && h[a] >= lo[a] - 2.0 * reach)
     };
-    let left = |a: [f64; 2], z: [f64; 2], y: [f64; 2]| {
-        (z[0] - a[0]) * (y[1] - a[1]) - (z[1] - a[1]) * (y[0] - a[0])
-    };
     let (sc, wc) = (b.m.sites[c], b.m.weights[c]);
     let mut out = vec![];
     for &d in &b.open {
@@ -338,8 +340,8 @@ fn bisectors(
         let z = [a[0] - n[1], a[1] + n[0]];
         let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
         let tol = 1e-9 * nn.sqrt() * size;
-        let mine_ok = poly.iter().all(|&y| left(a, z, at(y)) >= -tol);
-        let theirs_ok = b.m.cells[d].iter().all(|&y| left(a, z, at(y)) <= tol);
+        let mine_ok = poly.iter().all(|&y| left_of(a, z, at(y)) >= -tol);
+        let theirs_ok = b.m.cells[d].iter().all(|&y| left_of(a, z, at(y)) <= tol);
         if mine_ok && theirs_ok {
             out.push((a, z, Edge::Cell(d)));
         }
