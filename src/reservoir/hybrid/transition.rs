@@ -47,6 +47,12 @@ fn pieces_near_wells(placed: &[Placed], pp: [f64; 2], pq: [f64; 2]) -> usize {
     ((len / gap.max(len / 64.0)).ceil() as usize).clamp(1, 64)
 }
 
+/// A new point of the complex, its id.
+fn push_point(cx: &mut Complex, x: [f64; 2]) -> u32 {
+    cx.points.push(x);
+    cx.points.len() as u32 - 1
+}
+
 /// The side u - v cut into equal pieces (new vertices in between).
 fn split(cx: &mut Complex, u: u32, v: u32, pieces: usize) -> Vec<(u32, u32)> {
     let (pu, pv) = (cx.points[u as usize], cx.points[v as usize]);
@@ -137,9 +143,16 @@ fn complex(
     // a cavity a side may take extra vertices (cells on both sides are
     // transition cells): pieces no longer than its distance to the nearest
     // well polygon.
-    for (p, q, home, fault) in inner_sides(layer, placed, cavity, opts) {
-        let (u, v) = (vertex(&mut cx, p), vertex(&mut cx, q));
+    for (p, q, home, fault, [t0, t1]) in inner_sides(layer, placed, cavity, opts) {
         let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
+        let at = |t: f64| [pp[0] + t * (pq[0] - pp[0]), pp[1] + t * (pq[1] - pp[1])];
+        // a part's ends: the pillars, or new points where it is cut
+        let mut end = |cx: &mut Complex, t: f64, pillar: u32| match t == 0.0 || t == 1.0 {
+            true => vertex(cx, pillar),
+            false => push_point(cx, at(t)),
+        };
+        let (u, v) = (end(&mut cx, t0, p), end(&mut cx, t1, q));
+        let (pp, pq) = (at(t0), at(t1));
         for (from, to) in split(&mut cx, u, v, pieces_near_wells(placed, pp, pq)) {
             cx.segments.push([from, to]);
             anchors.push(None);
@@ -165,8 +178,7 @@ fn complex(
             let home = cavity_column_at(chain[0]).unwrap_or(well_column[0]);
             let mut prev: Option<u32> = None;
             for x in chain {
-                cx.points.push(x);
-                let id = cx.points.len() as u32 - 1;
+                let id = push_point(&mut cx, x);
                 if let Some(p) = prev {
                     let pieces = pieces_near_wells(placed, cx.points[p as usize], x);
                     for (from, to) in split(&mut cx, p, id, pieces) {
@@ -292,15 +304,16 @@ pub(super) fn solve<B: Backend + ?Sized>(
 }
 
 /// Pillar edges between two cavity columns that are constraints: (pillars,
-/// the column they bound, whether a fault's): the faults', then where
-/// asked the other column sides, but within 1.25 outer radii of a well
-/// (layered 3D cavities: each cell then lies in one column).
+/// the column they bound, whether a fault's, the part of p -> q taken):
+/// the faults', then where asked the other column sides, their parts
+/// beyond 1.25 outer radii of every well (layered 3D cavities: each cell
+/// then lies in one column).
 fn inner_sides(
     layer: &Layer,
     placed: &[Placed],
     cavity: &[bool],
     opts: &HybridOptions,
-) -> Vec<(u32, u32, usize, bool)> {
+) -> Vec<(u32, u32, usize, bool, [f64; 2])> {
     let (view, nx, ny) = (&layer.view, layer.nx, layer.ny);
     let col = |i: usize, j: usize| layer.col(i, j);
     let in_cavity = |c: (usize, usize)| c.0 < nx && c.1 < ny && cavity[col(c.0, c.1)];
@@ -308,7 +321,7 @@ fn inner_sides(
     let mut out = vec![];
     for (p, q, a, b) in fault_edges(layer.grid, layer.k, view) {
         if in_cavity(a) && in_cavity(b) && seen.insert((p.min(q), p.max(q))) {
-            out.push((p, q, col(a.0, a.1), true));
+            out.push((p, q, col(a.0, a.1), true, [0.0, 1.0]));
         }
     }
     if !opts.column_sides {
@@ -321,17 +334,43 @@ fn inner_sides(
                 ((i, j + 1), (view.pid(i, j + 1), view.pid(i + 1, j + 1))),
             ] {
                 let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
-                let near = placed.iter().any(|w| {
-                    let r = *w.radii.last().unwrap_or(&0.0);
-                    distance_to_segment(w.centre, pp, pq) <= 1.25 * r
-                });
-                if in_cavity(a) && !near && seen.insert((p.min(q), p.max(q))) {
-                    out.push((p, q, col(i, j), false));
+                if in_cavity(a) && seen.insert((p.min(q), p.max(q))) {
+                    for part in clear_of_wells(placed, pp, pq) {
+                        out.push((p, q, col(i, j), false, part));
+                    }
                 }
             }
         }
     }
     out
+}
+
+/// The parts [t0, t1] of segment a -> b beyond 1.25 outer radii of every
+/// well, each at least a tenth of it (none shorter, for the mesher).
+fn clear_of_wells(placed: &[Placed], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let mut parts: Vec<[f64; 2]> = vec![[0.0, 1.0]];
+    for w in placed {
+        let r = 1.25 * *w.radii.last().unwrap_or(&0.0);
+        if len2 == 0.0 || distance_to_segment(w.centre, a, b) > r {
+            continue;
+        }
+        // |a + t d - c|^2 = r^2
+        let (ex, ey) = (a[0] - w.centre[0], a[1] - w.centre[1]);
+        let (bh, c) = (
+            (ex * dx + ey * dy) / len2,
+            (ex * ex + ey * ey - r * r) / len2,
+        );
+        let root = (bh * bh - c).max(0.0).sqrt();
+        let (s0, s1) = (-bh - root, -bh + root);
+        parts = parts
+            .into_iter()
+            .flat_map(|[t0, t1]| [[t0, t1.min(s0)], [t0.max(s1), t1]])
+            .filter(|[t0, t1]| t1 - t0 >= 0.1)
+            .collect();
+    }
+    parts
 }
 
 /// The distance from x to segment a-b.
@@ -344,4 +383,33 @@ fn distance_to_segment(x: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
         0.0
     };
     (x[0] - a[0] - t * dx).hypot(x[1] - a[1] - t * dy)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn column_sides_are_cut_clear_of_wells() {
+        let well = |x: f64| Placed {
+            name: "W".into(),
+            centre: [x, 1.0],
+            radii: vec![0.1, 2.0],
+            reach: 2.0,
+            column: (0, 0),
+        };
+        // 1.25 outer radii: 2.5 around (5, 1), 1 from the side: 2.29 each way
+        let parts = clear_of_wells(&[well(5.0)], [0.0, 0.0], [10.0, 0.0]);
+        let d = (2.5f64 * 2.5 - 1.0).sqrt() / 10.0;
+        assert_eq!(parts.len(), 2);
+        assert!((parts[0][1] - (0.5 - d)).abs() < 1e-12 && parts[0][0] == 0.0);
+        assert!((parts[1][0] - (0.5 + d)).abs() < 1e-12 && parts[1][1] == 1.0);
+        // a well near an end leaves one part; a far one all of it
+        assert_eq!(
+            clear_of_wells(&[well(0.5)], [0.0, 0.0], [10.0, 0.0]).len(),
+            1
+        );
+        let all = clear_of_wells(&[well(50.0)], [0.0, 0.0], [10.0, 0.0]);
+        assert_eq!(all, vec![[0.0, 1.0]]);
+    }
 }
