@@ -83,9 +83,9 @@ pub struct Hybrid3Options {
 }
 
 /// The radial meshes of layered cavities (the 2D hybrid's: measured
-/// against Thiem in a block of two layers, tests/hybrid3.rs, 0.04% with
-/// these, 1.0% with the 3D transition's 6 rings, 16 sectors and an outer
-/// radius of 1.0).
+/// against Thiem in a block of three layers, tests/hybrid3.rs, 0.07% with
+/// these; 1.3-1.9% with outer radii of 0.35-0.6, radial meshes inside
+/// their column).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Section {
     /// Rings.
