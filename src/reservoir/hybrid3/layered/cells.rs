@@ -101,8 +101,9 @@ struct Build<'a> {
     /// Per column, its walls' planes and whether each normal points out.
     sides: HashMap<[usize; 2], [(u32, bool); 4]>,
     slabs: Vec<u32>,
-    /// The section cells with an edge on the cavity's side.
-    open: BTreeSet<usize>,
+    /// The section cells with an edge on the cavity's side, with their
+    /// bounding boxes.
+    open: BTreeMap<usize, ([f64; 2], [f64; 2])>,
 }
 
 impl Build<'_> {
@@ -309,19 +310,17 @@ fn bisectors(
     reach: f64,
 ) -> Vec<([f64; 2], [f64; 2], Edge)> {
     let at = |p: u32| b.m.points[p as usize];
-    let bbox = |d: usize| {
-        let pts: Vec<[f64; 2]> = b.m.cells[d].iter().map(|&p| at(p)).collect();
-        crate::geom::bbox(&pts)
+    let Some(&(lo, hi)) = b.open.get(&c) else {
+        return vec![];
     };
-    let (lo, hi) = bbox(c);
-    let near = |d: usize| {
-        let (l, h) = bbox(d);
+    let near = |(l, h): ([f64; 2], [f64; 2])| {
         (0..2).all(|a| l[a] <= hi[a] + 2.0 * reach && h[a] >= lo[a] - 2.0 * reach)
     };
+    let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
     let (sc, wc) = (b.m.sites[c], b.m.weights[c]);
     let mut out = vec![];
-    for &d in &b.open {
-        if d == c || kinds.contains(&Edge::Cell(d)) || !near(d) {
+    for (&d, &bounds) in &b.open {
+        if d == c || kinds.contains(&Edge::Cell(d)) || !near(bounds) {
             continue;
         }
         // power_c(y) <= power_d(y) where n . y <= k
@@ -338,7 +337,6 @@ fn bisectors(
         };
         // c's side (n . y <= k) on the left
         let z = [a[0] - n[1], a[1] + n[0]];
-        let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
         let tol = 1e-9 * nn.sqrt() * size;
         let mine_ok = poly.iter().all(|&y| left_of(a, z, at(y)) >= -tol);
         let theirs_ok = b.m.cells[d].iter().all(|&y| left_of(a, z, at(y)) <= tol);
@@ -480,7 +478,7 @@ pub(crate) fn cells(
         walls: HashMap::new(),
         sides: HashMap::new(),
         slabs: vec![],
-        open: BTreeSet::new(),
+        open: BTreeMap::new(),
     };
     b.slabs =
         f.h.iter()
@@ -502,7 +500,8 @@ pub(crate) fn cells(
                 .get(&(poly[(k + 1) % n], poly[k]))
                 .is_some_and(|&d| inside(d))
         }) {
-            b.open.insert(c);
+            let pts: Vec<[f64; 2]> = poly.iter().map(|&p| m.points[p as usize]).collect();
+            b.open.insert(c, crate::geom::bbox(&pts));
         }
     }
     // from a side moved in by up to the lean (`section::inset`) out to

@@ -139,22 +139,23 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 })
                 .collect()
         };
-        let sets: Vec<BTreeSet<[usize; 2]>> = cavities.iter().map(|c| c.cols.clone()).collect();
         let mut built = cells_of(&mesh2, cavities);
         // where a wall leaning in cuts a site off its cell: again with the
         // cavities' sides moved in, kept if the cavities stay the same
-        let outside = built
+        if built
             .iter()
-            .any(|(_, _, cells)| cells.iter().any(|c| !c.inside));
-        let mut inset = grid.clone();
-        let heights = [at, frame.h[0], frame.h[frame.h.len() - 1]];
-        let refs: Vec<&BTreeSet<[usize; 2]>> = sets.iter().collect();
-        if outside && section::inset(g, &frame, heights, &mut inset, &refs) {
-            if let Ok(m) = mesh(&inset) {
-                let again = self::cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
-                if again.iter().map(|c| &c.cols).eq(sets.iter()) {
-                    built = cells_of(&m, again);
-                    mesh2 = m;
+            .any(|(_, _, cells)| cells.iter().any(|c| !c.inside))
+        {
+            let mut inset = grid.clone();
+            let heights = [at, frame.h[0], frame.h[frame.h.len() - 1]];
+            let sets: Vec<&BTreeSet<[usize; 2]>> = built.iter().map(|b| &b.0.cols).collect();
+            if section::inset(g, &frame, heights, &mut inset, &sets) {
+                if let Ok(m) = mesh(&inset) {
+                    let again = self::cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
+                    if again.iter().map(|c| &c.cols).eq(sets) {
+                        built = cells_of(&m, again);
+                        mesh2 = m;
+                    }
                 }
             }
         }
