@@ -78,14 +78,15 @@ fn spe9_all_wells_on_layered_sections() {
             assert_eq!(r.by_regions[pair].non_orthogonal, 0, "{pair}");
         }
         // the sections' outlines moved in by the walls' lean (INJE1's
-        // cavity: 6 layers, walls drifting 19 ft)
+        // cavity: 6 layers, walls drifting 19 ft; else sites are cut off)
         assert_eq!(r.sites_outside, 0);
         // no connection whose sites lie on one side of its face
         assert!(r.by_regions.values().all(|c| c.one_sided == 0));
-        // links to the reservoir crossing their faces, by area (what is
-        // left: docs/limitations.md)
+        // links to the reservoir crossing their faces, by area and by count
+        // (what is left: docs/limitations.md)
         let rt = &r.by_regions["reservoir-transition"];
         assert!(rt.mirrored_area > 0.97, "{rt:?}");
+        assert!(rt.mirrored as f64 > 0.7 * rt.connections as f64, "{rt:?}");
         assert!(h.mesh.volumes.iter().all(|&v| v > 0.0));
         // tests/readers.py validates each cell in its own frame (as for
         // emerald's twisted cells) and checks the volumes

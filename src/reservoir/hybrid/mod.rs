@@ -78,10 +78,17 @@ pub struct HybridOptions {
     /// Faults given as map polylines: their parts inside cavities become
     /// constraint chains, ending a quarter cell short of the cavity sides.
     pub fault_lines: Vec<Vec<[f64; 2]>>,
-    /// Column sides inside cavities become constraints too, but for those
-    /// within 1.25 outer radii of a well (the 3D hybrid's layered sections:
-    /// each cell then lies in one column, under one cell above).
-    pub column_sides: bool,
+    /// A section of the 3D hybrid's layered cavities: column sides inside
+    /// cavities become constraints too, but for those within 1.25 outer
+    /// radii of a well (each cell then lies in one column, under one cell
+    /// above), and the cavities' sides are not anchored at the reservoir
+    /// cells across (those are not kept: the cells beside a side have
+    /// their sites on its perpendicular bisector where weights are zero).
+    pub layered_section: bool,
+    /// The cavities' columns (a flag per column, `j * nx + i`) where the
+    /// caller has chosen them; still grown where the transition needs
+    /// room.
+    pub cavity: Option<Vec<bool>>,
 }
 
 impl Default for HybridOptions {
@@ -99,7 +106,8 @@ impl Default for HybridOptions {
             progress: None,
             allow_sites_outside: false,
             fault_lines: vec![],
-            column_sides: false,
+            layered_section: false,
+            cavity: None,
         }
     }
 }
@@ -317,6 +325,11 @@ fn check<'a>(
         return Err(Error::Usage("a hybrid mesh needs at least one well".into()));
     }
     let (nx, ny) = (grid.nx, grid.ny);
+    if opts.cavity.as_ref().is_some_and(|c| c.len() != nx * ny) {
+        return Err(Error::Usage(format!(
+            "the cavities' columns need a flag for each of the grid's {nx} x {ny} columns"
+        )));
+    }
     let layer = Layer {
         grid,
         k,
@@ -350,6 +363,19 @@ fn check<'a>(
     Ok(layer)
 }
 
+/// The cavities' columns `build` starts from (a flag per column, `j * nx +
+/// i`): those its wells' radial meshes reach, with `opts.margin` rings
+/// more. `build` grows them where the transition needs room.
+pub fn cavity_columns(
+    grid: &CornerPointGrid,
+    wells: &[WellInput],
+    opts: &HybridOptions,
+) -> Result<Vec<bool>> {
+    let layer = check(grid, wells, opts)?;
+    let placed = wells::place(&layer, wells, opts, &|_, _, _| {})?;
+    Ok(layer.cavities(&placed, opts.margin))
+}
+
 /// Builds the hybrid mesh of one layer with the given wells.
 pub fn build<B: Backend + ?Sized>(
     backend: &B,
@@ -364,8 +390,39 @@ pub fn build<B: Backend + ?Sized>(
         }
     };
     let placed = wells::place(&layer, wells, opts, &tell)?;
-    let mut cavity = layer.cavities(&placed, opts.margin);
+    let mut cavity = match &opts.cavity {
+        Some(c) => c.clone(),
+        None => layer.cavities(&placed, opts.margin),
+    };
     let t = transition::solve(backend, &layer, &placed, &mut cavity, opts, &tell)?;
     tell("assembling", 1, 1);
     assembly::assemble(&layer, &placed, &cavity, t, opts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::backend::compiled;
+
+    /// Given cavities' columns are the ones meshed (here the demo's with
+    /// a column more); a flag list of the wrong length is a usage error.
+    #[test]
+    fn given_cavity_columns_are_meshed() {
+        let (grid, wells, mut opts) = demo();
+        let mut flags = cavity_columns(&grid, &wells, &opts).unwrap();
+        let extra = (0..flags.len())
+            .find(|&c| !flags[c] && flags[c + 1])
+            .unwrap();
+        flags[extra] = true;
+        opts.cavity = Some(flags.clone());
+        for b in compiled() {
+            let h = build(&*b, &grid, &wells, &opts).unwrap();
+            assert_eq!(h.report.cavity_cells, flags.iter().filter(|&&f| f).count());
+            let reservoir: Vec<usize> = h.ijk.iter().flatten().map(|c| c[1] * 15 + c[0]).collect();
+            assert!(!reservoir.contains(&extra) && reservoir.len() + h.report.cavity_cells == 225);
+        }
+        opts.cavity = Some(vec![true; 3]);
+        let e = build(&*compiled()[0], &grid, &wells, &opts).unwrap_err();
+        assert!(e.to_string().contains("15 x 15 columns"), "{e}");
+    }
 }

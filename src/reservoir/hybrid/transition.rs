@@ -124,8 +124,9 @@ fn complex(
                     1
                 };
                 // The reservoir cell across: its site should be on the
-                // dual line of each piece (orthogonal interface).
-                let across = (!outer_side).then(|| view.centroid(a, b));
+                // dual line of each piece (orthogonal interface); a
+                // layered section keeps no reservoir cells.
+                let across = (!outer_side && !opts.layered_section).then(|| view.centroid(a, b));
                 for (from, to) in split(&mut cx, u, v, pieces) {
                     cx.segments.push([from, to]);
                     anchors.push(across);
@@ -324,7 +325,7 @@ fn inner_sides(
             out.push((p, q, col(a.0, a.1), true, [0.0, 1.0]));
         }
     }
-    if !opts.column_sides {
+    if !opts.layered_section {
         return out;
     }
     for j in 0..ny {

@@ -504,9 +504,10 @@ pub(crate) fn cells(
             b.open.insert(c, crate::geom::bbox(&pts));
         }
     }
-    // from a side moved in by up to the lean (`section::inset`) out to
-    // the wall, leaning out as far
-    let reach = 2.0 * lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
+    // from a side moved in by up to the lean (`section::inset`; further
+    // at a corner, moved in along both its sides) out to the wall,
+    // leaning out as far
+    let reach = 3.0 * lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
     let nl = cav.k[1] - cav.k[0] + 1;
     // the columns' outlines at the cavity's top and bottom, for quick tests
     let boxes: BTreeMap<[usize; 2], ([f64; 2], [f64; 2])> = cav

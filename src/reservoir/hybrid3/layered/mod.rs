@@ -95,6 +95,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
         let at = 0.5 * (frame.h[0] + frame.h[frame.h.len() - 1]);
         let live = |[i, j]: [usize; 2]| (k0..=k1).all(|k| cpg.live([i, j, k]));
         let grid = section::grid(g, &frame, at, live);
+        let rs = [section.rings, section.sectors];
         let points: Vec<(String, [f64; 2], f64)> = ws
             .iter()
             .map(|&w| {
@@ -106,19 +107,39 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 (wells[w].name.clone(), [q[0], q[1]], wells[w].radius)
             })
             .collect();
-        let mesh = |grid: &_| {
-            section::mesh(
-                backend,
-                grid,
-                &points,
-                section.rings,
-                section.sectors,
-                section.outer,
-            )
+        // the cavities' sides moved in by their walls' lean, so that no
+        // prism crosses a wall within the cavity's layers, with the columns
+        // the wells reach (again where the mesher grew them); as they are
+        // where a cavity touches itself at a pillar or that fails
+        let heights = [at, frame.h[0], frame.h[frame.h.len() - 1]];
+        let mut set = section::columns(&grid, &points, rs, section.outer)?;
+        let mut inset = None;
+        for _ in 0..3 {
+            let mut moved = grid.clone();
+            if !section::inset(g, &frame, heights, &mut moved, &set) {
+                break;
+            }
+            let Ok(m) = section::mesh(backend, &moved, &points, rs, section.outer, Some(&set))
+            else {
+                break;
+            };
+            let found = cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
+            let now: BTreeSet<[usize; 2]> = found.iter().flat_map(|c| c.cols.clone()).collect();
+            if now == set {
+                inset = Some((m, found));
+                break;
+            }
+            set = now;
+        }
+        let (mesh2, found) = match inset {
+            Some(x) => x,
+            None => {
+                let m = section::mesh(backend, &grid, &points, rs, section.outer, None)?;
+                let found = cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
+                (m, found)
+            }
         };
-        let mut mesh2 = mesh(&grid)?;
-        let cavities = cavities(&mesh2, [g.nx, g.ny], &live, [k0, k1]);
-        if let Some(c) = cavities
+        if let Some(c) = found
             .iter()
             .flat_map(|c| c.cols.iter())
             .find(|c| !cols.contains(c))
@@ -130,35 +151,13 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 c[1] + 1
             )));
         }
-        let cells_of = |m: &Hybrid, cavities: Vec<Cavity>| -> Vec<(Cavity, Cutter, Vec<Cell>)> {
-            cavities
-                .into_iter()
-                .map(|c| {
-                    let (cut, cells) = cells::cells(cpg, &frame, &m.mesh, &m.region, &c);
-                    (c, cut, cells)
-                })
-                .collect()
-        };
-        let mut built = cells_of(&mesh2, cavities);
-        // where a wall leaning in cuts a site off its cell: again with the
-        // cavities' sides moved in, kept if the cavities stay the same
-        if built
-            .iter()
-            .any(|(_, _, cells)| cells.iter().any(|c| !c.inside))
-        {
-            let mut inset = grid.clone();
-            let heights = [at, frame.h[0], frame.h[frame.h.len() - 1]];
-            let sets: Vec<&BTreeSet<[usize; 2]>> = built.iter().map(|b| &b.0.cols).collect();
-            if section::inset(g, &frame, heights, &mut inset, &sets) {
-                if let Ok(m) = mesh(&inset) {
-                    let again = self::cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
-                    if again.iter().map(|c| &c.cols).eq(sets) {
-                        built = cells_of(&m, again);
-                        mesh2 = m;
-                    }
-                }
-            }
-        }
+        let built = found
+            .into_iter()
+            .map(|c| {
+                let (cut, cells) = cells::cells(cpg, &frame, &mesh2.mesh, &mesh2.region, &c);
+                (c, cut, cells)
+            })
+            .collect();
         out.push(Group {
             frame,
             section: mesh2,

@@ -32,16 +32,16 @@ pub(super) fn grid(
     s
 }
 
-/// The 2D hybrid mesh of wells at map points `at` (frame coordinates) on
-/// the section grid, with the 3D hybrid's rings, sectors and outer radius.
-pub(super) fn mesh<B: Backend + ?Sized>(
-    backend: &B,
+/// The 2D hybrid's options for the section: the 3D hybrid's rings, sectors
+/// and outer radius, its wells at map points `at` (frame coordinates), the
+/// cavities' columns chosen by the 2D hybrid or the given ones.
+fn options(
     s: &CornerPointGrid,
     wells: &[(String, [f64; 2], f64)],
-    rings: usize,
-    sectors: usize,
+    [rings, sectors]: [usize; 2],
     outer: f64,
-) -> Result<Hybrid> {
+    cavity: Option<&BTreeSet<[usize; 2]>>,
+) -> (Vec<WellInput>, HybridOptions) {
     let input: Vec<WellInput> = wells
         .iter()
         .map(|(name, at, radius)| WellInput {
@@ -56,10 +56,45 @@ pub(super) fn mesh<B: Backend + ?Sized>(
         sectors,
         outer,
         allow_sites_outside: true,
-        column_sides: true,
+        layered_section: true,
+        cavity: cavity.map(|cols| {
+            let mut flags = vec![false; s.nx * s.ny];
+            for &[i, j] in cols {
+                flags[j * s.nx + i] = true;
+            }
+            flags
+        }),
         ..Default::default()
     };
+    (input, opts)
+}
+
+/// The 2D hybrid mesh of the wells on the section grid (`options`).
+pub(super) fn mesh<B: Backend + ?Sized>(
+    backend: &B,
+    s: &CornerPointGrid,
+    wells: &[(String, [f64; 2], f64)],
+    rs: [usize; 2],
+    outer: f64,
+    cavity: Option<&BTreeSet<[usize; 2]>>,
+) -> Result<Hybrid> {
+    let (input, opts) = options(s, wells, rs, outer, cavity);
     hybrid::build(backend, s, &input, &opts)
+}
+
+/// The columns the 2D hybrid's cavities start from on the section grid.
+pub(super) fn columns(
+    s: &CornerPointGrid,
+    wells: &[(String, [f64; 2], f64)],
+    rs: [usize; 2],
+    outer: f64,
+) -> Result<BTreeSet<[usize; 2]>> {
+    let (input, opts) = options(s, wells, rs, outer, None);
+    let flags = hybrid::cavity_columns(s, &input, &opts)?;
+    Ok((0..s.nx * s.ny)
+        .filter(|&c| flags[c])
+        .map(|c| [c % s.nx, c / s.nx])
+        .collect())
 }
 
 /// The section's pillars on the cavities' sides moved in, each side as far
@@ -73,48 +108,46 @@ pub(super) fn inset(
     f: &Frame,
     [at, top, bottom]: [f64; 3],
     s: &mut CornerPointGrid,
-    cavities: &[&BTreeSet<[usize; 2]>],
+    cols: &BTreeSet<[usize; 2]>,
 ) -> bool {
     let pid = |i: usize, j: usize| j * (g.nx + 1) + i;
     let mid = |p: usize| f.crossing(g.coord[p], at);
     // per pillar, the lines its sides are moved to: inward unit normal n
     // and offset c (points x with n.x = c)
     let mut lines: BTreeMap<usize, Vec<([f64; 2], f64)>> = BTreeMap::new();
-    for cols in cavities {
-        for &[i, j] in cols.iter() {
-            let centre = [(0, 0), (1, 0), (0, 1), (1, 1)]
-                .map(|(di, dj)| mid(pid(i + di, j + dj)))
-                .iter()
-                .fold([0.0; 2], |a, p| [a[0] + p[0] / 4.0, a[1] + p[1] / 4.0]);
-            let sides = [
-                (i.checked_sub(1).map(|i| [i, j]), pid(i, j), pid(i, j + 1)),
-                (Some([i + 1, j]), pid(i + 1, j), pid(i + 1, j + 1)),
-                (j.checked_sub(1).map(|j| [i, j]), pid(i, j), pid(i + 1, j)),
-                (Some([i, j + 1]), pid(i, j + 1), pid(i + 1, j + 1)),
-            ];
-            for (across, p, q) in sides {
-                if across.is_some_and(|c| cols.contains(&c)) {
-                    continue;
-                }
-                let (x, y) = (mid(p), mid(q));
-                let (dx, dy) = (y[0] - x[0], y[1] - x[1]);
-                let len = dx.hypot(dy);
-                let mut n = [-dy / len, dx / len];
-                if n[0] * (centre[0] - x[0]) + n[1] * (centre[1] - x[1]) < 0.0 {
-                    n = [-n[0], -n[1]];
-                }
-                let mut shift: f64 = 0.0;
-                for r in [p, q] {
-                    let m = mid(r);
-                    for h in [top, bottom] {
-                        let c = f.crossing(g.coord[r], h);
-                        shift = shift.max(n[0] * (c[0] - m[0]) + n[1] * (c[1] - m[1]));
-                    }
-                }
-                let c = n[0] * x[0] + n[1] * x[1] + shift;
-                lines.entry(p).or_default().push((n, c));
-                lines.entry(q).or_default().push((n, c));
+    for &[i, j] in cols {
+        let centre = [(0, 0), (1, 0), (0, 1), (1, 1)]
+            .map(|(di, dj)| mid(pid(i + di, j + dj)))
+            .iter()
+            .fold([0.0; 2], |a, p| [a[0] + p[0] / 4.0, a[1] + p[1] / 4.0]);
+        let sides = [
+            (i.checked_sub(1).map(|i| [i, j]), pid(i, j), pid(i, j + 1)),
+            (Some([i + 1, j]), pid(i + 1, j), pid(i + 1, j + 1)),
+            (j.checked_sub(1).map(|j| [i, j]), pid(i, j), pid(i + 1, j)),
+            (Some([i, j + 1]), pid(i, j + 1), pid(i + 1, j + 1)),
+        ];
+        for (across, p, q) in sides {
+            if across.is_some_and(|c| cols.contains(&c)) {
+                continue;
             }
+            let (x, y) = (mid(p), mid(q));
+            let (dx, dy) = (y[0] - x[0], y[1] - x[1]);
+            let len = dx.hypot(dy);
+            let mut n = [-dy / len, dx / len];
+            if n[0] * (centre[0] - x[0]) + n[1] * (centre[1] - x[1]) < 0.0 {
+                n = [-n[0], -n[1]];
+            }
+            let mut shift: f64 = 0.0;
+            for r in [p, q] {
+                let m = mid(r);
+                for h in [top, bottom] {
+                    let c = f.crossing(g.coord[r], h);
+                    shift = shift.max(n[0] * (c[0] - m[0]) + n[1] * (c[1] - m[1]));
+                }
+            }
+            let c = n[0] * x[0] + n[1] * x[1] + shift;
+            lines.entry(p).or_default().push((n, c));
+            lines.entry(q).or_default().push((n, c));
         }
     }
     let mut moved = vec![];
