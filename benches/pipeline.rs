@@ -430,7 +430,8 @@ fn hybrid_pipeline(c: &mut Criterion) {
 }
 
 /// SPE9 in full 3D with its 26 wells along their COMPDAT layers, with the
-/// defaults (issue target: within a minute). Only
+/// defaults (layered cavities) and with the transition meshed in 3D
+/// (issue target: within a minute). Only
 /// under `cargo bench`: one build takes tens of seconds, and
 /// tests/decks.rs builds it in the test suite.
 fn hybrid3_pipeline(c: &mut Criterion) {
@@ -442,16 +443,25 @@ fn hybrid3_pipeline(c: &mut Criterion) {
     let grid = read_grid(&dir.join("SPE9.GRDECL")).unwrap();
     let (found, _) = read_wells(&dir.join("SPE9_CP.DATA")).unwrap();
     let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(0.25)).collect();
-    let opts = Hybrid3Options {
+    let layered = Hybrid3Options {
         allow_sites_outside: true,
         ..Default::default()
+    };
+    let in_3d = Hybrid3Options {
+        layered: None,
+        ..layered.clone()
     };
     let mut g = c.benchmark_group("hybrid3");
     g.sample_size(10).measurement_time(Duration::from_secs(60));
     for b in backends() {
-        g.bench_function(BenchmarkId::new(b.name(), "spe9-3d-26-wells"), |bench| {
-            bench.iter(|| hybrid3::build(&*b, &grid, &wells, &opts).unwrap())
-        });
+        for (name, opts) in [
+            ("spe9-3d-26-wells", &layered),
+            ("spe9-transition-3d", &in_3d),
+        ] {
+            g.bench_function(BenchmarkId::new(b.name(), name), |bench| {
+                bench.iter(|| hybrid3::build(&*b, &grid, &wells, opts).unwrap())
+            });
+        }
     }
     g.finish();
 }

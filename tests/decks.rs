@@ -318,6 +318,7 @@ fn thiem_deck_in_3d() {
     let links = &h.wellbore;
     assert_eq!((links[0].name.as_str(), links[0].radius), ("W", RW));
     assert_eq!(links[0].links.len(), Hybrid3Options::default().sectors * 2);
+    assert!(h.report.sections.is_empty(), "the 3D transition");
     t.deck("thiem-3d", &h.mesh.network(), links);
 }
 
@@ -335,7 +336,12 @@ fn thiem_3d(depths: &[f64], perm: &[f64]) -> (hybrid3::Hybrid3, Thiem) {
         azimuth: 30.0,
         ..Default::default()
     };
-    let h = hybrid3::build(&default_backend(), &grid, &[w], &Hybrid3Options::default()).unwrap();
+    // the transition meshed in 3D (thiem_deck_in_a_layered_block: layered)
+    let opts = Hybrid3Options {
+        layered: None,
+        ..Default::default()
+    };
+    let h = hybrid3::build(&default_backend(), &grid, &[w], &opts).unwrap();
     let c = (n / 2) as f64 * dx + dx / 2.0;
     let side = n as f64 * dx;
     let r = |p: [f64; 3]| (p[0] - c).hypot(p[1] - c);
@@ -808,10 +814,9 @@ fn the_command_line_writes_decks_and_says_what_it_assumed() {
 }
 
 /// SPE9 in full 3D: its 24 x 25 x 15 grid with its 26 wells along their
-/// COMPDAT layers (defaults: the radial meshes shrink to clear the 10
-/// degree dip, so each cavity is its well's own column), its
-/// rock, EQUIL and the first 30 days of its own schedule, for decks.py to
-/// run in OPM Flow.
+/// COMPDAT layers (defaults: layered cavities on two sections across the
+/// 10 degree dip), its rock, EQUIL and the first 30 days of its own
+/// schedule, for decks.py to run in OPM Flow.
 #[test]
 fn spe9_in_3d_deck() {
     let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
@@ -841,8 +846,10 @@ fn spe9_in_3d_deck() {
     assert!(r.conforms());
     assert_eq!(r.unpaired_faces + r.unmatched_faces, 0);
     assert_eq!(h.wellbore.len(), 26);
-    // every well connected along its completed layers only
-    let m = opts.sectors;
+    // every well connected along its completed layers only (layered
+    // cavities, as the CLI's default)
+    assert_eq!(r.sections.len(), 2);
+    let m = opts.layered.map_or(opts.sectors, |s| s.sectors);
     for (w, links) in wells.iter().zip(&h.wellbore) {
         let [k1, k2] = w.k.unwrap();
         assert_eq!(links.links.len(), (k2 - k1 + 1) * m, "{}", w.name);
@@ -873,13 +880,6 @@ fn spe9_in_3d_deck() {
     let text = orthomesh::io::deck::to_string(&d).unwrap();
     let dir = out_dir();
     orthomesh::io::write_atomic(&dir.join("spe9-3d.DATA"), text.as_bytes()).unwrap();
-    // the mesh for tests/readers.py (check_field), named by backend
-    let vtu = format!(
-        "field3-spe9-{}.vtu",
-        orthomesh::Backend::name(&default_backend())
-    );
-    let cells = orthomesh::io::vtu::to_string(&h.cells());
-    orthomesh::io::write_atomic(&dir.join(vtu), cells.as_bytes()).unwrap();
     let mut scheduled = serde_json::Map::new();
     for (n, c) in controls {
         let c = match c {

@@ -11,6 +11,15 @@ use orthomesh::reservoir::hybrid3::{build, Hybrid3, Hybrid3Options, Section, Wel
 use orthomesh::reservoir::CornerPointGrid;
 use std::path::Path;
 
+/// The defaults with the transition meshed in 3D (layered cavities:
+/// tests/layered3.rs, thiem_on_a_layered_section).
+fn in_3d() -> Hybrid3Options {
+    Hybrid3Options {
+        layered: None,
+        ..Default::default()
+    }
+}
+
 fn well(dip: f64) -> Well3 {
     Well3 {
         name: "W".into(),
@@ -33,7 +42,7 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
             // their sites stay outside (counted in the report).
             let opts = Hybrid3Options {
                 allow_sites_outside: true,
-                ..Default::default()
+                ..in_3d()
             };
             let h = build(&*b, &g, &[well(dip)], &opts).unwrap();
             let r = &h.report;
@@ -101,7 +110,7 @@ fn vertical_and_deviated_wells_in_a_block_grid() {
 #[test]
 fn wells_that_do_not_fit_are_errors() {
     let b = &compiled()[0];
-    let opts = Hybrid3Options::default();
+    let opts = in_3d();
     let mut inactive = CornerPointGrid::cartesian([7, 7, 3], [10.0, 10.0, 4.0]);
     inactive.actnum[3 + 7 * (3 + 7)] = false; // cell (4, 4, 2)
                                               // cell (4, 4, 1)'s top at its pillar (5, 5) sunk 5 below its bottom
@@ -207,7 +216,7 @@ fn steiner_points_bring_the_annuli_sites_in() {
         sectors: 12,
         split_facets: true,
         clip: false,
-        ..Default::default()
+        ..in_3d()
     };
     let h = build(&**b, &g, &[well(0.0)], &opts).unwrap();
     let t = &h.report.cavities[0].transition;
@@ -264,7 +273,7 @@ fn completed_layers_get_rings_and_plugs() {
     let g = CornerPointGrid::cartesian([7, 7, 5], [10.0, 10.0, 4.0]);
     let opts = Hybrid3Options {
         allow_sites_outside: true,
-        ..Default::default()
+        ..in_3d()
     };
     let (m, rings) = (opts.sectors, opts.rings);
     for b in compiled() {
@@ -308,7 +317,7 @@ fn completed_layers_get_rings_and_plugs() {
 fn nearby_wells_merge_and_touching_cavities_meet() {
     let g = CornerPointGrid::cartesian([10, 7, 2], [10.0, 10.0, 4.0]);
     let b = &compiled()[0];
-    let opts = Hybrid3Options::default();
+    let opts = in_3d();
     let at = |name: &str, i: usize| Well3 {
         name: name.into(),
         i,
@@ -344,7 +353,7 @@ fn spe9() -> (CornerPointGrid, Hybrid3Options) {
     let g = orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/SPE9.GRDECL")).unwrap();
     let opts = Hybrid3Options {
         allow_sites_outside: true,
-        ..Default::default()
+        ..in_3d()
     };
     (g, opts)
 }
@@ -659,7 +668,7 @@ fn thiem_on_a_layered_section() {
 fn a_pinched_out_layer_is_left_out() {
     let g = CornerPointGrid::layered([7, 7], [10.0, 10.0], &[0.0, 4.0, 4.0, 8.0]);
     let b = &compiled()[0];
-    let opts = Hybrid3Options::default();
+    let opts = in_3d();
     let h = build(&**b, &g, &[well(0.0)], &opts).unwrap();
     let r = &h.report;
     assert!(r.conforms());
@@ -712,7 +721,7 @@ fn cells_across_a_throw_are_linked_by_their_overlaps() {
     let g = thrown_block(2.0);
     let w = Well3 { i: 2, ..well(0.0) };
     let b = &compiled()[0];
-    let h3 = build(&**b, &g, &[w], &Hybrid3Options::default()).unwrap();
+    let h3 = build(&**b, &g, &[w], &in_3d()).unwrap();
     let r = &h3.report;
     println!(
         "a throw of 2 m beside the cavity: {} links across it, {} faces left unconnected",

@@ -212,45 +212,6 @@ def check_faulted(path):
     assert not own, f"{path}: vtkCellValidator flags transition or well cells {own[:10]} in their own frame too"
     return counts
 
-def check_field(path):
-    """3D hybrids at a field's coordinates (`field3-*`, SPE9 at 9,000 to
-    10,600 ft depth). vtkCellValidator flags transition cells as written
-    for two reasons that depend on where a cell lies, not on its shape
-    (docs/limitations.md), so each flagged cell is validated again in three
-    frames, all rigid motions:
-    - centred on itself: only the convexity state (16) may remain, and only
-      on cells with a vertical face. vtk's convexity test (seam counting
-      after Devillers et al.) projects along z and decides a vertical face
-      by the sign of a rounding error; the wells are vertical;
-    - turned by ROTATION about its centre, left at the field's coordinates:
-      the convexity state may not remain. What remains is vtk's line test,
-      which takes two segments within about 1.7e-6 of the coordinates'
-      magnitude for crossing, whatever their lengths (0.018 ft at SPE9's
-      10,583 ft; `vtk_line_tolerance`);
-    - centred and turned: every cell must pass.
-    Every reservoir and well cell must pass as written. Returns the counts
-    flagged as written, centred and turned in place, the transition cells,
-    all cells and the coordinates' magnitude."""
-    grid = read_vtu(path)
-    n = grid.GetNumberOfCells()
-    types = {grid.GetCellType(i) for i in range(n)}
-    assert types == {42}, f"{path}: cell types {types}"
-    volumes_agree(path, grid)
-    s = validity(grid)
-    region = vtk_to_numpy(grid.GetCellData().GetArray("region"))
-    written = np.nonzero(s)[0]
-    assert all(region[c] == 1 for c in written), f"{path}: vtkCellValidator flags reservoir or well cells {[c for c in written if region[c] != 1][:10]}"
-    centred = validity(cells_in(grid, written, lambda p: p - p.mean(0)))
-    bad = [int(c) for c, v in zip(written, centred) if v not in (0, 16) or (v and not vertical_face(grid, c))]
-    assert not bad, f"{path}: cells {bad[:10]} flagged centred other than for convexity beside a vertical face"
-    turned = validity(cells_in(grid, written, lambda p: (p - p.mean(0)) @ ROTATION.T + p.mean(0)))
-    assert not np.any(turned & 16), f"{path}: cells {written[np.nonzero(turned & 16)[0]][:10]} nonconvex turned in place"
-    own = validity(cells_in(grid, written, lambda p: (p - p.mean(0)) @ ROTATION.T))
-    nt = int(np.sum(region == 1))
-    assert not np.any(own), f"{path}: {np.count_nonzero(own)} of {nt} transition cells flagged centred and turned too, {written[np.nonzero(own)[0]][:10]}"
-    scale = np.abs(vtk_to_numpy(grid.GetPoints().GetData())).max()
-    return len(written), np.count_nonzero(centred), np.count_nonzero(turned), nt, n, scale
-
 def check_twisted(path):
     """3D hybrids in a grid of twisted cells (`twisted3-*`, emerald), each
     cell validated alone in its own frame (centred on itself and turned).
@@ -332,32 +293,10 @@ def cells_in(grid, cells, frame):
     out.SetPoints(p)
     return out
 
-def vertical_face(grid, c):
-    """Whether polyhedron c has a face whose normal is horizontal to 1e-9."""
-    cell = grid.GetCell(c)
-    for f in range(cell.GetNumberOfFaces()):
-        face = cell.GetFace(f)
-        q = np.array([grid.GetPoint(face.GetPointId(k)) for k in range(face.GetNumberOfPoints())])
-        q -= q.mean(0)
-        n = sum(np.cross(q[k], q[(k + 1) % len(q)]) for k in range(len(q)))
-        if abs(n[2]) < 1e-9 * np.linalg.norm(n):
-            return True
-    return False
-
 def alone(grid, c):
     """vtkCellValidator's state for cell c alone, centred on itself and
     rotated."""
     return int(validity(cells_in(grid, [c], lambda p: (p - p.mean(0)) @ ROTATION.T))[0])
-
-def vtk_line_tolerance(at):
-    """The largest distance between two unit segments (crossing at right
-    angles in projection) that vtkLine.Intersection takes for crossing,
-    with both at coordinates of magnitude `at`."""
-    def crossing(d):
-        t = np.full(3, at)
-        u, v = vtk.reference(0.0), vtk.reference(0.0)
-        return vtk.vtkLine.Intersection(t, t + [1, 0, 0], t + [0.5, -0.5, d], t + [0.5, 0.5, d], u, v) == 2
-    return max((d for d in np.logspace(-12, 0, 241) if crossing(d)), default=0.0)
 
 def check_grid(path):
     from resdata.grid import Grid
@@ -444,14 +383,10 @@ def main(folder):
     for f in sorted(pathlib.Path(folder).rglob("faulted3-*.vtu")):
         (r, nr), (t, nt), (w, nw) = check_faulted(f)
         print(f"vtk beside faults: {f.name}: flags {t} of {nt} transition cells, {w} of {nw} well cells, {r} of {nr} reservoir cells (centred, rotated, slivers left out); volumes agree")
-    for f in sorted(pathlib.Path(folder).rglob("field3-*.vtu")):
-        written, centred, turned, nt, n, scale = check_field(f)
-        tol = vtk_line_tolerance(scale)
-        print(f"vtk at a field's coordinates: {f.name}: {n} polyhedra; as written it flags {written} of {nt} transition cells, reservoir and well cells pass. Of those, centred on themselves {centred} stay flagged, all for convexity beside a vertical face; turned in place {turned} stay flagged, none for convexity (its line test takes segments {tol:.1e} apart for crossing at coordinates of {scale:.0f}); centred and turned, none. Volumes agree")
     for f in sorted(pathlib.Path(folder).rglob("twisted3-*.vtu")):
         (r, nr), (t, nt), (w, nw) = check_twisted(f)
         print(f"vtk in twisted cells, each in its own frame: {f.name}: flags {r} of {nr} reservoir cells (nonconvex only), {t} of {nt} transition cells, {w} of {nw} well cells; volumes agree")
-    files = sorted(f for f in pathlib.Path(folder).rglob("*.vtu") if not f.name.startswith(("layers-", "conform3-", "hybrid3-", "faulted3-", "field3-", "twisted3-")))
+    files = sorted(f for f in pathlib.Path(folder).rglob("*.vtu") if not f.name.startswith(("layers-", "conform3-", "hybrid3-", "faulted3-", "twisted3-")))
     assert files, f"no .vtu files under {folder}: did the Rust tests run?"
     for f in files:
         print(f"readers ok: {f.name}: {check(f)} cells")

@@ -32,11 +32,13 @@ pub fn write_as(name: &str, h: &Hybrid3) {
     }
 }
 
-/// The 3D hybrid with the defaults, sites outside their cells allowed.
+/// The 3D hybrid with the defaults but the transition meshed in 3D, sites
+/// outside their cells allowed.
 pub fn lenient(g: &CornerPointGrid, w: Well3) -> Hybrid3 {
     let b = &compiled()[0];
     let opts = Hybrid3Options {
         allow_sites_outside: true,
+        layered: None,
         ..Default::default()
     };
     build(&**b, g, &[w], &opts).unwrap()

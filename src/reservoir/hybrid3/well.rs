@@ -75,8 +75,8 @@ pub struct Hybrid3Options {
     /// radial meshes and take it through each layer (`layered`): every
     /// link in the cavity orthogonal, every cell in one layer. Else, and
     /// when None, the transition is meshed in 3D with the radial meshes
-    /// above. None by default here (the CLI's `hybrid --3d` asks for
-    /// `Section::default()` unless `--transition-3d`).
+    /// above. `Section::default()` by default (as the CLI's `hybrid --3d`
+    /// but with `--transition-3d`).
     pub layered: Option<Section>,
     /// Told of each cavity meshed: ("cavities", done, of).
     pub progress: Option<Progress>,
@@ -115,7 +115,7 @@ impl Default for Hybrid3Options {
             allow_sites_outside: false,
             split_facets: false,
             clip: true,
-            layered: None,
+            layered: Some(Section::default()),
             progress: None,
         }
     }
