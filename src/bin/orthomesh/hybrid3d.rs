@@ -225,8 +225,9 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         }
         eprintln!(
             "  transition: {} sites outside their cells, {} cells under 1e-3 of their \
-             cavity's median volume (smallest {:.3e})",
-            r.sites_outside, r.slivers, r.smallest_volume_share
+             cavity's median volume (smallest {:.3e}; {} such merged into the cell across \
+             their largest face)",
+            r.sites_outside, r.slivers, r.smallest_volume_share, r.slivers_merged
         );
         // where the cavity's geometry, not the relocation, keeps sites out
         let (proved, outside) = r

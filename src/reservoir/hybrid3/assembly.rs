@@ -663,14 +663,25 @@ pub(super) fn assemble(
     }
     let first_t = a.res_cell.len();
     let unpaired = a.between_cavities(&cavity_of, first_t);
-    let wellbore = super::bend::merge_legs(well_links(&names, &radials, &firsts), &owners);
-    let (out, region, ijk) = a.finish();
-    let by_regions = super::stats::by_regions(&out, &region);
+    let mut wellbore = super::bend::merge_legs(well_links(&names, &radials, &firsts), &owners);
+    let (mut out, mut region, mut ijk) = a.finish();
     let first_t = region
         .iter()
         .take_while(|r| **r == Region::Reservoir)
         .count();
-    let host = hosts(cpg, &built, &ijk, &out.sites, first_t, &cavity_of);
+    let mut host = hosts(cpg, &built, &ijk, &out.sites, first_t, &cavity_of);
+    let locate = |p: [f64; 3], cav: usize| cpg.locate(p, built[cav].cells.cells.iter().copied());
+    let (slivers_merged, merged) = super::slivers::merge(super::slivers::Cells {
+        locate: &locate,
+        mesh: &mut out,
+        region: &mut region,
+        ijk: &mut ijk,
+        host: &mut host,
+        cavity_of: &mut cavity_of,
+        first: first_t,
+        wellbore: &mut wellbore,
+    });
+    let by_regions = super::stats::by_regions(&out, &region);
     let count = |r: Region| region.iter().filter(|&&x| x == r).count();
     let cavities: Vec<super::report::CavityReport> = built
         .into_iter()
@@ -721,6 +732,7 @@ pub(super) fn assemble(
         by_regions,
         sections: vec![],
         slivers,
+        slivers_merged,
         smallest_volume_share,
         notes: vec![],
     };
@@ -730,6 +742,7 @@ pub(super) fn assemble(
         ijk,
         host,
         wellbore,
+        merged,
         report,
     })
 }
@@ -750,7 +763,7 @@ impl Assembly {
 /// past a pillar). The connection then takes its largest face (plane,
 /// distances), its area scaled so that area / (d0 + d1) adds up the
 /// faces' (exact where the two cells' permeabilities are equal).
-fn one_per_pair(links: Vec<Link3>) -> Vec<Link3> {
+pub(super) fn one_per_pair(links: Vec<Link3>) -> Vec<Link3> {
     let mut seen: HashMap<[usize; 2], usize> = HashMap::new();
     let mut merged: Vec<Link3> = vec![];
     for l in links {

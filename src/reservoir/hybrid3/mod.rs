@@ -32,6 +32,7 @@ mod radial;
 mod refine;
 mod report;
 mod sheet;
+mod slivers;
 mod stats;
 mod well;
 

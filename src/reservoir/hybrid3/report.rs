@@ -25,6 +25,9 @@ pub struct Hybrid3 {
     /// Per well, the cells facing its wellbore, each with the geometric
     /// part of its connection factor (m; `reservoir::deck`).
     pub wellbore: Vec<WellLinks>,
+    /// Cells that took in slivers of the 3D transition: unions of power
+    /// cells, often not convex (the VTU's `merged` array).
+    pub merged: Vec<usize>,
     /// What the build did.
     pub report: Hybrid3Report,
 }
@@ -130,8 +133,11 @@ pub struct Hybrid3Report {
     /// Transition sites outside their cells, over all cavities.
     pub sites_outside: usize,
     /// Transition cells under a thousandth of their cavity's median
-    /// transition cell's volume.
+    /// transition cell's volume (after merging).
     pub slivers: usize,
+    /// 3D transition slivers merged into the transition cell across their
+    /// largest face (`Hybrid3::merged`).
+    pub slivers_merged: usize,
     /// The smallest transition cell's share of its cavity's median.
     pub smallest_volume_share: f64,
     /// What was left out of the wells' completions, and why.
@@ -164,19 +170,28 @@ impl Hybrid3 {
     }
 
     /// Polyhedra with cell data site, weight, volume, region, ijk
-    /// (1-based, -1 outside the grid).
+    /// (1-based, -1 outside the grid), and where slivers were merged,
+    /// merged (1 for the cells that took them in).
     pub fn cells(&self) -> CellMesh {
         let m = &self.mesh;
+        let mut data = vec![
+            CellArray::float("site", 3, m.sites.iter().flatten().copied().collect()),
+            CellArray::float("weight", 1, m.weights.clone()),
+            CellArray::float("volume", 1, m.volumes.clone()),
+            CellArray::int("region", 1, self.region.iter().map(|&r| r as i64).collect()),
+            CellArray::ijk(self.ijk.iter().copied()),
+        ];
+        if !self.merged.is_empty() {
+            let mut flag = vec![0; m.cells.len()];
+            for &c in &self.merged {
+                flag[c] = 1;
+            }
+            data.push(CellArray::int("merged", 1, flag));
+        }
         CellMesh {
             points: m.points.clone(),
             cells: Cells::Polyhedra(m.cells.clone()),
-            data: vec![
-                CellArray::float("site", 3, m.sites.iter().flatten().copied().collect()),
-                CellArray::float("weight", 1, m.weights.clone()),
-                CellArray::float("volume", 1, m.volumes.clone()),
-                CellArray::int("region", 1, self.region.iter().map(|&r| r as i64).collect()),
-                CellArray::ijk(self.ijk.iter().copied()),
-            ],
+            data,
             scalars: "region",
         }
     }

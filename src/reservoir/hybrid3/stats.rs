@@ -107,20 +107,25 @@ pub(super) fn by_regions(m: &Mesh3, region: &[Region]) -> BTreeMap<String, Conne
     out
 }
 
-/// The transition cells under `SLIVER` of their cavity's median (given
-/// each transition cell's cavity), and the smallest such share.
-pub(super) fn slivers(volumes: &[f64], cavity_of: &[usize]) -> (usize, f64) {
+/// Per cavity, the median of its cells' volumes (given each cell's
+/// cavity).
+pub(super) fn medians(volumes: &[f64], cavity_of: &[usize]) -> BTreeMap<usize, f64> {
     let mut per: BTreeMap<usize, Vec<f64>> = BTreeMap::new();
     for (&v, &c) in volumes.iter().zip(cavity_of) {
         per.entry(c).or_default().push(v);
     }
-    let median: BTreeMap<usize, f64> = per
-        .into_iter()
+    per.into_iter()
         .map(|(c, mut v)| {
             v.sort_by(f64::total_cmp);
             (c, v[v.len() / 2])
         })
-        .collect();
+        .collect()
+}
+
+/// The transition cells under `SLIVER` of their cavity's median (given
+/// each transition cell's cavity), and the smallest such share.
+pub(super) fn slivers(volumes: &[f64], cavity_of: &[usize]) -> (usize, f64) {
+    let median = medians(volumes, cavity_of);
     let shares = volumes
         .iter()
         .zip(cavity_of)

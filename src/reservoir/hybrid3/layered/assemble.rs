@@ -144,7 +144,6 @@ pub(crate) fn assemble(
             count(Region::Transition),
             count(Region::Well),
         ],
-        cavities: vec![],
         connections: out.links.len(),
         unpaired_faces: unpaired,
         unmatched_faces: unmatched,
@@ -155,7 +154,7 @@ pub(crate) fn assemble(
         sections,
         slivers,
         smallest_volume_share,
-        notes: vec![],
+        ..Default::default()
     };
     Ok(Hybrid3 {
         mesh: out,
@@ -163,6 +162,7 @@ pub(crate) fn assemble(
         ijk,
         host,
         wellbore: wellbore.into_iter().flatten().collect(),
+        merged: vec![],
         report,
     })
 }

@@ -1,0 +1,191 @@
+//! Slivers merged away: a 3D transition cell under `stats::SLIVER` of its
+//! cavity's median volume (near-degenerate power vertices leave some, a few
+//! rounding to a negative volume) is joined to the transition cell in the
+//! same grid cell (never across a fault or a layer) it shares most area
+//! with. A simulator's time steps would shrink to it, and
+//! TOUGH readers refuse a volume that is not positive. The union keeps the
+//! larger cell's site; the sliver's other faces become its faces, their
+//! distances taken from that site. It is often not convex: the VTU marks
+//! such cells (`merged`).
+
+use super::stats::SLIVER;
+use crate::mesh::Mesh3;
+use crate::reservoir::deck::WellLinks;
+use crate::reservoir::hybrid::Region;
+use std::collections::{BTreeMap, HashSet};
+
+/// The cells and what is kept per cell beside the mesh.
+pub(super) struct Cells<'a> {
+    pub(super) mesh: &'a mut Mesh3,
+    pub(super) region: &'a mut Vec<Region>,
+    pub(super) ijk: &'a mut Vec<Option<[usize; 3]>>,
+    /// Per cell, the grid cell whose rock it takes.
+    pub(super) host: &'a mut Vec<[usize; 3]>,
+    /// The grid cell of a cavity (given by index) that holds a point.
+    pub(super) locate: &'a dyn Fn([f64; 3], usize) -> Option<[usize; 3]>,
+    /// Per cell from `first`, its cavity.
+    pub(super) cavity_of: &'a mut Vec<usize>,
+    pub(super) first: usize,
+    pub(super) wellbore: &'a mut [WellLinks],
+}
+
+/// Per transition cell under SLIVER of its cavity's median, the transition
+/// cell it joins (the one across its largest face; smallest first, so that
+/// a sliver beside a sliver joins the one that absorbed it).
+fn targets(c: &Cells) -> BTreeMap<usize, usize> {
+    let m = &*c.mesh;
+    let t: Vec<usize> = (c.first..m.volumes.len())
+        .filter(|&k| c.region[k] == Region::Transition)
+        .collect();
+    let cavity: Vec<usize> = t.iter().map(|&k| c.cavity_of[k - c.first]).collect();
+    let volumes: Vec<f64> = t.iter().map(|&k| m.volumes[k]).collect();
+    let median = super::stats::medians(&volumes, &cavity);
+    let mut small: Vec<usize> = t
+        .into_iter()
+        .filter(|&k| m.volumes[k] < SLIVER * median[&c.cavity_of[k - c.first]])
+        .collect();
+    small.sort_by(|&a, &b| m.volumes[a].total_cmp(&m.volumes[b]));
+    // the grid cell that holds the mean of a cell's points (a sliver's
+    // site may lie far outside it)
+    let home = |k: usize| {
+        let pts: Vec<[f64; 3]> = m.cells[k]
+            .iter()
+            .flatten()
+            .map(|&v| m.points[v as usize])
+            .collect();
+        let n = pts.len().max(1) as f64;
+        let x: [f64; 3] = std::array::from_fn(|a| pts.iter().map(|p| p[a]).sum::<f64>() / n);
+        (c.locate)(x, c.cavity_of[k - c.first]).unwrap_or(c.host[k])
+    };
+    let mut into: BTreeMap<usize, usize> = BTreeMap::new();
+    let root = |into: &BTreeMap<usize, usize>, mut k: usize| {
+        while let Some(&n) = into.get(&k) {
+            k = n;
+        }
+        k
+    };
+    for a in small {
+        let mut best: Option<(f64, usize)> = None;
+        for l in m.links.iter().filter(|l| l.cells.contains(&a)) {
+            let b = root(&into, l.cells[usize::from(l.cells[0] == a)]);
+            if b != a
+                && c.region[b] == Region::Transition
+                && home(b) == home(a)
+                && best.is_none_or(|(area, _)| l.area > area)
+            {
+                best = Some((l.area, b));
+            }
+        }
+        if let Some((_, b)) = best {
+            into.insert(a, b);
+        }
+    }
+    into.keys().map(|&a| (a, root(&into, a))).collect()
+}
+
+/// A face's points as a key that its reverse (the same face seen from the
+/// other cell) shares: rotated to start at its smallest id, turned to go
+/// on to the smaller neighbour.
+fn key(f: &[u32]) -> Vec<u32> {
+    let n = f.len();
+    let s = (0..n).min_by_key(|&k| f[k]).unwrap_or(0);
+    let fwd: Vec<u32> = (0..n).map(|k| f[(s + k) % n]).collect();
+    let back: Vec<u32> = (0..n).map(|k| f[(s + n - k) % n]).collect();
+    fwd.min(back)
+}
+
+/// Merges the slivers; returns how many, and the cells they joined (new
+/// ids).
+pub(super) fn merge(c: Cells) -> (usize, Vec<usize>) {
+    let into = targets(&c);
+    if into.is_empty() {
+        return (0, vec![]);
+    }
+    let m = c.mesh;
+    // the kept cells' new ids, a merged cell's its target's
+    let mut id = vec![0usize; m.volumes.len()];
+    let mut next = 0;
+    for (k, slot) in id.iter_mut().enumerate() {
+        if !into.contains_key(&k) {
+            *slot = next;
+            next += 1;
+        }
+    }
+    for (&a, &b) in &into {
+        id[a] = id[b];
+    }
+    for (&a, &b) in &into {
+        let faces = std::mem::take(&mut m.cells[a]);
+        m.cells[b].extend(faces);
+    }
+    // faces now inside a cell appear in it twice (once each way)
+    for &b in into.values().collect::<HashSet<_>>() {
+        let mut count: BTreeMap<Vec<u32>, usize> = BTreeMap::new();
+        for f in &m.cells[b] {
+            *count.entry(key(f)).or_default() += 1;
+        }
+        m.cells[b].retain(|f| count[&key(f)] == 1);
+        // from the union's faces: a sliver's own volume is its points'
+        // rounding
+        m.volumes[b] = crate::geom::volume(&m.cells[b], &m.points);
+    }
+    let keep = |k: &usize| !into.contains_key(k);
+    let drop_merged = |n: usize| (0..n).filter(|k| keep(k));
+    m.cells = drop_merged(m.cells.len())
+        .map(|k| std::mem::take(&mut m.cells[k]))
+        .collect();
+    m.sites = drop_merged(m.sites.len()).map(|k| m.sites[k]).collect();
+    m.weights = drop_merged(m.weights.len()).map(|k| m.weights[k]).collect();
+    m.volumes = drop_merged(m.volumes.len()).map(|k| m.volumes[k]).collect();
+    m.site_inside = drop_merged(m.site_inside.len())
+        .map(|k| m.site_inside[k])
+        .collect();
+    *c.region = drop_merged(c.region.len()).map(|k| c.region[k]).collect();
+    *c.ijk = drop_merged(c.ijk.len()).map(|k| c.ijk[k]).collect();
+    *c.host = drop_merged(c.host.len()).map(|k| c.host[k]).collect();
+    *c.cavity_of = drop_merged(c.cavity_of.len() + c.first)
+        .filter(|&k| k >= c.first)
+        .map(|k| c.cavity_of[k - c.first])
+        .collect();
+    for f in &mut m.facet_faces {
+        f.cell = id[f.cell];
+    }
+    for w in c.wellbore.iter_mut() {
+        for l in &mut w.links {
+            l.0 = id[l.0];
+        }
+    }
+    // links: the merged cell's side measured from its new site
+    let links = std::mem::take(&mut m.links);
+    for mut l in links {
+        let moved = l.cells.map(|k| into.contains_key(&k));
+        l.cells = l.cells.map(|k| id[k]);
+        if l.cells[0] == l.cells[1] {
+            continue;
+        }
+        for s in 0..2 {
+            if moved[s] {
+                let o = m.points[l.face[0] as usize];
+                let x = m.sites[l.cells[s]];
+                let r: [f64; 3] = std::array::from_fn(|a| x[a] - o[a]);
+                l.d[s] = crate::geom::dot_f(r, l.normal).abs();
+            }
+        }
+        m.links.push(l);
+    }
+    m.links = super::assembly::one_per_pair(std::mem::take(&mut m.links));
+    let joined: std::collections::BTreeSet<usize> = into.values().map(|&b| id[b]).collect();
+    (into.len(), joined.into_iter().collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_face_and_its_reverse_share_a_key() {
+        assert_eq!(key(&[4, 2, 7, 9]), key(&[9, 7, 2, 4]));
+        assert_eq!(key(&[2, 7, 9, 4]), key(&[4, 9, 7, 2]));
+        assert_ne!(key(&[2, 7, 9, 4]), key(&[2, 9, 7, 4, 5]));
+    }
+}
