@@ -66,12 +66,13 @@ fn targets(c: &Cells) -> BTreeMap<usize, usize> {
     };
     for a in small {
         let mut best: Option<(f64, usize)> = None;
+        let at = home(a);
         for l in m.links.iter().filter(|l| l.cells.contains(&a)) {
             let b = root(&into, l.cells[usize::from(l.cells[0] == a)]);
             if b != a
                 && c.region[b] == Region::Transition
-                && home(b) == home(a)
                 && best.is_none_or(|(area, _)| l.area > area)
+                && home(b) == at
             {
                 best = Some((l.area, b));
             }
@@ -92,6 +93,16 @@ fn key(f: &[u32]) -> Vec<u32> {
     let fwd: Vec<u32> = (0..n).map(|k| f[(s + k) % n]).collect();
     let back: Vec<u32> = (0..n).map(|k| f[(s + n - k) % n]).collect();
     fwd.min(back)
+}
+
+/// Drops the entries of the merged cells from a per-cell list (whose
+/// entry k is cell first + k).
+fn drop<T>(v: &mut Vec<T>, first: usize, merged: &BTreeMap<usize, usize>) {
+    let mut k = first;
+    v.retain(|_| {
+        k += 1;
+        !merged.contains_key(&(k - 1))
+    });
 }
 
 /// Merges the slivers; returns how many, and the cells they joined (new
@@ -129,24 +140,15 @@ pub(super) fn merge(c: Cells) -> (usize, Vec<usize>) {
         // rounding
         m.volumes[b] = crate::geom::volume(&m.cells[b], &m.points);
     }
-    let keep = |k: &usize| !into.contains_key(k);
-    let drop_merged = |n: usize| (0..n).filter(|k| keep(k));
-    m.cells = drop_merged(m.cells.len())
-        .map(|k| std::mem::take(&mut m.cells[k]))
-        .collect();
-    m.sites = drop_merged(m.sites.len()).map(|k| m.sites[k]).collect();
-    m.weights = drop_merged(m.weights.len()).map(|k| m.weights[k]).collect();
-    m.volumes = drop_merged(m.volumes.len()).map(|k| m.volumes[k]).collect();
-    m.site_inside = drop_merged(m.site_inside.len())
-        .map(|k| m.site_inside[k])
-        .collect();
-    *c.region = drop_merged(c.region.len()).map(|k| c.region[k]).collect();
-    *c.ijk = drop_merged(c.ijk.len()).map(|k| c.ijk[k]).collect();
-    *c.host = drop_merged(c.host.len()).map(|k| c.host[k]).collect();
-    *c.cavity_of = drop_merged(c.cavity_of.len() + c.first)
-        .filter(|&k| k >= c.first)
-        .map(|k| c.cavity_of[k - c.first])
-        .collect();
+    drop(&mut m.cells, 0, &into);
+    drop(&mut m.sites, 0, &into);
+    drop(&mut m.weights, 0, &into);
+    drop(&mut m.volumes, 0, &into);
+    drop(&mut m.site_inside, 0, &into);
+    drop(c.region, 0, &into);
+    drop(c.ijk, 0, &into);
+    drop(c.host, 0, &into);
+    drop(c.cavity_of, c.first, &into);
     for f in &mut m.facet_faces {
         f.cell = id[f.cell];
     }
