@@ -1,6 +1,6 @@
 //! Layered cavities (`hybrid3::layered`): SPE9's 26 wells on sections
-//! across its dipping layers, and emerald, whose layers are not planes,
-//! left to the 3D transition. Prints what it measures.
+//! across its dipping layers, and emerald's wells on layers that are not
+//! planes. Prints what it measures.
 
 mod common;
 
@@ -94,27 +94,114 @@ fn spe9_all_wells_on_layered_sections() {
     }
 }
 
-/// Emerald's layers are not planes: its wells go to the 3D transition,
-/// and the report says why.
+/// Emerald's layers are not planes (tops up to 1.4 m off their planes
+/// within a column, walls leaning 10 to 40 degrees): a well down one
+/// column gets a layered cavity whose prisms are cut by the grid's own
+/// faces. Every site inside, no sliver, the cavity filled once; links
+/// within a layer orthogonal (across the twisted layer boundaries, the
+/// twist). Beside a throw, its own column; wells the layers cannot take
+/// (a throw inside the cavity, a completion that changes column) go to
+/// the 3D transition, and the report says why.
 #[test]
-fn emerald_is_left_to_the_3d_transition() {
+fn emerald_wells_on_twisted_layers() {
     let g =
         orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
             .unwrap();
-    let w = Well3 {
-        name: "W".into(),
-        i: 18,
-        j: 17,
-        k: Some([4, 7]),
-        radius: 0.1,
-        ..Default::default()
-    };
-    let h = build(&*compiled()[0], &g, &[w], &layered()).unwrap();
-    println!("emerald (19, 18) 5-8, notes: {:?}", h.report.notes);
-    assert!(h.report.sections.is_empty() && h.report.cavities.len() == 1);
-    assert!(h
-        .report
-        .notes
-        .iter()
-        .any(|n| n.contains("the transition is meshed in 3D")));
+    // 1-based column, layers (1-based), what it is
+    let cases: [([usize; 2], Option<[usize; 2]>, &str); 5] = [
+        ([19, 18], Some([5, 8]), "leaning column, layers 5-8"),
+        ([1, 20], Some([5, 8]), "at the grid's edge, layers 5-8"),
+        ([19, 18], None, "leaning column, every layer"),
+        ([5, 4], None, "beside a throw, every layer"),
+        ([2, 30], None, "twisted by 1.4 m, every layer"),
+    ];
+    let b = &*compiled()[0];
+    for ([i, j], k, what) in cases {
+        let w = Well3 {
+            name: "W".into(),
+            i: i - 1,
+            j: j - 1,
+            k: k.map(|k| k.map(|x| x - 1)),
+            radius: 0.1,
+            ..Default::default()
+        };
+        let t = std::time::Instant::now();
+        let h = build(b, &g, &[w], &layered()).unwrap();
+        let r = &h.report;
+        let s = &r.sections[..];
+        println!(
+            "emerald ({i}, {j}), {what}: {:.1} s; notes {:?}; cells {:?}; layers {:.2} m off \
+             their planes; {} sites outside; {} slivers ({} merged); cavity filled to {:.1e}",
+            t.elapsed().as_secs_f64(),
+            r.notes,
+            r.cells,
+            s.first().map_or(f64::NAN, |s| s.off_plane),
+            r.sites_outside,
+            r.slivers,
+            r.slivers_merged,
+            s.iter()
+                .flat_map(|s| s.cavities.iter().map(|c| c.volume_gap))
+                .fold(0.0, f64::max),
+        );
+        for (pair, c) in &r.by_regions {
+            println!(
+                "  {pair}: {} links, {} off orthogonal, angle median {:.2} 99% {:.2} max {:.2}, \
+                 {} one-sided",
+                c.connections, c.non_orthogonal, c.angle[0], c.angle[1], c.angle[2], c.one_sided
+            );
+        }
+        assert_eq!(s.len(), 1, "{what}: {:?}", r.notes);
+        assert!(r.conforms() && r.unpaired_faces == 0, "{what}");
+        assert!(s[0].off_plane > 1e-3, "{what}: twisted");
+        // filled once, to the points welded within 2 mm (`Frame::weld`):
+        // the depths' own millimetres over 20,000 m2 tops are 20 m3 a cell
+        assert!(s[0].cavities.iter().all(|c| c.volume_gap < 1e-5), "{what}");
+        assert_eq!(r.sites_outside, 0, "{what}");
+        assert_eq!(r.slivers, 0, "{what}");
+        assert!(h.mesh.volumes.iter().all(|&v| v > 0.0), "{what}");
+        for pair in ["transition-transition", "transition-well", "well-well"] {
+            assert_eq!(r.by_regions[pair].one_sided, 0, "{what}: {pair}");
+        }
+        // a median link within the layers is orthogonal
+        assert!(r.by_regions["well-well"].angle[0] < 1e-6, "{what}");
+        assert_eq!(h.wellbore.len(), 1);
+        assert!(!h.wellbore[0].links.is_empty());
+        let layers = k.map_or("all".to_string(), |[a, z]| format!("{a}-{z}"));
+        write_as(&format!("twisted3-emerald-layered-{i}-{j}-{layers}"), &h);
+    }
+    // the 3D transition, said why
+    let ws = [
+        (
+            Well3 {
+                name: "W".into(),
+                i: 7,
+                j: 3,
+                k: Some([4, 4]),
+                radius: 0.1,
+                ..Default::default()
+            },
+            "throw",
+        ),
+        (
+            Well3 {
+                name: "W".into(),
+                i: 18,
+                j: 17,
+                radius: 0.1,
+                cells: vec![[18, 17, 4], [19, 17, 5]],
+                ..Default::default()
+            },
+            "does not run down one column",
+        ),
+    ];
+    for (w, why) in ws {
+        let h = build(b, &g, &[w], &layered()).unwrap();
+        println!("emerald, 3D transition: {:?}", h.report.notes);
+        assert!(h.report.sections.is_empty() && h.report.cavities.len() == 1);
+        assert!(
+            h.report.notes.iter().any(|n| n.contains(why)),
+            "{:?}",
+            h.report.notes
+        );
+    }
 }

@@ -126,12 +126,9 @@ impl Cutter {
         Some(self.push(key, x, Some(l)))
     }
 
-    /// The point where three planes meet (None where they do not meet in one).
-    fn vertex(&mut self, mut key: [u32; 3]) -> Option<u32> {
-        key.sort_unstable();
-        if let Some(&v) = self.ids.get(&Key::Planes(key)) {
-            return Some(v);
-        }
+    /// Where three planes meet, by Cramer's rule (None where they do not
+    /// meet in one point).
+    fn meet(&self, key: [u32; 3]) -> Option<[f64; 3]> {
         let [a, b, c] = key.map(|k| self.planes[k as usize]);
         let m = [a.n, b.n, c.n];
         let det = det3(m);
@@ -142,16 +139,36 @@ impl Cutter {
         if det.abs() <= 1e-12 * scale {
             return None;
         }
-        // Cramer's rule, columns replaced by the right-hand side
+        // columns replaced by the right-hand side
         let rhs = [a.c, b.c, c.c];
-        let p = std::array::from_fn(|k| {
+        Some(std::array::from_fn(|k| {
             let mut r = m;
             for (row, &v) in r.iter_mut().zip(&rhs) {
                 row[k] = v;
             }
             det3(r) / det
-        });
-        Some(self.push(Key::Planes(key), p, None))
+        }))
+    }
+
+    /// Where edge a - b (on planes key[0] and key[1]) crosses plane h
+    /// (key[2]): where the three planes meet, or where the two faces of
+    /// the edge nearly share a plane (the point their planes give lies off
+    /// the edge), the point along the edge.
+    fn crossing(&mut self, key: [u32; 3], a: u32, b: u32, h: &Halfspace) -> Option<u32> {
+        let mut sorted = key;
+        sorted.sort_unstable();
+        if let Some(&v) = self.ids.get(&Key::Planes(sorted)) {
+            return Some(v);
+        }
+        let (pa, pb) = (self.points[a as usize], self.points[b as usize]);
+        let (da, db) = (h.eval(pa), h.eval(pb));
+        let t = da / (da - db);
+        let along: [f64; 3] = std::array::from_fn(|k| pa[k] + t * (pb[k] - pa[k]));
+        let x = match self.meet(sorted) {
+            Some(x) if (0..3).all(|k| (x[k] - along[k]).abs() <= self.tol) => x,
+            _ => along,
+        };
+        Some(self.push(Key::Planes(sorted), x, None))
     }
 
     /// The prism between planes `bottom` and `top` over a convex polygon
@@ -250,7 +267,7 @@ impl Cutter {
                     let across = edge_face.get(&(b, a)).copied().unwrap_or(f.plane);
                     let v = match (self.on_line[a as usize], self.on_line[b as usize]) {
                         (Some(la), Some(lb)) if la == lb => self.on(la, p),
-                        _ => self.vertex([f.plane, across, p]),
+                        _ => self.crossing([f.plane, across, p], a, b, &h),
                     };
                     if let Some(v) = v {
                         kept.push(v);

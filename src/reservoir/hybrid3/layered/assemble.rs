@@ -42,10 +42,13 @@ pub(crate) fn assemble(
     // faces toward a grid cell that is in a cavity: they have no cell
     // across (0: sections keep their cavities apart)
     let mut unpaired = 0;
-    // per cavity, its grid cells' volume (cavities numbered from 1)
+    // per cavity, its grid cells' volume and its grid cells (cavities
+    // numbered from 1)
     let mut grid_volumes = vec![];
+    let mut cavity_cells: Vec<Vec<Ijk>> = vec![];
     for g in &groups {
         let mut id: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut span: HashMap<(usize, usize), f64> = HashMap::new();
         let mut reports = vec![];
         for (cav, cut, cells) in &g.cavities {
             let at = |p: u32| g.frame.from(cut.points[p as usize]);
@@ -62,11 +65,12 @@ pub(crate) fn assemble(
                     .iter()
                     .map(|(_, pts)| clean(pts.iter().map(|&p| a.point(at(p))).collect()))
                     .collect();
-                let faces = on_edges(faces, &a.out.points);
+                let faces = super::cells::on_edges(faces, &a.out.points, g.frame.weld());
                 fixed.push(faces.clone());
                 let faces = faces.into_iter().filter(|f| f.len() >= 3).collect();
                 let site = g.frame.from(cell.site);
                 id.insert((cell.c, cell.k), a.out.cells.len());
+                span.insert((cell.c, cell.k), cell.span);
                 a.push_cell(faces, site, g.section.region[cell.c], None);
                 *a.out.site_inside.last_mut().expect("a cell") = cell.inside;
                 host.push(host_of(cpg, site, &grid_cells));
@@ -98,10 +102,12 @@ pub(crate) fn assemble(
                 sites_inside: cells.iter().filter(|c| c.inside).count(),
                 volume_gap: 0.0,
             });
-            grid_volumes.push(to_fill(cpg, g, cav, &grid_cells));
+            let height = hole_height(g, &cells);
+            grid_volumes.push(to_fill(cpg, g, cav, &grid_cells, height));
+            cavity_cells.push(grid_cells);
         }
         for (n, &w) in g.wells.iter().enumerate() {
-            wellbore[w] = Some(wellbore_links(g, n, &wells[w].name, &paths[w], &id));
+            wellbore[w] = Some(wellbore_links(g, n, &wells[w].name, &paths[w], &id, &span));
         }
         let n = g.frame.n;
         sections.push(SectionReport {
@@ -113,14 +119,58 @@ pub(crate) fn assemble(
             transition: g.section.report.transition.clone(),
         });
     }
-    let (out, region, ijk) = a.finish();
+    let (mut out, mut region, mut ijk) = a.finish();
     volume_gaps(
         &mut sections,
         &grid_volumes,
         &out.volumes[first_t..],
         &cavity_of,
     );
-    let by_regions = super::super::stats::by_regions(&out, &region);
+    let mut host: Vec<Ijk> = ijk
+        .iter()
+        .take(first_t)
+        .map(|c| c.unwrap_or([0; 3]))
+        .chain(host)
+        .collect();
+    // slivers (tiny cells of the section through every layer) joined to
+    // their neighbour in the same grid cell
+    let mut wellbore: Vec<WellLinks> = wellbore.into_iter().flatten().collect();
+    let locate = |p: [f64; 3], cav: usize| cpg.locate(p, cavity_cells[cav - 1].iter().copied());
+    let (slivers_merged, merged) = super::super::slivers::merge(super::super::slivers::Cells {
+        locate: &locate,
+        mesh: &mut out,
+        region: &mut region,
+        ijk: &mut ijk,
+        host: &mut host,
+        cavity_of: &mut cavity_of,
+        first: first_t,
+        wellbore: &mut wellbore,
+    });
+    let h = Hybrid3 {
+        mesh: out,
+        region,
+        ijk,
+        host,
+        wellbore,
+        merged,
+        report: Hybrid3Report {
+            unpaired_faces: unpaired,
+            unmatched_faces: unmatched,
+            across_throws: thrown,
+            sections,
+            slivers_merged,
+            ..Default::default()
+        },
+    };
+    Ok(measured(h, first_t, &cavity_of))
+}
+
+/// The hybrid with its report's measures: cells, links per pair of
+/// regions, sites outside and slivers (per cell from `first_t`, its
+/// cavity).
+fn measured(mut h: Hybrid3, first_t: usize, cavity_of: &[usize]) -> Hybrid3 {
+    let (out, region) = (&h.mesh, &h.region);
+    let by_regions = super::super::stats::by_regions(out, region);
     let t_cells: Vec<usize> = (first_t..region.len())
         .filter(|&c| region[c] == Region::Transition)
         .collect();
@@ -132,44 +182,24 @@ pub(crate) fn assemble(
             .collect::<Vec<_>>(),
     );
     let count = |r: Region| region.iter().filter(|&&x| x == r).count();
-    let host = ijk
-        .iter()
-        .take(first_t)
-        .map(|c| c.unwrap_or([0; 3]))
-        .chain(host)
-        .collect();
-    let report = Hybrid3Report {
-        cells: [
-            count(Region::Reservoir),
-            count(Region::Transition),
-            count(Region::Well),
-        ],
-        connections: out.links.len(),
-        unpaired_faces: unpaired,
-        unmatched_faces: unmatched,
-        across_throws: thrown,
-        non_orthogonal: by_regions.values().map(|c| c.non_orthogonal).sum(),
-        by_regions,
-        sites_outside: t_cells.iter().filter(|&&c| !out.site_inside[c]).count(),
-        sections,
-        slivers,
-        smallest_volume_share,
-        ..Default::default()
-    };
-    Ok(Hybrid3 {
-        mesh: out,
-        region,
-        ijk,
-        host,
-        wellbore: wellbore.into_iter().flatten().collect(),
-        merged: vec![],
-        report,
-    })
+    let r = &mut h.report;
+    r.cells = [
+        count(Region::Reservoir),
+        count(Region::Transition),
+        count(Region::Well),
+    ];
+    r.connections = out.links.len();
+    r.non_orthogonal = by_regions.values().map(|c| c.non_orthogonal).sum();
+    r.by_regions = by_regions;
+    r.sites_outside = t_cells.iter().filter(|&&c| !out.site_inside[c]).count();
+    r.slivers = slivers;
+    r.smallest_volume_share = smallest_volume_share;
+    h
 }
 
 /// Well n of a section's links to its innermost ring in its completed
 /// layers: radial flow from the wellbore to the sites' radius within a
-/// sector, theta L / ln(rho / r_w), L the layer's thickness along the
+/// sector, theta L / ln(rho / r_w), L the cell's length along the
 /// normal (the radial mesh's axis).
 fn wellbore_links(
     g: &Group,
@@ -177,6 +207,7 @@ fn wellbore_links(
     name: &str,
     path: &Path,
     id: &HashMap<(usize, usize), usize>,
+    span: &HashMap<(usize, usize), f64>,
 ) -> WellLinks {
     let wm = &g.section.wells[n];
     let theta = TAU / wm.inner.len() as f64;
@@ -184,11 +215,9 @@ fn wellbore_links(
     let layers: BTreeSet<usize> = path.cells.iter().map(|c| c[2]).collect();
     let mut links = vec![];
     for &k in &layers {
-        let t = k - g.frame.k0;
-        let len = g.frame.h[t] - g.frame.h[t + 1];
         for &c in &wm.inner {
             if let Some(&cell) = id.get(&(c as usize, k)) {
-                links.push((cell, theta * len / log));
+                links.push((cell, theta * span[&(c as usize, k)] / log));
             }
         }
     }
@@ -207,43 +236,6 @@ fn clean(mut f: Vec<u32>) -> Vec<u32> {
         f.pop();
     }
     f
-}
-
-/// A cell's faces with each point of the cell that lies inside one of
-/// their edges put in it: a face kept whole beside two pieces of a face
-/// across a column line meets them at a point it would otherwise lack.
-fn on_edges(faces: Vec<Vec<u32>>, points: &[[f64; 3]]) -> Vec<Vec<u32>> {
-    let mut all: Vec<u32> = faces.iter().flatten().copied().collect();
-    all.sort_unstable();
-    all.dedup();
-    faces
-        .iter()
-        .map(|f| {
-            let mut out = vec![];
-            for k in 0..f.len() {
-                let (u, v) = (f[k], f[(k + 1) % f.len()]);
-                out.push(u);
-                let (p, q) = (points[u as usize], points[v as usize]);
-                let d: [f64; 3] = std::array::from_fn(|i| q[i] - p[i]);
-                let len2 = crate::geom::dot_f(d, d);
-                let mut inside: Vec<(f64, u32)> = all
-                    .iter()
-                    .filter(|&&w| w != u && w != v)
-                    .filter_map(|&w| {
-                        let x = points[w as usize];
-                        let r: [f64; 3] = std::array::from_fn(|i| x[i] - p[i]);
-                        let t = crate::geom::dot_f(r, d) / len2;
-                        let off: [f64; 3] = std::array::from_fn(|i| r[i] - t * d[i]);
-                        let near = crate::geom::dot_f(off, off) <= 1e-18 * len2;
-                        (t > 1e-9 && t < 1.0 - 1e-9 && near).then_some((t, w))
-                    })
-                    .collect();
-                inside.sort_by(|a, b| a.0.total_cmp(&b.0));
-                out.extend(inside.into_iter().map(|(_, w)| w));
-            }
-            out
-        })
-        .collect()
 }
 
 /// The grid cell of the cavity that holds a site, or else the nearest by
@@ -273,11 +265,28 @@ fn volume_gaps(sections: &mut [SectionReport], grid: &[f64], volumes: &[f64], ca
     }
 }
 
+/// The height of the wellbores through a cavity: its layers' planes' span,
+/// or where they are twisted, the lengths of a radial cell's layers.
+fn hole_height(g: &Group, cells: &[&super::Cell]) -> f64 {
+    let h = &g.frame.h;
+    if !g.frame.twisted {
+        return (h[h.len() - 1] - h[0]).abs();
+    }
+    let Some(c) = cells
+        .iter()
+        .find(|c| g.section.region[c.c] == Region::Well)
+        .map(|c| c.c)
+    else {
+        return 0.0;
+    };
+    cells.iter().filter(|x| x.c == c).map(|x| x.span).sum()
+}
+
 /// The volume a cavity's cells should fill: its grid cells' less its
 /// wellbores (the holes its radial cells leave, prisms through all its
 /// layers: their polygons' area in the section, from the radial cells'
-/// edges with no cell across taken backwards, times the cavity's height).
-fn to_fill(cpg: &Cpg, g: &Group, cav: &Cavity, grid_cells: &[Ijk]) -> f64 {
+/// edges with no cell across taken backwards, times their height).
+fn to_fill(cpg: &Cpg, g: &Group, cav: &Cavity, grid_cells: &[Ijk], height: f64) -> f64 {
     let grid: f64 = grid_cells.iter().map(|&c| grid_volume(cpg, c)).sum();
     let m = &g.section.mesh;
     let owner = m.edge_owners();
@@ -296,7 +305,7 @@ fn to_fill(cpg: &Cpg, g: &Group, cav: &Cavity, grid_cells: &[Ijk]) -> f64 {
             }
         }
     }
-    grid - area * (g.frame.h[g.frame.h.len() - 1] - g.frame.h[0]).abs()
+    grid - area * height
 }
 
 /// A grid cell's volume: its faces, twisted ones as two triangles.

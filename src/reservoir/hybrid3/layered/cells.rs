@@ -10,6 +10,7 @@
 //! once and every link between them stays orthogonal.
 
 use super::super::cpg::{Cpg, Ijk};
+use super::cones::{self, Cones};
 use super::frame::{Frame, PLANAR};
 use crate::geom::{CutFace, Cutter, Halfspace};
 use crate::mesh::Mesh;
@@ -36,6 +37,8 @@ pub(crate) struct Cell {
     pub(crate) k: usize,
     pub(crate) faces: Vec<(Across, Vec<u32>)>,
     pub(crate) site: [f64; 3],
+    /// The cell's length along the normal through its site.
+    pub(crate) span: f64,
     /// Whether the site lies inside the cell (within the walls of a
     /// column of the cavity; inside its section cell by the section's
     /// certificate).
@@ -104,6 +107,8 @@ struct Build<'a> {
     /// The section cells with an edge on the cavity's side, with their
     /// bounding boxes.
     open: BTreeMap<usize, ([f64; 2], [f64; 2])>,
+    /// Twisted layers: the grid cells' pyramids.
+    cones: Cones,
 }
 
 impl Build<'_> {
@@ -358,14 +363,26 @@ struct At<'s> {
     kinds: &'s [Edge],
 }
 
+impl At<'_> {
+    /// What lies across the cell's face on one of its section sides: a
+    /// cell in its layer, the wellbore, or (the cavity's side) none.
+    fn across(&self, plane: u32) -> Across {
+        match self
+            .sides
+            .iter()
+            .position(|&s| s == plane)
+            .map(|s| self.kinds[s])
+        {
+            Some(Edge::Wellbore) => Across::Wellbore,
+            Some(Edge::Cell(d)) => Across::Cell(d, self.k),
+            _ => Across::Grid(None),
+        }
+    }
+}
+
 impl Build<'_> {
-    /// A prism's pieces in the cavity's columns (whose outlines' boxes
-    /// meet its own): cut by each column's walls.
-    fn pieces(
-        &mut self,
-        faces: &[CutFace],
-        boxes: &BTreeMap<[usize; 2], ([f64; 2], [f64; 2])>,
-    ) -> Vec<([usize; 2], Vec<CutFace>)> {
+    /// A polyhedron's box in the section.
+    fn footprint(&self, faces: &[CutFace]) -> ([f64; 2], [f64; 2]) {
         let flat: Vec<[f64; 2]> = faces
             .iter()
             .flat_map(|f| f.points.iter())
@@ -374,7 +391,17 @@ impl Build<'_> {
                 [q[0], q[1]]
             })
             .collect();
-        let (lo, hi) = crate::geom::bbox(&flat);
+        crate::geom::bbox(&flat)
+    }
+
+    /// A prism's pieces in the cavity's columns (whose outlines' boxes
+    /// meet its own): cut by each column's walls.
+    fn pieces(
+        &mut self,
+        faces: &[CutFace],
+        boxes: &BTreeMap<[usize; 2], ([f64; 2], [f64; 2])>,
+    ) -> Vec<([usize; 2], Vec<CutFace>)> {
+        let (lo, hi) = self.footprint(faces);
         let mut pieces = vec![];
         for (&col, &(clo, chi)) in boxes {
             if clo[0] > hi[0] || chi[0] < lo[0] || clo[1] > hi[1] || chi[1] < lo[1] {
@@ -443,20 +470,90 @@ impl Build<'_> {
                     false => Across::Cell(at.c, k + 1),
                 }
             } else {
-                match at
-                    .sides
-                    .iter()
-                    .position(|&s| s == face.plane)
-                    .map(|s| at.kinds[s])
-                {
-                    Some(Edge::Wellbore) => Across::Wellbore,
-                    Some(Edge::Cell(d)) => Across::Cell(d, k),
-                    _ => Across::Grid(None),
-                }
+                at.across(face.plane)
             };
             out.push((across, face.plane, face.points.clone()));
         }
         within
+    }
+}
+
+impl Build<'_> {
+    /// Twisted layers: a prism's pieces in grid cells (col, k) of the
+    /// cavity, cut by each of their pyramids.
+    fn cone_pieces(
+        &mut self,
+        faces: &[CutFace],
+        cav: &Cavity,
+        k: usize,
+    ) -> Result<Vec<([usize; 2], Vec<CutFace>)>, String> {
+        let (lo, hi) = self.footprint(faces);
+        let mut out = vec![];
+        for &col in &cav.cols {
+            let cell = [col[0], col[1], k];
+            self.cones.of(self.cpg, self.f, &mut self.cut, cell)?;
+            for pyr in &self.cones.cells[&cell] {
+                if pyr.lo[0] > hi[0] || pyr.hi[0] < lo[0] || pyr.lo[1] > hi[1] || pyr.hi[1] < lo[1]
+                {
+                    continue;
+                }
+                let piece = cones::cut_by(&mut self.cut, faces, pyr);
+                if !piece.is_empty() {
+                    out.push((col, piece));
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// Twisted layers: a piece's faces with what is across each (faces
+    /// inside the cell left out); returns whether the site lies in it.
+    fn label_cone(
+        &mut self,
+        cav: &Cavity,
+        at: &At,
+        col: [usize; 2],
+        piece: &[CutFace],
+        site: [f64; 3],
+        out: &mut Vec<(Across, u32, Vec<u32>)>,
+    ) -> bool {
+        let cell = [col[0], col[1], at.k];
+        for face in piece {
+            if self.cones.inner.contains(&face.plane) {
+                continue;
+            }
+            let grid_face = self
+                .cones
+                .faces
+                .get(&face.plane)
+                .and_then(|v| v.iter().find(|(c, _)| *c == cell).map(|x| x.1));
+            let across = match grid_face {
+                Some(f) if f < 4 => match walls(col)[f].1 {
+                    Some(o) if cav.cols.contains(&o) => continue,
+                    _ => Across::Grid(self.cpg.neighbour(cell, f).ok().flatten()),
+                },
+                Some(4) if at.t > 0 => Across::Cell(at.c, at.k - 1),
+                Some(5) if at.t + 1 < at.nl => Across::Cell(at.c, at.k + 1),
+                Some(f) => Across::Grid(self.cpg.neighbour(cell, f).ok().flatten()),
+                None => at.across(face.plane),
+            };
+            out.push((across, face.plane, face.points.clone()));
+        }
+        cones::contains(&self.cut, piece, site)
+    }
+
+    /// Twisted layers: the site of section cell c in layer k, halfway
+    /// between the layer's top and bottom along the normal through the
+    /// section's site, and that length; None where no column of the
+    /// cavity lies there.
+    fn twisted_site(&self, cav: &Cavity, uv: [f64; 2], k: usize) -> Option<([f64; 3], f64)> {
+        let at = |face: usize| {
+            cav.cols
+                .iter()
+                .find_map(|&[i, j]| cones::height(self.cpg, self.f, [i, j, k], face, uv))
+        };
+        let (top, bottom) = (at(4)?, at(5)?);
+        Some(([uv[0], uv[1], 0.5 * (top + bottom)], top - bottom))
     }
 }
 
@@ -467,28 +564,41 @@ pub(crate) fn cells(
     m: &Mesh,
     region: &[Region],
     cav: &Cavity,
-) -> (Cutter, Vec<Cell>) {
+) -> Result<(Cutter, Vec<Cell>), String> {
     let mut b = Build {
         cpg,
         f,
         m,
-        cut: Cutter::new(PLANAR * f.size),
+        cut: Cutter::new(if f.twisted { f.weld() } else { PLANAR * f.size }),
         lines: HashMap::new(),
         edges: HashMap::new(),
         walls: HashMap::new(),
         sides: HashMap::new(),
         slabs: vec![],
         open: BTreeMap::new(),
+        cones: Cones {
+            avoid: (0..m.sites.len())
+                .filter(|&c| region[c] == Region::Well)
+                .map(|c| m.sites[c])
+                .collect(),
+            ..Cones::default()
+        },
     };
-    b.slabs =
-        f.h.iter()
-            .map(|&h| {
-                b.cut.plane(Halfspace {
-                    n: [0.0, 0.0, 1.0],
-                    c: h,
-                })
+    // twisted layers: prisms through the whole cavity, cut by the pyramids
+    let [top, bottom] = f.ends();
+    let heights = match f.twisted {
+        true => vec![top + 0.1 * f.size, bottom - 0.1 * f.size],
+        false => f.h.clone(),
+    };
+    b.slabs = heights
+        .iter()
+        .map(|&h| {
+            b.cut.plane(Halfspace {
+                n: [0.0, 0.0, 1.0],
+                c: h,
             })
-            .collect();
+        })
+        .collect();
     let set: BTreeSet<u32> = cav.cells.iter().map(|&c| c as u32).collect();
     let inside = |d: u32| set.contains(&d);
     let owner: HashMap<(u32, u32), u32> = m.edge_owners().into_iter().collect();
@@ -506,8 +616,10 @@ pub(crate) fn cells(
     }
     // from a side moved in by up to the lean (`section::inset`; further
     // at a corner, moved in along both its sides) out to the wall,
-    // leaning out as far
-    let reach = 3.0 * lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
+    // leaning out as far; twisted layers' corners move along their
+    // bisectors, up to twice as far at a 60 degree corner
+    let times = if f.twisted { 10.0 } else { 3.0 };
+    let reach = times * lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
     let nl = cav.k[1] - cav.k[0] + 1;
     // the columns' outlines at the cavity's top and bottom, for quick tests
     let boxes: BTreeMap<[usize; 2], ([f64; 2], [f64; 2])> = cav
@@ -532,12 +644,20 @@ pub(crate) fn cells(
         };
         for t in 0..nl {
             let k = cav.k[0] + t;
-            let Some(faces) = b.cut.prism(&lines, &sides, b.slabs[t + 1], b.slabs[t]) else {
+            let slab = if f.twisted { 0 } else { t };
+            let Some(faces) = b
+                .cut
+                .prism(&lines, &sides, b.slabs[slab + 1], b.slabs[slab])
+            else {
                 continue;
             };
-            let pieces = b.pieces(&faces, &boxes);
             let site2 = m.sites[c];
-            let site = [site2[0], site2[1], 0.5 * (f.h[t] + f.h[t + 1])];
+            // at the layer's mean height, so that links within a layer are
+            // orthogonal; where twisted layers leave that outside the cell,
+            // halfway between its top and bottom there
+            let flat = [site2[0], site2[1], 0.5 * (f.h[t] + f.h[t + 1])];
+            let local = f.twisted.then(|| b.twisted_site(cav, site2, k)).flatten();
+            let span = local.map_or(f.h[t] - f.h[t + 1], |l| l.1);
             let mut inside_site = false;
             let mut labelled: Vec<(Across, u32, Vec<u32>)> = vec![];
             let at = At {
@@ -548,25 +668,43 @@ pub(crate) fn cells(
                 sides: &sides,
                 kinds: &kinds,
             };
-            for (col, piece) in &pieces {
-                inside_site |= b.label(cav, &at, *col, piece, site, &mut labelled);
+            let mut site = flat;
+            if f.twisted {
+                let pieces = b.cone_pieces(&faces, cav, k)?;
+                let holds = |x: [f64; 3]| pieces.iter().any(|(_, p)| cones::contains(&b.cut, p, x));
+                if let Some((mid, _)) = local.filter(|_| !holds(flat)) {
+                    site = mid;
+                }
+                for (col, piece) in &pieces {
+                    inside_site |= b.label_cone(cav, &at, *col, piece, site, &mut labelled);
+                }
+            } else {
+                for (col, piece) in &b.pieces(&faces, &boxes) {
+                    inside_site |= b.label(cav, &at, *col, piece, site, &mut labelled);
+                }
             }
-            let merged = merge(labelled);
+            let merged = merge(labelled, &b.cut.points, f.weld());
             out.push(Cell {
                 c,
                 k,
                 faces: merged,
                 site,
+                span,
                 inside: inside_site,
             });
         }
     }
-    (b.cut, out)
+    Ok((b.cut, out))
 }
 
 /// A cell's faces with what is across them, the pieces of one face (one
-/// plane, one cell across) joined where they share edges.
-fn merge(faces: Vec<(Across, u32, Vec<u32>)>) -> Vec<(Across, Vec<u32>)> {
+/// plane, one cell across) joined where they share edges (first with the
+/// points of each piece that lie inside another's edges put in them).
+fn merge(
+    faces: Vec<(Across, u32, Vec<u32>)>,
+    points: &[[f64; 3]],
+    tol: f64,
+) -> Vec<(Across, Vec<u32>)> {
     let mut groups: BTreeMap<(Across, u32), Vec<Vec<u32>>> = BTreeMap::new();
     for (a, p, pts) in faces {
         groups.entry((a, p)).or_default().push(pts);
@@ -577,7 +715,9 @@ fn merge(faces: Vec<(Across, u32, Vec<u32>)>) -> Vec<(Across, Vec<u32>)> {
             out.extend(polys.into_iter().map(|p| (a, p)));
             continue;
         }
-        match crate::mesh::join(&polys) {
+        match crate::mesh::join(&polys)
+            .or_else(|| crate::mesh::join(&on_edges(polys.clone(), points, tol)))
+        {
             Some(cycle) => out.push((a, cycle)),
             None => out.extend(polys.into_iter().map(|p| (a, p))),
         }
@@ -590,19 +730,63 @@ fn merge(faces: Vec<(Across, u32, Vec<u32>)>) -> Vec<(Across, Vec<u32>)> {
 /// crossing of the section and of the cavity's top or bottom.
 fn lean(cpg: &Cpg, f: &Frame, cav: &Cavity) -> f64 {
     let g = cpg.g;
-    let (top, bottom) = (f.h[0], f.h[f.h.len() - 1]);
+    let [top, bottom] = f.ends();
     let at = 0.5 * (top + bottom);
     let mut most: f64 = 0.0;
     for &[i, j] in &cav.cols {
-        for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+        for (n, (di, dj)) in [(0, 0), (1, 0), (0, 1), (1, 1)].into_iter().enumerate() {
             let c = g.coord[(j + dj) * (g.nx + 1) + i + di];
-            let at_h = |h: f64| f.crossing(c, h);
-            let m = at_h(at);
-            for h in [top, bottom] {
-                let x = at_h(h);
+            let m = f.crossing(c, at);
+            // twisted layers: to the cavity's own corners on the pillar
+            let ends = match f.twisted {
+                true => [
+                    f.to(cpg.corner([i, j, cav.k[0]], n)),
+                    f.to(cpg.corner([i, j, cav.k[1]], n + 4)),
+                ]
+                .map(|q| [q[0], q[1]]),
+                false => [top, bottom].map(|h| f.crossing(c, h)),
+            };
+            for x in ends {
                 most = most.max((x[0] - m[0]).hypot(x[1] - m[1]));
             }
         }
     }
     most
+}
+
+/// A cell's faces with each point of the cell that lies inside one of
+/// their edges put in it: a face kept whole beside two pieces of a face
+/// across a column line meets them at a point it would otherwise lack.
+pub(super) fn on_edges(faces: Vec<Vec<u32>>, points: &[[f64; 3]], tol: f64) -> Vec<Vec<u32>> {
+    let mut all: Vec<u32> = faces.iter().flatten().copied().collect();
+    all.sort_unstable();
+    all.dedup();
+    faces
+        .iter()
+        .map(|f| {
+            let mut out = vec![];
+            for k in 0..f.len() {
+                let (u, v) = (f[k], f[(k + 1) % f.len()]);
+                out.push(u);
+                let (p, q) = (points[u as usize], points[v as usize]);
+                let d: [f64; 3] = std::array::from_fn(|i| q[i] - p[i]);
+                let len2 = crate::geom::dot_f(d, d);
+                let mut inside: Vec<(f64, u32)> = all
+                    .iter()
+                    .filter(|&&w| w != u && w != v)
+                    .filter_map(|&w| {
+                        let x = points[w as usize];
+                        let r: [f64; 3] = std::array::from_fn(|i| x[i] - p[i]);
+                        let t = crate::geom::dot_f(r, d) / len2;
+                        let off: [f64; 3] = std::array::from_fn(|i| r[i] - t * d[i]);
+                        let near = crate::geom::dot_f(off, off) <= (1e-18 * len2).max(tol * tol);
+                        (t > 1e-9 && t < 1.0 - 1e-9 && near).then_some((t, w))
+                    })
+                    .collect();
+                inside.sort_by(|a, b| a.0.total_cmp(&b.0));
+                out.extend(inside.into_iter().map(|(_, w)| w));
+            }
+            out
+        })
+        .collect()
 }

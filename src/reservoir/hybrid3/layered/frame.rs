@@ -13,6 +13,10 @@ use nalgebra::{Matrix3, SymmetricEigen};
 /// of a field.
 pub(crate) const PLANAR: f64 = 1e-7;
 
+/// Cut points of twisted layers within this (relative to the block's
+/// size) are one: 20 nanometres in a block of 200 m.
+pub(crate) const TWISTED: f64 = 1e-10;
+
 /// The layers' frame: `n` up across them, `a` and `b` in them (right
 /// handed), heights along `n` from `o`.
 #[derive(Debug, Clone)]
@@ -28,6 +32,11 @@ pub(crate) struct Frame {
     pub(crate) off: f64,
     /// The block's size (its bounding box's diagonal).
     pub(crate) size: f64,
+    /// Whether the boundaries are the grid's own faces, not planes
+    /// (`Frame::twisted`); `h` is then each one's mean height.
+    pub(crate) twisted: bool,
+    /// The highest corner of the top boundary and the lowest of the bottom.
+    extremes: [f64; 2],
 }
 
 impl Frame {
@@ -40,6 +49,28 @@ impl Frame {
     /// A point from frame coordinates.
     pub(crate) fn from(&self, q: [f64; 3]) -> [f64; 3] {
         std::array::from_fn(|k| self.o[k] + q[0] * self.a[k] + q[1] * self.b[k] + q[2] * self.n[k])
+    }
+
+    /// Where the layers are twisted, the distance within which cut points
+    /// are one and lie on a plane or an edge (`geom::Cutter`, `on_edges`):
+    /// `TWISTED` of the block, not `PLANAR`, since pieces of a thin cell
+    /// cut by planes at shallow angles (a pyramid's side from inside a
+    /// 2.5 m cell to its 150 m edge) are thinner than that in places,
+    /// and welding them leaves holes. None (rounding) where planar.
+    pub(crate) fn weld(&self) -> f64 {
+        match self.twisted {
+            true => TWISTED * self.size,
+            false => 0.0,
+        }
+    }
+
+    /// The heights of the block's top and bottom: its boundaries' planes,
+    /// or where they are twisted, their highest and lowest corners.
+    pub(crate) fn ends(&self) -> [f64; 2] {
+        match self.twisted {
+            true => self.extremes,
+            false => [self.h[0], self.h[self.h.len() - 1]],
+        }
     }
 
     /// Where a pillar (COORD's top and bottom, depths down) crosses the
@@ -59,6 +90,52 @@ impl Frame {
         k0: usize,
         k1: usize,
     ) -> Result<Frame, String> {
+        let mut f = Frame::measure(cpg, cols, k0, k1)?;
+        let tol = PLANAR * f.size;
+        if f.off > tol {
+            return Err(format!(
+                "its layers' boundaries are not parallel planes (a corner {:.3e} off, above {tol:.3e})",
+                f.off
+            ));
+        }
+        // walls: each column side's corners over the layers on one plane
+        for &c in cols {
+            for side in 0..4 {
+                let mut pts = vec![];
+                for k in k0..=k1 {
+                    pts.extend_from_slice(&cpg.face([c[0], c[1], k], side));
+                }
+                let (o, m) = plane_fit(&pts);
+                let w = pts
+                    .iter()
+                    .map(|p| (dot_f(*p, m) - dot_f(o, m)).abs())
+                    .fold(0.0, f64::max);
+                if w > tol {
+                    return Err(format!(
+                        "the walls of column ({}, {}) are not planes ({w:.3e} off)",
+                        c[0] + 1,
+                        c[1] + 1
+                    ));
+                }
+                f.off = f.off.max(w);
+            }
+        }
+        Ok(f)
+    }
+
+    /// The frame of columns whose layers' boundaries and walls are not
+    /// planes (leaning pillars, twisted tops: emerald): the normal and
+    /// heights as `fit` has them, the cells then cut by the grid's own
+    /// faces (`cones`); `off` says how far the boundaries stray from
+    /// their planes. Errors only on an inactive or pinched cell.
+    pub(crate) fn twisted(cpg: &Cpg, cols: &[[usize; 2]], k: [usize; 2]) -> Result<Frame, String> {
+        let f = Frame::measure(cpg, cols, k[0], k[1])?;
+        Ok(Frame { twisted: true, ..f })
+    }
+
+    /// The boundaries' common normal (their planes' normals averaged) and
+    /// heights, and how far their corners lie off those planes.
+    fn measure(cpg: &Cpg, cols: &[[usize; 2]], k0: usize, k1: usize) -> Result<Frame, String> {
         let cell = |[i, j]: [usize; 2], k: usize| -> Ijk { [i, j, k] };
         if let Some(c) = cols
             .iter()
@@ -82,7 +159,6 @@ impl Frame {
         let all: Vec<[f64; 3]> = bounds.iter().flatten().copied().collect();
         let (lo, hi) = crate::geom::bbox(&all);
         let size = crate::geom::dist_f(lo, hi);
-        let tol = PLANAR * size;
         let fits: Vec<([f64; 3], [f64; 3])> = bounds.iter().map(|b| plane_fit(b)).collect();
         // the common normal: the boundaries' normals, averaged
         let mut n = [0.0; 3];
@@ -100,33 +176,6 @@ impl Frame {
                 off = off.max((dot_f(*p, n) - h).abs());
             }
         }
-        if off > tol {
-            return Err(format!(
-                "its layers' boundaries are not parallel planes (a corner {off:.3e} off, above {tol:.3e})"
-            ));
-        }
-        // walls: each column side's corners over the layers on one plane
-        for &c in cols {
-            for f in 0..4 {
-                let mut pts = vec![];
-                for k in k0..=k1 {
-                    pts.extend_from_slice(&cpg.face(cell(c, k), f));
-                }
-                let (o, m) = plane_fit(&pts);
-                let w = pts
-                    .iter()
-                    .map(|p| (dot_f(*p, m) - dot_f(o, m)).abs())
-                    .fold(0.0, f64::max);
-                if w > tol {
-                    return Err(format!(
-                        "the walls of column ({}, {}) are not planes ({w:.3e} off)",
-                        c[0] + 1,
-                        c[1] + 1
-                    ));
-                }
-                off = off.max(w);
-            }
-        }
         // a along x as far as the layers allow, b = n x a
         let x = [1.0, 0.0, 0.0];
         let t = dot_f(x, n);
@@ -135,10 +184,16 @@ impl Frame {
         let a = a.map(|v| v / la);
         let b = cross_f(n, a);
         let o = fits[0].0;
-        let h = fits
+        let height = |p: &[f64; 3]| dot_f(std::array::from_fn(|k| p[k] - o[k]), n);
+        let h = fits.iter().map(|(c, _)| height(c)).collect();
+        let top = bounds[0]
             .iter()
-            .map(|(c, _)| dot_f(std::array::from_fn(|k| c[k] - o[k]), n))
-            .collect();
+            .map(height)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let bottom = bounds[k1 - k0 + 1]
+            .iter()
+            .map(height)
+            .fold(f64::INFINITY, f64::min);
         Ok(Frame {
             o,
             a,
@@ -148,6 +203,8 @@ impl Frame {
             h,
             off,
             size,
+            twisted: false,
+            extremes: [top, bottom],
         })
     }
 }

@@ -10,6 +10,7 @@
 
 mod assemble;
 mod cells;
+mod cones;
 mod frame;
 mod section;
 
@@ -51,10 +52,9 @@ pub(crate) fn build<B: Backend + ?Sized>(
     let mut spans = vec![];
     for (w, p) in wells.iter().zip(paths) {
         let [i, j, _] = p.cells[0];
-        if w.path.is_some()
-            || (w.straight && w.dip != 0.0)
-            || p.cells.iter().any(|c| [c[0], c[1]] != [i, j])
-        {
+        // a trajectory from a file, or a straight axis asked for
+        let given = w.path.is_some() && w.cells.is_empty();
+        if given || (w.straight && w.dip != 0.0) || p.cells.iter().any(|c| [c[0], c[1]] != [i, j]) {
             return Ok(Err(format!("well {} does not run down one column", w.name)));
         }
         let k0 = p.cells.iter().map(|c| c[2]).min().unwrap_or(0);
@@ -88,14 +88,25 @@ pub(crate) fn build<B: Backend + ?Sized>(
             }
         }
         let cols: Vec<[usize; 2]> = cols.into_iter().collect();
+        // where the layers around are not parallel planes, the wells' own
+        // columns' frame, their cells cut by the grid's own faces
+        let own: Vec<[usize; 2]> = ws
+            .iter()
+            .map(|&w| [paths[w].cells[0][0], paths[w].cells[0][1]])
+            .collect::<BTreeSet<_>>()
+            .into_iter()
+            .collect();
         let frame = match Frame::fit(cpg, &cols, k0, k1) {
             Ok(f) => f,
-            Err(why) => return Ok(Err(format!("around wells {}: {why}", names(wells, &ws)))),
+            Err(why) => match Frame::twisted(cpg, &own, [k0, k1]) {
+                Ok(f) => f,
+                Err(_) => return Ok(Err(format!("around wells {}: {why}", names(wells, &ws)))),
+            },
         };
-        let at = 0.5 * (frame.h[0] + frame.h[frame.h.len() - 1]);
+        let [top, bottom] = frame.ends();
+        let at = 0.5 * (top + bottom);
         let live = |[i, j]: [usize; 2]| (k0..=k1).all(|k| cpg.live([i, j, k]));
         let grid = section::grid(g, &frame, at, live);
-        let rs = [section.rings, section.sectors];
         let points: Vec<(String, [f64; 2], f64)> = ws
             .iter()
             .map(|&w| {
@@ -107,57 +118,57 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 (wells[w].name.clone(), [q[0], q[1]], wells[w].radius)
             })
             .collect();
-        // the cavities' sides moved in by their walls' lean, so that no
-        // prism crosses a wall within the cavity's layers, with the columns
-        // the wells reach (again where the mesher grew them); as they are
-        // where a cavity touches itself at a pillar or that fails
-        let heights = [at, frame.h[0], frame.h[frame.h.len() - 1]];
-        let mut set = section::columns(&grid, &points, rs, section.outer)?;
-        let mut inset = None;
-        for _ in 0..3 {
-            let mut moved = grid.clone();
-            if !section::inset(g, &frame, heights, &mut moved, &set) {
-                break;
+        let sec = Sec {
+            g,
+            frame: &frame,
+            grid: &grid,
+            points: &points,
+            rs: [section.rings, section.sectors],
+            live: &live,
+            k: [k0, k1],
+        };
+        // twisted layers beside a throw: the wells' own columns, radial
+        // meshes within them
+        let mut outer = section.outer;
+        let (mesh2, found) = loop {
+            let start = (outer == OWN_COLUMN).then(|| own.iter().copied().collect());
+            let got = sec.mesh(backend, outer, start)?;
+            if got.is_none() && outer > OWN_COLUMN {
+                outer = OWN_COLUMN;
+                continue;
             }
-            let Ok(m) = section::mesh(backend, &moved, &points, rs, section.outer, Some(&set))
-            else {
-                break;
+            let Some((m, found)) = got else {
+                return Ok(Err(format!(
+                    "around wells {}: the section's sides could not be moved in",
+                    names(wells, &ws)
+                )));
             };
-            let found = cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
-            let now: BTreeSet<[usize; 2]> = found.iter().flat_map(|c| c.cols.clone()).collect();
-            if now == set {
-                inset = Some((m, found));
-                break;
+            if let Some(c) = found
+                .iter()
+                .flat_map(|c| c.cols.iter())
+                .find(|c| !cols.contains(c))
+            {
+                return Ok(Err(format!(
+                    "the cavity of wells {} reaches column ({}, {}), past the frame's",
+                    names(wells, &ws),
+                    c[0] + 1,
+                    c[1] + 1
+                )));
             }
-            set = now;
-        }
-        let (mesh2, found) = match inset {
-            Some(x) => x,
-            None => {
-                let m = section::mesh(backend, &grid, &points, rs, section.outer, None)?;
-                let found = cavities(&m, [g.nx, g.ny], &live, [k0, k1]);
-                (m, found)
+            let unmatched = found.iter().find_map(|c| unmatched_walls(cpg, c));
+            match unmatched.filter(|_| frame.twisted) {
+                Some(_) if outer > OWN_COLUMN => outer = OWN_COLUMN,
+                Some(why) => return Ok(Err(format!("around wells {}: {why}", names(wells, &ws)))),
+                None => break (m, found),
             }
         };
-        if let Some(c) = found
-            .iter()
-            .flat_map(|c| c.cols.iter())
-            .find(|c| !cols.contains(c))
-        {
-            return Ok(Err(format!(
-                "the cavity of wells {} reaches column ({}, {}), past the frame's",
-                names(wells, &ws),
-                c[0] + 1,
-                c[1] + 1
-            )));
+        let mut built = vec![];
+        for c in found {
+            match cells::cells(cpg, &frame, &mesh2.mesh, &mesh2.region, &c) {
+                Ok((cut, cells)) => built.push((c, cut, cells)),
+                Err(why) => return Ok(Err(format!("around wells {}: {why}", names(wells, &ws)))),
+            }
         }
-        let built = found
-            .into_iter()
-            .map(|c| {
-                let (cut, cells) = cells::cells(cpg, &frame, &mesh2.mesh, &mesh2.region, &c);
-                (c, cut, cells)
-            })
-            .collect();
         out.push(Group {
             frame,
             section: mesh2,
@@ -166,6 +177,67 @@ pub(crate) fn build<B: Backend + ?Sized>(
         });
     }
     Ok(Ok(out))
+}
+
+/// The outer radius (of the head cell's side) at which twisted layers'
+/// radial meshes stay in their own columns.
+const OWN_COLUMN: f64 = 0.4;
+
+/// A group's section: the grid, its frame, wells and layers.
+struct Sec<'a> {
+    g: &'a crate::reservoir::CornerPointGrid,
+    frame: &'a Frame,
+    grid: &'a crate::reservoir::CornerPointGrid,
+    points: &'a [(String, [f64; 2], f64)],
+    rs: [usize; 2],
+    live: &'a dyn Fn([usize; 2]) -> bool,
+    k: [usize; 2],
+}
+
+impl Sec<'_> {
+    /// The section's mesh at outer radius `outer` and its cavities: their
+    /// sides moved in by their walls' lean, so that no prism crosses a
+    /// wall within the cavity's layers, with the columns the wells reach
+    /// (again where the mesher grew them), or from the columns given.
+    /// Planes: as they are where a
+    /// cavity touches itself at a pillar or that fails; twisted layers:
+    /// None then.
+    fn mesh<B: Backend + ?Sized>(
+        &self,
+        backend: &B,
+        outer: f64,
+        start: Option<BTreeSet<[usize; 2]>>,
+    ) -> Result<Option<(Hybrid, Vec<Cavity>)>> {
+        let (f, [k0, k1]) = (self.frame, self.k);
+        let [top, bottom] = f.ends();
+        let heights = [0.5 * (top + bottom), top, bottom];
+        let layers = f.twisted.then_some([k0, k1]);
+        let found = |m: &Hybrid| cavities(m, [self.g.nx, self.g.ny], self.live, self.k);
+        let mut set = match start {
+            Some(s) => s,
+            None => section::columns(self.grid, self.points, self.rs, outer)?,
+        };
+        for _ in 0..3 {
+            let mut moved = self.grid.clone();
+            if !section::inset(self.g, f, heights, &mut moved, &set, layers) {
+                break;
+            }
+            let m = section::mesh(backend, &moved, self.points, self.rs, outer, Some(&set));
+            let Ok(m) = m else { break };
+            let cavs = found(&m);
+            let now: BTreeSet<[usize; 2]> = cavs.iter().flat_map(|c| c.cols.clone()).collect();
+            if now == set {
+                return Ok(Some((m, cavs)));
+            }
+            set = now;
+        }
+        if f.twisted {
+            return Ok(None);
+        }
+        let m = section::mesh(backend, self.grid, self.points, self.rs, outer, None)?;
+        let cavs = found(&m);
+        Ok(Some((m, cavs)))
+    }
 }
 
 /// The section's cavities: its transition and radial cells, by the
@@ -214,6 +286,23 @@ fn cavities(
         out.push(Cavity { cols, k, cells });
     }
     out
+}
+
+/// Why a twisted cavity's walls cannot be cut by the grid's own faces: a
+/// wall on a throw (the cells across do not share its pieces).
+fn unmatched_walls(cpg: &Cpg, cav: &Cavity) -> Option<String> {
+    for &[i, j] in &cav.cols {
+        for f in 0..4 {
+            if cpg.is_thrown([i, j], f) {
+                return Some(format!(
+                    "column ({}, {}) of its cavity is beside a fault's throw, and its layers are not planes",
+                    i + 1,
+                    j + 1
+                ));
+            }
+        }
+    }
+    None
 }
 
 fn names(wells: &[Well3], ws: &[usize]) -> String {

@@ -103,12 +103,15 @@ pub(super) fn columns(
 /// (a cell cut there has a corner of a face on the wall, far from its
 /// site); the cells beside the sides then reach out to the walls. False
 /// where a cavity touches itself at a pillar (the grid left as it was).
+/// Twisted layers (`layers` k0..=k1 given): the lean to the cavity's own
+/// top and bottom corners at each pillar, not to the planes'.
 pub(super) fn inset(
     g: &CornerPointGrid,
     f: &Frame,
     [at, top, bottom]: [f64; 3],
     s: &mut CornerPointGrid,
     cols: &BTreeSet<[usize; 2]>,
+    layers: Option<[usize; 2]>,
 ) -> bool {
     let pid = |i: usize, j: usize| j * (g.nx + 1) + i;
     let mid = |p: usize| f.crossing(g.coord[p], at);
@@ -140,8 +143,21 @@ pub(super) fn inset(
             let mut shift: f64 = 0.0;
             for r in [p, q] {
                 let m = mid(r);
-                for h in [top, bottom] {
-                    let c = f.crossing(g.coord[r], h);
+                let ends = match layers {
+                    Some([k0, k1]) => {
+                        // the pillar's corner of column (i, j)
+                        let (pi, pj) = (r % (g.nx + 1), r / (g.nx + 1));
+                        let n = pi - i + 2 * (pj - j);
+                        let uv = |k: usize, n: usize| {
+                            let [x, y, d] = g.corner(i, j, k, n);
+                            let q = f.to([x, y, -d]);
+                            [q[0], q[1]]
+                        };
+                        [uv(k0, n), uv(k1, n + 4)]
+                    }
+                    None => [top, bottom].map(|h| f.crossing(g.coord[r], h)),
+                };
+                for c in ends {
                     shift = shift.max(n[0] * (c[0] - m[0]) + n[1] * (c[1] - m[1]));
                 }
             }
@@ -156,14 +172,22 @@ pub(super) fn inset(
             return false;
         };
         let det = n1[0] * n2[1] - n1[1] * n2[0];
-        let x = if det.abs() > 1e-6 {
+        let m = mid(p);
+        let x = if layers.is_some() {
+            // twisted layers: sides that bend slightly at a pillar would
+            // meet far off with their own shifts; both moved by the larger,
+            // the pillar goes along their bisector, each side at least as
+            // far in as it needs at both its ends
+            let shift = (c1 - n1[0] * m[0] - n1[1] * m[1]).max(c2 - n2[0] * m[0] - n2[1] * m[1]);
+            let t = shift / (1.0 + n1[0] * n2[0] + n1[1] * n2[1]);
+            [m[0] + t * (n1[0] + n2[0]), m[1] + t * (n1[1] + n2[1])]
+        } else if det.abs() > 1e-6 {
             [
                 (c1 * n2[1] - c2 * n1[1]) / det,
                 (n1[0] * c2 - n2[0] * c1) / det,
             ]
         } else {
             // one straight side through the pillar
-            let m = mid(p);
             let shift = (c1 - n1[0] * m[0] - n1[1] * m[1]).max(c2 - n2[0] * m[0] - n2[1] * m[1]);
             [m[0] + shift * n1[0], m[1] + shift * n1[1]]
         };
