@@ -128,16 +128,24 @@ pub(crate) fn build<B: Backend + ?Sized>(
             k: [k0, k1],
         };
         // twisted layers beside a throw: the wells' own columns, radial
-        // meshes within them
-        let mut outer = section.outer;
+        // meshes within them, smaller where they do not fit
+        let mut tries = std::iter::once(section.outer)
+            .chain(OWN_COLUMN.into_iter().filter(|&o| o < section.outer))
+            .peekable();
         let (mesh2, found) = loop {
-            let start = (outer == OWN_COLUMN).then(|| own.iter().copied().collect());
+            let Some(outer) = tries.next() else {
+                return Ok(Err(format!(
+                    "around wells {}: its twisted layers' own columns could not take its radial mesh",
+                    names(wells, &ws)
+                )));
+            };
+            let start = (outer < section.outer).then(|| own.iter().copied().collect());
+            let more = frame.twisted && tries.peek().is_some();
             let got = sec.mesh(backend, outer, start)?;
-            if got.is_none() && outer > OWN_COLUMN {
-                outer = OWN_COLUMN;
-                continue;
-            }
             let Some((m, found)) = got else {
+                if more {
+                    continue;
+                }
                 return Ok(Err(format!(
                     "around wells {}: the section's sides could not be moved in",
                     names(wells, &ws)
@@ -157,7 +165,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
             }
             let unmatched = found.iter().find_map(|c| unmatched_walls(cpg, c));
             match unmatched.filter(|_| frame.twisted) {
-                Some(_) if outer > OWN_COLUMN => outer = OWN_COLUMN,
+                Some(_) if more => continue,
                 Some(why) => return Ok(Err(format!("around wells {}: {why}", names(wells, &ws)))),
                 None => break (m, found),
             }
@@ -179,9 +187,9 @@ pub(crate) fn build<B: Backend + ?Sized>(
     Ok(Ok(out))
 }
 
-/// The outer radius (of the head cell's side) at which twisted layers'
-/// radial meshes stay in their own columns.
-const OWN_COLUMN: f64 = 0.4;
+/// The outer radii (of the head cell's side) at which twisted layers'
+/// radial meshes are tried in their own columns.
+const OWN_COLUMN: [f64; 2] = [0.4, 0.25];
 
 /// A group's section: the grid, its frame, wells and layers.
 struct Sec<'a> {
