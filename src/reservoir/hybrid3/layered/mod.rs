@@ -170,6 +170,13 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 None => break (m, found),
             }
         };
+        // cells that a simulator cannot take are errors, as in the 3D
+        // transition; planar layers cannot hold them
+        if frame.twisted {
+            for c in &found {
+                usable(cpg, c, &names(wells, &ws))?;
+            }
+        }
         let mut built = vec![];
         for c in found {
             match cells::cells(cpg, &frame, &mesh2.mesh, &mesh2.region, &c) {
@@ -294,6 +301,34 @@ fn cavities(
         out.push(Cavity { cols, k, cells });
     }
     out
+}
+
+/// A twisted cavity's cells, checked as the 3D transition checks its own:
+/// an inverted cell, or layers that do not meet (a gap or an overlap, a
+/// wall across which cells do not match but for a throw) are errors.
+fn usable(cpg: &Cpg, cav: &Cavity, wells: &str) -> Result<()> {
+    for &[i, j] in &cav.cols {
+        for k in cav.k[0]..=cav.k[1] {
+            let c = [i, j, k];
+            if let Some(n) = cpg.inverted(c) {
+                let s = if wells.contains(", ") {
+                    "wells"
+                } else {
+                    "well"
+                };
+                return Err(crate::error::Error::Usage(format!(
+                    "{s} {wells}: cell {} of the cavity is inverted: at pillar {} its top lies below \
+                     its bottom",
+                    super::cpg::one_based(c),
+                    cpg.pillar_name(c, n)
+                )));
+            }
+            for f in (0..6).filter(|&f| f >= 4 || !cpg.is_thrown([i, j], f)) {
+                cpg.neighbour(c, f)?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Why a twisted cavity's walls cannot be cut by the grid's own faces: a
