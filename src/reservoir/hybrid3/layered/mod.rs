@@ -107,17 +107,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
         let at = 0.5 * (top + bottom);
         let live = |[i, j]: [usize; 2]| (k0..=k1).all(|k| cpg.live([i, j, k]));
         let grid = section::grid(g, &frame, at, live);
-        let points: Vec<(String, [f64; 2], f64)> = ws
-            .iter()
-            .map(|&w| {
-                let cs = &paths[w].cells;
-                let m: [f64; 3] = std::array::from_fn(|a| {
-                    cs.iter().map(|&c| cpg.centre(c)[a]).sum::<f64>() / cs.len() as f64
-                });
-                let q = frame.to(m);
-                (wells[w].name.clone(), [q[0], q[1]], wells[w].radius)
-            })
-            .collect();
+        let points = section_points(cpg, &frame, wells, paths, &ws);
         let sec = Sec {
             g,
             frame: &frame,
@@ -192,6 +182,27 @@ pub(crate) fn build<B: Backend + ?Sized>(
         });
     }
     Ok(Ok(out))
+}
+
+/// The wells' points on the section: the mean of their completed cells'
+/// centres, with their names and radii.
+fn section_points(
+    cpg: &Cpg,
+    frame: &Frame,
+    wells: &[Well3],
+    paths: &[Path],
+    ws: &[usize],
+) -> Vec<(String, [f64; 2], f64)> {
+    ws.iter()
+        .map(|&w| {
+            let cs = &paths[w].cells;
+            let m: [f64; 3] = std::array::from_fn(|a| {
+                cs.iter().map(|&c| cpg.centre(c)[a]).sum::<f64>() / cs.len() as f64
+            });
+            let q = frame.to(m);
+            (wells[w].name.clone(), [q[0], q[1]], wells[w].radius)
+        })
+        .collect()
 }
 
 /// The outer radii (of the head cell's side) at which twisted layers'
