@@ -462,6 +462,22 @@ fn hybrid3_pipeline(c: &mut Criterion) {
                 bench.iter(|| hybrid3::build(&*b, &grid, &wells, opts).unwrap())
             });
         }
+        // a well down emerald's leaning column (19, 18): twisted layers
+        let eme = read_grid(&dir.join("eme_small_w_hole.grdecl")).unwrap();
+        let w = Well3 {
+            name: "W".into(),
+            i: 18,
+            j: 17,
+            radius: 0.1,
+            ..Default::default()
+        };
+        g.bench_function(
+            BenchmarkId::new(b.name(), "emerald-19-18-layered"),
+            |bench| {
+                bench
+                    .iter(|| hybrid3::build(&*b, &eme, std::slice::from_ref(&w), &layered).unwrap())
+            },
+        );
     }
     g.finish();
 }
