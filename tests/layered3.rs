@@ -99,21 +99,26 @@ fn spe9_all_wells_on_layered_sections() {
 /// column gets a layered cavity whose prisms are cut by the grid's own
 /// faces. Every site inside, no sliver, the cavity filled once; links
 /// within a layer orthogonal (across the twisted layer boundaries, the
-/// twist). Beside a throw, its own column; wells the layers cannot take
-/// (a throw inside the cavity, a completion that changes column) go to
-/// the 3D transition, and the report says why.
+/// twist). Beside a throw, its own column, its walls cut where the cells
+/// across meet them; a well whose completion changes column goes to the
+/// 3D transition, and the report says why.
 #[test]
 fn emerald_wells_on_twisted_layers() {
     let g =
         orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
             .unwrap();
     // 1-based column, layers (1-based), what it is
-    let cases: [([usize; 2], Option<[usize; 2]>, &str); 5] = [
+    let cases: [([usize; 2], Option<[usize; 2]>, &str); 6] = [
         ([19, 18], Some([5, 8]), "leaning column, layers 5-8"),
         ([1, 20], Some([5, 8]), "at the grid's edge, layers 5-8"),
         ([19, 18], None, "leaning column, every layer"),
         ([5, 4], None, "beside a throw, every layer"),
         ([2, 30], None, "twisted by 1.4 m, every layer"),
+        (
+            [8, 4],
+            Some([5, 8]),
+            "beside the hole, its walls on a throw",
+        ),
     ];
     let b = &*compiled()[0];
     for ([i, j], k, what) in cases {
@@ -162,38 +167,27 @@ fn emerald_wells_on_twisted_layers() {
         for pair in ["transition-transition", "transition-well", "well-well"] {
             assert_eq!(r.by_regions[pair].one_sided, 0, "{what}: {pair}");
         }
-        // a median link within the layers is orthogonal
+        // a median link within the layers is orthogonal, and every link to
+        // the well (the section's, in its own columns where it can be)
         assert!(r.by_regions["well-well"].angle[0] < 1e-6, "{what}");
+        assert_eq!(r.by_regions["transition-well"].non_orthogonal, 0, "{what}");
         assert_eq!(h.wellbore.len(), 1);
         assert!(!h.wellbore[0].links.is_empty());
         let layers = k.map_or("all".to_string(), |[a, z]| format!("{a}-{z}"));
         write_as(&format!("twisted3-emerald-layered-{i}-{j}-{layers}"), &h);
     }
     // the 3D transition, said why
-    let ws = [
-        (
-            Well3 {
-                name: "W".into(),
-                i: 7,
-                j: 3,
-                k: Some([4, 4]),
-                radius: 0.1,
-                ..Default::default()
-            },
-            "throw",
-        ),
-        (
-            Well3 {
-                name: "W".into(),
-                i: 18,
-                j: 17,
-                radius: 0.1,
-                cells: vec![[18, 17, 4], [19, 17, 5]],
-                ..Default::default()
-            },
-            "does not run down one column",
-        ),
-    ];
+    let ws = [(
+        Well3 {
+            name: "W".into(),
+            i: 18,
+            j: 17,
+            radius: 0.1,
+            cells: vec![[18, 17, 4], [19, 17, 5]],
+            ..Default::default()
+        },
+        "does not run down one column",
+    )];
     for (w, why) in ws {
         let h = build(b, &g, &[w], &layered()).unwrap();
         println!("emerald, 3D transition: {:?}", h.report.notes);

@@ -522,19 +522,19 @@ impl Build<'_> {
             if self.cones.inner.contains(&face.plane) {
                 continue;
             }
-            let grid_face = self
+            // what lies across this piece of the cell's face: a cell of
+            // the cavity (across a throw, in another layer), or the grid
+            let across = self
                 .cones
                 .faces
                 .get(&face.plane)
-                .and_then(|v| v.iter().find(|(c, _)| *c == cell).map(|x| x.1));
-            let across = match grid_face {
-                Some(f) if f < 4 => match walls(col)[f].1 {
-                    Some(o) if cav.cols.contains(&o) => continue,
-                    _ => Across::Grid(self.cpg.neighbour(cell, f).ok().flatten()),
-                },
-                Some(4) if at.t > 0 => Across::Cell(at.c, at.k - 1),
-                Some(5) if at.t + 1 < at.nl => Across::Cell(at.c, at.k + 1),
-                Some(f) => Across::Grid(self.cpg.neighbour(cell, f).ok().flatten()),
+                .and_then(|v| v.iter().find(|x| x.0 == cell).map(|x| x.2));
+            let in_cavity =
+                |o: &Ijk| cav.cols.contains(&[o[0], o[1]]) && cav.k[0] <= o[2] && o[2] <= cav.k[1];
+            let across = match across {
+                Some(Some(o)) if in_cavity(&o) && o[2] == at.k => continue,
+                Some(Some(o)) if in_cavity(&o) => Across::Cell(at.c, o[2]),
+                Some(o) => Across::Grid(o),
                 None => at.across(face.plane),
             };
             out.push((across, face.plane, face.points.clone()));
@@ -585,9 +585,21 @@ pub(crate) fn cells(
         },
     };
     // twisted layers: prisms through the whole cavity, cut by the pyramids
-    let [top, bottom] = f.ends();
     let heights = match f.twisted {
-        true => vec![top + 0.1 * f.size, bottom - 0.1 * f.size],
+        true => {
+            // over every cell of the cavity (beside a throw the frame's own
+            // columns are not the highest or lowest)
+            let [mut top, mut bottom] = f.ends();
+            for &[i, j] in &cav.cols {
+                for k in cav.k[0]..=cav.k[1] {
+                    for p in cpg.corners([i, j, k]) {
+                        let h = f.to(p)[2];
+                        (top, bottom) = (top.max(h), bottom.min(h));
+                    }
+                }
+            }
+            vec![top + 0.1 * f.size, bottom - 0.1 * f.size]
+        }
         false => f.h.clone(),
     };
     b.slabs = heights

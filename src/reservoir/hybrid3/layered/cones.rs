@@ -26,8 +26,9 @@ pub(super) struct Cones {
     /// Face pieces' planes, by their corners (bits, sorted): one plane for
     /// the two cells a piece lies between.
     pub(super) by_corners: HashMap<Vec<[u64; 3]>, u32>,
-    /// Per face piece's plane, the cells it bounds and their face there.
-    pub(super) faces: HashMap<u32, Vec<(Ijk, usize)>>,
+    /// Per face piece's plane, the cells it bounds, their face there and
+    /// the live cell across.
+    pub(super) faces: HashMap<u32, Vec<(Ijk, usize, Option<Ijk>)>>,
     /// The pyramids' sides (inside their cells).
     pub(super) inner: HashSet<u32>,
     pub(super) cells: HashMap<Ijk, Vec<Pyramid>>,
@@ -98,10 +99,11 @@ impl Cones {
         let mut sides: HashMap<[[u64; 3]; 2], u32> = HashMap::new();
         let mut out = vec![];
         for face in 0..6 {
-            let (q, pieces) = cpg.face_pieces(c, face);
-            let q = q.map(|x| f.to(x));
-            for piece in pieces {
-                let pts: Vec<[f64; 3]> = piece.iter().map(|&n| q[n]).collect();
+            // the face's parts: whole or two triangles, or cut where the
+            // cells across a throw meet it (both sides cut it alike)
+            let parts = cpg.parts(c, face).map_err(|e| e.to_string())?;
+            for part in parts {
+                let pts: Vec<[f64; 3]> = part.points.iter().map(|&x| f.to(x)).collect();
                 let h = plane_of(&pts);
                 let len = dot_f(h.n, h.n).sqrt();
                 // a piece without area (a pillar where the cell has no
@@ -112,7 +114,10 @@ impl Cones {
                 let mut key: Vec<[u64; 3]> = pts.iter().map(|x| x.map(f64::to_bits)).collect();
                 key.sort_unstable();
                 let id = *self.by_corners.entry(key).or_insert_with(|| cut.plane(h));
-                self.faces.entry(id).or_default().push((c, face));
+                self.faces
+                    .entry(id)
+                    .or_default()
+                    .push((c, face, part.across));
                 let e = cut.planes[id as usize].eval(apex) / len;
                 if e.abs() <= 1e-9 * size {
                     return Err(format!(
@@ -120,26 +125,70 @@ impl Cones {
                         super::super::cpg::one_based(c)
                     ));
                 }
-                let mut planes = vec![(id, e > 0.0)];
-                let mid: [f64; 3] = std::array::from_fn(|k| {
-                    pts.iter().map(|x| x[k]).sum::<f64>() / pts.len() as f64
-                });
-                for k in 0..pts.len() {
-                    let (u, v) = (pts[k], pts[(k + 1) % pts.len()]);
-                    let mut key = [u.map(f64::to_bits), v.map(f64::to_bits)];
-                    key.sort_unstable();
-                    let id = *sides
-                        .entry(key)
-                        .or_insert_with(|| cut.plane(through(apex, u, v)));
-                    self.inner.insert(id);
-                    planes.push((id, cut.planes[id as usize].eval(mid) > 0.0));
+                for poly in convex(&pts, h.n) {
+                    let mut planes = vec![(id, e > 0.0)];
+                    let mid: [f64; 3] = std::array::from_fn(|k| {
+                        poly.iter().map(|x| x[k]).sum::<f64>() / poly.len() as f64
+                    });
+                    for k in 0..poly.len() {
+                        let (u, v) = (poly[k], poly[(k + 1) % poly.len()]);
+                        let mut key = [u.map(f64::to_bits), v.map(f64::to_bits)];
+                        key.sort_unstable();
+                        let id = *sides
+                            .entry(key)
+                            .or_insert_with(|| cut.plane(through(apex, u, v)));
+                        self.inner.insert(id);
+                        planes.push((id, cut.planes[id as usize].eval(mid) > 0.0));
+                    }
+                    let flat: Vec<[f64; 2]> =
+                        poly.iter().chain([&apex]).map(|x| [x[0], x[1]]).collect();
+                    let (lo, hi) = crate::geom::bbox(&flat);
+                    out.push(Pyramid { planes, lo, hi });
                 }
-                let flat: Vec<[f64; 2]> = pts.iter().chain([&apex]).map(|x| [x[0], x[1]]).collect();
-                let (lo, hi) = crate::geom::bbox(&flat);
-                out.push(Pyramid { planes, lo, hi });
             }
         }
         Ok(out)
+    }
+}
+
+/// A planar polygon (normal n) as convex pieces for pyramids' bases: its
+/// corners but those on a straight side (a throw's points on a face's
+/// edge), whole where that is convex, else its ears.
+fn convex(pts: &[[f64; 3]], n: [f64; 3]) -> Vec<Vec<[f64; 3]>> {
+    let m = pts.len();
+    let turn = |k: usize| {
+        let (a, b, c) = (pts[(k + m - 1) % m], pts[k], pts[(k + 1) % m]);
+        let d = |p: [f64; 3], q: [f64; 3]| -> [f64; 3] { std::array::from_fn(|i| p[i] - q[i]) };
+        let (u, v) = (d(b, a), d(c, b));
+        dot_f(cross_f(u, v), n) / (dot_f(u, u) * dot_f(v, v)).sqrt().max(f64::MIN_POSITIVE)
+    };
+    let nn = dot_f(n, n).sqrt();
+    let turns: Vec<f64> = (0..m).map(|k| turn(k) / nn).collect();
+    let kept: Vec<[f64; 3]> = (0..m)
+        .filter(|&k| turns[k].abs() > 1e-9)
+        .map(|k| pts[k])
+        .collect();
+    if kept.len() < 3 || (0..m).all(|k| turns[k] >= -1e-9) {
+        return vec![if kept.len() >= 3 { kept } else { pts.to_vec() }];
+    }
+    // drop the normal's largest axis: the polygon seen along it
+    let a = (0..3)
+        .max_by(|&x, &y| n[x].abs().total_cmp(&n[y].abs()))
+        .expect("three");
+    let (x, y) = ((a + 1) % 3, (a + 2) % 3);
+    let flat: Vec<[f64; 2]> = kept
+        .iter()
+        .map(|p| match n[a] > 0.0 {
+            true => [p[x], p[y]],
+            false => [p[y], p[x]],
+        })
+        .collect();
+    match crate::geom::ear_clip(&flat) {
+        Some(ears) if !ears.is_empty() => ears
+            .iter()
+            .map(|t| t.iter().map(|&k| kept[k]).collect())
+            .collect(),
+        _ => vec![kept],
     }
 }
 

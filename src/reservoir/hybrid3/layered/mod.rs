@@ -117,48 +117,10 @@ pub(crate) fn build<B: Backend + ?Sized>(
             live: &live,
             k: [k0, k1],
         };
-        // twisted layers beside a throw: the wells' own columns, radial
-        // meshes within them, smaller where they do not fit
-        let mut tries = std::iter::once(section.outer)
-            .chain(OWN_COLUMN.into_iter().filter(|&o| o < section.outer))
-            .peekable();
-        let (mesh2, found) = loop {
-            let Some(outer) = tries.next() else {
-                return Ok(Err(format!(
-                    "around wells {}: its twisted layers' own columns could not take its radial mesh",
-                    names(wells, &ws)
-                )));
-            };
-            let start = (outer < section.outer).then(|| own.iter().copied().collect());
-            let more = frame.twisted && tries.peek().is_some();
-            let got = sec.mesh(backend, outer, start)?;
-            let Some((m, found)) = got else {
-                if more {
-                    continue;
-                }
-                return Ok(Err(format!(
-                    "around wells {}: the section's sides could not be moved in",
-                    names(wells, &ws)
-                )));
-            };
-            if let Some(c) = found
-                .iter()
-                .flat_map(|c| c.cols.iter())
-                .find(|c| !cols.contains(c))
-            {
-                return Ok(Err(format!(
-                    "the cavity of wells {} reaches column ({}, {}), past the frame's",
-                    names(wells, &ws),
-                    c[0] + 1,
-                    c[1] + 1
-                )));
-            }
-            let unmatched = found.iter().find_map(|c| unmatched_walls(cpg, c));
-            match unmatched.filter(|_| frame.twisted) {
-                Some(_) if more => continue,
-                Some(why) => return Ok(Err(format!("around wells {}: {why}", names(wells, &ws)))),
-                None => break (m, found),
-            }
+        let who = names(wells, &ws);
+        let (mesh2, found) = match pick(cpg, &sec, backend, section.outer, &own, &cols, &who)? {
+            Ok(x) => x,
+            Err(why) => return Ok(Err(why)),
         };
         // cells that a simulator cannot take are errors, as in the 3D
         // transition; planar layers cannot hold them
@@ -184,6 +146,75 @@ pub(crate) fn build<B: Backend + ?Sized>(
     Ok(Ok(out))
 }
 
+/// The section meshed at the outer radius asked, then (twisted layers)
+/// in the wells' own columns at 0.4 and 0.25 of the head cell's side
+/// (beside a throw, or where the sides cannot be moved in): the first
+/// whose links to the wells are all orthogonal (the ring's sites mirrored
+/// across its sides) and whose cavities no throw crosses, else the one
+/// with fewest links off.
+fn pick<B: Backend + ?Sized>(
+    cpg: &Cpg,
+    sec: &Sec,
+    backend: &B,
+    outer: f64,
+    own: &[[usize; 2]],
+    cols: &[[usize; 2]],
+    who: &str,
+) -> Result<std::result::Result<(Hybrid, Vec<Cavity>), String>> {
+    let twisted = sec.frame.twisted;
+    // (radius, in the wells' own columns)
+    let radii: Vec<(f64, bool)> = match twisted {
+        true => OWN_COLUMN
+            .into_iter()
+            .filter(|&o| o < outer)
+            .map(|o| (o, true))
+            .chain([(outer, false)])
+            .collect(),
+        false => vec![(outer, false)],
+    };
+    let mut best: Option<(usize, Hybrid, Vec<Cavity>)> = None;
+    let mut why = "the section's sides could not be moved in".to_string();
+    for (r, mine) in radii {
+        let start = mine.then(|| own.iter().copied().collect());
+        let Some((m, found)) = sec.mesh(backend, r, start)? else {
+            continue;
+        };
+        if let Some(c) = found
+            .iter()
+            .flat_map(|c| c.cols.iter())
+            .find(|c| !cols.contains(c))
+        {
+            return Ok(Err(format!(
+                "the cavity of wells {who} reaches column ({}, {}), past the frame's",
+                c[0] + 1,
+                c[1] + 1
+            )));
+        }
+        if !twisted {
+            return Ok(Ok((m, found)));
+        }
+        if let Some(w) = found.iter().find_map(|c| unmatched_walls(cpg, c)) {
+            why = w;
+            continue;
+        }
+        let off = m
+            .report
+            .non_orthogonal_interfaces
+            .iter()
+            .filter(|x| x.1 == "transition-well")
+            .count();
+        if off == 0 {
+            return Ok(Ok((m, found)));
+        }
+        if best.as_ref().is_none_or(|b| off < b.0) {
+            best = Some((off, m, found));
+        }
+    }
+    Ok(best
+        .map(|(_, m, found)| (m, found))
+        .ok_or_else(|| format!("around wells {who}: {why}")))
+}
+
 /// The wells' points on the section: the mean of their completed cells'
 /// centres, with their names and radii.
 fn section_points(
@@ -207,7 +238,7 @@ fn section_points(
 
 /// The outer radii (of the head cell's side) at which twisted layers'
 /// radial meshes are tried in their own columns.
-const OWN_COLUMN: [f64; 2] = [0.4, 0.25];
+const OWN_COLUMN: [f64; 3] = [0.4, 0.25, 0.15];
 
 /// A group's section: the grid, its frame, wells and layers.
 struct Sec<'a> {
@@ -342,14 +373,18 @@ fn usable(cpg: &Cpg, cav: &Cavity, wells: &str) -> Result<()> {
     Ok(())
 }
 
-/// Why a twisted cavity's walls cannot be cut by the grid's own faces: a
-/// wall on a throw (the cells across do not share its pieces).
+/// Why a twisted cavity cannot be layered: a throw between two of its
+/// columns (a prism across it would be a cell in two pieces, the layers
+/// apart). Throws on its outer walls are cut by the cells across.
 fn unmatched_walls(cpg: &Cpg, cav: &Cavity) -> Option<String> {
     for &[i, j] in &cav.cols {
         for f in 0..4 {
-            if cpg.is_thrown([i, j], f) {
+            let across = super::cpg::next(cpg.g, [i, j, 0], f);
+            if across.is_some_and(|[a, b, _]| cav.cols.contains(&[a, b]))
+                && cpg.is_thrown([i, j], f)
+            {
                 return Some(format!(
-                    "column ({}, {}) of its cavity is beside a fault's throw, and its layers are not planes",
+                    "a fault's throw runs between columns of its cavity, at column ({}, {}), and its layers are not planes",
                     i + 1,
                     j + 1
                 ));
