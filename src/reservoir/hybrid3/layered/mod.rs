@@ -105,7 +105,11 @@ pub(crate) fn build<B: Backend + ?Sized>(
         };
         let [top, bottom] = frame.ends();
         let at = 0.5 * (top + bottom);
-        let live = |[i, j]: [usize; 2]| (k0..=k1).all(|k| cpg.live([i, j, k]));
+        let alive = |[i, j]: [usize; 2]| (k0..=k1).all(|k| cpg.live([i, j, k]));
+        // twisted layers: the wells' fault block only (a prism across a
+        // throw would be a cell in two pieces, its layers apart)
+        let block = frame.twisted.then(|| fault_block(cpg, &own, &cols, &alive));
+        let live = |c: [usize; 2]| alive(c) && block.as_ref().is_none_or(|b| b.contains(&c));
         let grid = section::grid(g, &frame, at, live);
         let points = section_points(cpg, &frame, wells, paths, &ws);
         let sec = Sec {
@@ -371,6 +375,34 @@ fn usable(cpg: &Cpg, cav: &Cavity, wells: &str) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The columns (among `cols`, live) reached from the wells' own columns
+/// without crossing a throw.
+fn fault_block(
+    cpg: &Cpg,
+    own: &[[usize; 2]],
+    cols: &[[usize; 2]],
+    live: &dyn Fn([usize; 2]) -> bool,
+) -> BTreeSet<[usize; 2]> {
+    let mut block: BTreeSet<[usize; 2]> = BTreeSet::new();
+    let mut stack: Vec<[usize; 2]> = own.to_vec();
+    while let Some(c) = stack.pop() {
+        if !block.insert(c) {
+            continue;
+        }
+        for f in 0..4 {
+            if cpg.is_thrown(c, f) {
+                continue;
+            }
+            if let Some([i, j, _]) = super::cpg::next(cpg.g, [c[0], c[1], 0], f) {
+                if cols.contains(&[i, j]) && live([i, j]) && !block.contains(&[i, j]) {
+                    stack.push([i, j]);
+                }
+            }
+        }
+    }
+    block
 }
 
 /// Why a twisted cavity cannot be layered: a throw between two of its
