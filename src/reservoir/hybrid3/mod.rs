@@ -73,14 +73,26 @@ pub fn build<B: Backend + ?Sized>(
             paths.push(path);
         }
     }
-    if let Some(section) = opts.layered.filter(|_| legs.len() == wells.len()) {
-        match layered::build(backend, &cpg, &legs, &paths, &section)? {
-            Ok(groups) => {
-                let mut h = layered::assemble(&cpg, &legs, &paths, groups)?;
-                h.report.notes = notes;
-                return Ok(h);
+    if let Some(section) = opts.layered {
+        // a completion that changes column: a radial mesh per column
+        let (split, of) = stretches(wells);
+        let (mut parts, mut ps) = (vec![], vec![]);
+        for (n, w) in split.iter().enumerate() {
+            for (leg, path) in bend::paths(&cpg, w, n, opts.outer)? {
+                parts.push(leg);
+                ps.push(path);
             }
-            Err(why) => notes.push(format!("the transition is meshed in 3D: {why}")),
+        }
+        if ps.len() == split.len() {
+            match layered::build(backend, &cpg, &parts, &ps, &section)? {
+                Ok(groups) => {
+                    let mut h = layered::assemble(&cpg, &parts, &ps, groups)?;
+                    h.wellbore = bend::merge_legs(std::mem::take(&mut h.wellbore), &of);
+                    h.report.notes = notes;
+                    return Ok(h);
+                }
+                Err(why) => notes.push(format!("the transition is meshed in 3D: {why}")),
+            }
         }
     }
     let wells = &legs;
@@ -175,4 +187,30 @@ fn well_names(ws: &[&Well3]) -> String {
     }
     let wells = if names.len() == 1 { "well" } else { "wells" };
     format!("{wells} {}", names.join(", "))
+}
+
+/// Wells as layered cavities take them: a completion from the deck that
+/// changes column, one well per column's run of cells (in order), each
+/// with its own radial mesh; and per part, its well.
+fn stretches(wells: &[Well3]) -> (Vec<Well3>, Vec<usize>) {
+    let mut parts = vec![];
+    let mut of = vec![];
+    for (n, w) in wells.iter().enumerate() {
+        let runs = w.cells.chunk_by(|a, b| [a[0], a[1]] == [b[0], b[1]]);
+        if w.path.is_some() || w.cells.is_empty() || runs.clone().count() == 1 {
+            parts.push(w.clone());
+            of.push(n);
+            continue;
+        }
+        for run in runs {
+            parts.push(Well3 {
+                i: run[0][0],
+                j: run[0][1],
+                cells: run.to_vec(),
+                ..w.clone()
+            });
+            of.push(n);
+        }
+    }
+    (parts, of)
 }
