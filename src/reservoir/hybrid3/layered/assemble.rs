@@ -308,19 +308,28 @@ fn to_fill(cpg: &Cpg, g: &Group, cav: &Cavity, grid_cells: &[Ijk], height: f64) 
     grid - area * height
 }
 
-/// A grid cell's volume: its faces, twisted ones as two triangles.
+/// A grid cell's volume: its faces' pieces as the cavity's cells are cut
+/// by them (twisted ones as two triangles, or where cells across a throw
+/// meet them, on its sheet).
 fn grid_volume(cpg: &Cpg, c: Ijk) -> f64 {
     let mut points = vec![];
     let mut faces = vec![];
     for f in 0..6 {
-        let (q, pieces) = cpg.face_pieces(c, f);
-        let at = points.len() as u32;
-        points.extend(q);
-        faces.extend(
-            pieces
-                .iter()
-                .map(|p| p.iter().map(|&k| at + k as u32).collect()),
-        );
+        let pieces: Vec<Vec<[f64; 3]>> = match cpg.parts(c, f) {
+            Ok(parts) => parts.into_iter().map(|p| p.points).collect(),
+            Err(_) => {
+                let (q, pieces) = cpg.face_pieces(c, f);
+                pieces
+                    .iter()
+                    .map(|p| p.iter().map(|&k| q[k]).collect())
+                    .collect()
+            }
+        };
+        for piece in pieces {
+            let at = points.len() as u32;
+            faces.push((at..at + piece.len() as u32).collect());
+            points.extend(piece);
+        }
     }
     volume(&faces, &points)
 }
