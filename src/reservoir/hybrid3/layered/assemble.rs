@@ -278,9 +278,7 @@ impl Weld {
         self.near.entry(k).or_default().push(n);
         n
     }
-}
 
-impl Weld {
     /// A cell's faces as points of the assembly, with the points of other
     /// faces on their edges put in.
     fn faces(

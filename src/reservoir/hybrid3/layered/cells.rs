@@ -528,7 +528,7 @@ impl Build<'_> {
                 .cones
                 .faces
                 .get(&face.plane)
-                .and_then(|v| v.iter().find(|x| x.0 == cell).map(|x| x.2));
+                .and_then(|v| v.iter().find(|x| x.0 == cell).map(|x| x.1));
             let in_cavity =
                 |o: &Ijk| cav.cols.contains(&[o[0], o[1]]) && cav.k[0] <= o[2] && o[2] <= cav.k[1];
             let across = match across {

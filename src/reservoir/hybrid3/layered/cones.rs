@@ -1,6 +1,6 @@
 //! Twisted layers (emerald: leaning pillars, tops off their planes by up
 //! to a metre): a grid cell is the union of convex pyramids, one per
-//! planar piece of its faces (`Cpg::face_pieces`), their apex halfway
+//! planar piece of its faces (`Cpg::parts`: cut where cells across a throw meet them), their apex halfway
 //! between the diagonals its top and bottom are split along (inside
 //! however thin and twisted the cell is), away from the wells. Cutting a prism of the section
 //! by each pyramid cuts it along the grid's own faces into convex pieces
@@ -26,9 +26,8 @@ pub(super) struct Cones {
     /// Face pieces' planes, by their corners (bits, sorted): one plane for
     /// the two cells a piece lies between.
     pub(super) by_corners: HashMap<Vec<[u64; 3]>, u32>,
-    /// Per face piece's plane, the cells it bounds, their face there and
-    /// the live cell across.
-    pub(super) faces: HashMap<u32, Vec<(Ijk, usize, Option<Ijk>)>>,
+    /// Per face piece's plane, the cells it bounds and the live cell across.
+    pub(super) faces: HashMap<u32, Vec<(Ijk, Option<Ijk>)>>,
     /// The pyramids' sides (inside their cells).
     pub(super) inner: HashSet<u32>,
     pub(super) cells: HashMap<Ijk, Vec<Pyramid>>,
@@ -114,10 +113,7 @@ impl Cones {
                 let mut key: Vec<[u64; 3]> = pts.iter().map(|x| x.map(f64::to_bits)).collect();
                 key.sort_unstable();
                 let id = *self.by_corners.entry(key).or_insert_with(|| cut.plane(h));
-                self.faces
-                    .entry(id)
-                    .or_default()
-                    .push((c, face, part.across));
+                self.faces.entry(id).or_default().push((c, part.across));
                 let e = cut.planes[id as usize].eval(apex) / len;
                 if e.abs() <= 1e-9 * size {
                     return Err(format!(
