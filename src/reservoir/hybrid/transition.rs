@@ -347,7 +347,8 @@ fn inner_sides(
 }
 
 /// The parts [t0, t1] of segment a -> b beyond 1.25 outer radii of every
-/// well, each at least a tenth of it (none shorter, for the mesher).
+/// well (but where it only grazes that circle, by under a tenth of it),
+/// each at least a tenth of it (none shorter, for the mesher).
 fn clear_of_wells(placed: &[Placed], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let len2 = dx * dx + dy * dy;
@@ -365,6 +366,11 @@ fn clear_of_wells(placed: &[Placed], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> 
         );
         let root = (bh * bh - c).max(0.0).sqrt();
         let (s0, s1) = (-bh - root, -bh + root);
+        // a line that only grazes the circle stays whole (cut there, its
+        // two parts would share their end)
+        if s1 - s0 < 0.1 {
+            continue;
+        }
         parts = parts
             .into_iter()
             .flat_map(|[t0, t1]| [[t0, t1.min(s0)], [t0.max(s1), t1]])
@@ -412,5 +418,12 @@ mod tests {
         );
         let all = clear_of_wells(&[well(50.0)], [0.0, 0.0], [10.0, 0.0]);
         assert_eq!(all, vec![[0.0, 1.0]]);
+        // a side at 1.25 outer radii, or grazing that circle, stays whole
+        // (the 3D Thiem block's own column at 0.4 of its side: cut at the
+        // tangent point, its two parts shared an end, duplicate vertices)
+        let side = |y: f64| clear_of_wells(&[well(5.0)], [0.0, y], [10.0, y]);
+        assert_eq!(side(3.5), vec![[0.0, 1.0]]);
+        assert_eq!(side(3.49), vec![[0.0, 1.0]]);
+        assert_eq!(side(3.0).len(), 2);
     }
 }
