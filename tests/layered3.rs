@@ -83,10 +83,12 @@ fn spe9_all_wells_on_layered_sections() {
         // no connection whose sites lie on one side of its face
         assert!(r.by_regions.values().all(|c| c.one_sided == 0));
         // links to the reservoir crossing their faces, by area and by count
-        // (what is left: docs/limitations.md)
+        // (the section taken at the cavity's end over reservoir cells: 81%,
+        // 98.5% of the area; 71% taken midway; what is left:
+        // docs/limitations.md)
         let rt = &r.by_regions["reservoir-transition"];
-        assert!(rt.mirrored_area > 0.97, "{rt:?}");
-        assert!(rt.mirrored as f64 > 0.7 * rt.connections as f64, "{rt:?}");
+        assert!(rt.mirrored_area > 0.98, "{rt:?}");
+        assert!(rt.mirrored as f64 > 0.8 * rt.connections as f64, "{rt:?}");
         assert!(h.mesh.volumes.iter().all(|&v| v > 0.0));
         // tests/readers.py validates each cell in its own frame (as for
         // emerald's twisted cells) and checks the volumes

@@ -103,8 +103,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 Err(_) => return Ok(Err(format!("around wells {}: {why}", names(wells, &ws)))),
             },
         };
-        let [top, bottom] = frame.ends();
-        let at = 0.5 * (top + bottom);
+        let at = section_height(cpg, &frame, &cols, [k0, k1]);
         let alive = |[i, j]: [usize; 2]| (k0..=k1).all(|k| cpg.live([i, j, k]));
         // twisted layers: the wells' fault block only (a prism across a
         // throw would be a cell in two pieces, its layers apart)
@@ -120,6 +119,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
             rs: [section.rings, section.sectors],
             live: &live,
             k: [k0, k1],
+            at,
         };
         let who = names(wells, &ws);
         let (mesh2, found) = match pick(cpg, &sec, backend, section.outer, &own, &cols, &who)? {
@@ -148,6 +148,27 @@ pub(crate) fn build<B: Backend + ?Sized>(
         });
     }
     Ok(Ok(out))
+}
+
+/// The height (frame coordinates) of the plane the section is taken at.
+/// Planes: the cavity's end that meets more live cells across (its top
+/// or its bottom), so that the column sides there are the section's own
+/// lines and no prism at that end reaches under two cells across (their
+/// links then cross their faces: the reservoir cell's node mirrored);
+/// midway where both ends meet as many. Twisted layers: midway.
+fn section_height(cpg: &Cpg, frame: &Frame, cols: &[[usize; 2]], [k0, k1]: [usize; 2]) -> f64 {
+    let [top, bottom] = frame.ends();
+    let across = |k: Option<usize>| {
+        k.filter(|&k| k < cpg.g.nz).map_or(0, |k| {
+            cols.iter().filter(|c| cpg.live([c[0], c[1], k])).count()
+        })
+    };
+    let (above, below) = (across(k0.checked_sub(1)), across(Some(k1 + 1)));
+    match (frame.twisted, above.cmp(&below)) {
+        (false, std::cmp::Ordering::Greater) => top,
+        (false, std::cmp::Ordering::Less) => bottom,
+        _ => 0.5 * (top + bottom),
+    }
 }
 
 /// The section meshed at the outer radius asked, then (twisted layers)
@@ -253,6 +274,8 @@ struct Sec<'a> {
     rs: [usize; 2],
     live: &'a dyn Fn([usize; 2]) -> bool,
     k: [usize; 2],
+    /// The height of the section's plane (frame coordinates).
+    at: f64,
 }
 
 impl Sec<'_> {
@@ -271,7 +294,7 @@ impl Sec<'_> {
     ) -> Result<Option<(Hybrid, Vec<Cavity>)>> {
         let (f, [k0, k1]) = (self.frame, self.k);
         let [top, bottom] = f.ends();
-        let heights = [0.5 * (top + bottom), top, bottom];
+        let heights = [self.at, top, bottom];
         let layers = f.twisted.then_some([k0, k1]);
         let found = |m: &Hybrid| cavities(m, [self.g.nx, self.g.ny], self.live, self.k);
         let mut set = match start {
