@@ -110,7 +110,7 @@ fn emerald_wells_on_twisted_layers() {
         orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
             .unwrap();
     // 1-based column, layers (1-based), what it is
-    let cases: [([usize; 2], Option<[usize; 2]>, &str); 6] = [
+    let cases: [([usize; 2], Option<[usize; 2]>, &str); 8] = [
         ([19, 18], Some([5, 8]), "leaning column, layers 5-8"),
         ([1, 20], Some([5, 8]), "at the grid's edge, layers 5-8"),
         ([19, 18], None, "leaning column, every layer"),
@@ -120,6 +120,19 @@ fn emerald_wells_on_twisted_layers() {
             [8, 4],
             Some([5, 8]),
             "beside the hole, its walls on a throw",
+        ),
+        // sections whose sides are split near the well: unsplit, system 3
+        // was infeasible at every radius (the 3D transition then: 333 of
+        // its sites outside; (7, 4)'s whole fault block: 12 outside)
+        (
+            [21, 37],
+            Some([5, 8]),
+            "in the grid's last column, layers 5-8",
+        ),
+        (
+            [7, 4],
+            Some([5, 8]),
+            "across the throw from (8, 4), layers 5-8",
         ),
     ];
     let b = &*compiled()[0];

@@ -501,8 +501,7 @@ fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         allow_sites_outside: !a.strict,
         // a progress bar when there are many wells and someone watches
         progress: watched.then_some(bar as Progress),
-        layered_section: false,
-        cavity: None,
+        ..Default::default()
     };
     let mut h = hybrid::build(backend, &g, &list, &opts)?;
     finish_bar();

@@ -118,7 +118,7 @@ fn complex(
                 // infeasible.
                 let outer_side = !(a < nx && b < ny && grid.active(a, b, k));
                 let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
-                let pieces = if outer_side {
+                let pieces = if outer_side || opts.split_sides {
                     pieces_near_wells(placed, pp, pq)
                 } else {
                     1

@@ -87,9 +87,14 @@ pub fn build<B: Backend + ?Sized>(
             match layered::build(backend, &cpg, &parts, &ps, &section)? {
                 Ok(groups) => {
                     let mut h = layered::assemble(&cpg, &parts, &ps, groups)?;
-                    h.wellbore = bend::merge_legs(std::mem::take(&mut h.wellbore), &of);
-                    h.report.notes = notes;
-                    return Ok(h);
+                    match layered::unfilled(&h) {
+                        Some(why) => notes.push(format!("the transition is meshed in 3D: {why}")),
+                        None => {
+                            h.wellbore = bend::merge_legs(std::mem::take(&mut h.wellbore), &of);
+                            h.report.notes = notes;
+                            return Ok(h);
+                        }
+                    }
                 }
                 Err(why) => notes.push(format!("the transition is meshed in 3D: {why}")),
             }

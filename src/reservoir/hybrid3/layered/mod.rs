@@ -14,7 +14,7 @@ mod cones;
 mod frame;
 mod section;
 
-pub(crate) use assemble::assemble;
+pub(crate) use assemble::{assemble, unfilled};
 pub(crate) use cells::{Across, Cavity, Cell};
 pub(crate) use frame::Frame;
 
@@ -172,8 +172,10 @@ fn section_height(cpg: &Cpg, frame: &Frame, cols: &[[usize; 2]], [k0, k1]: [usiz
 }
 
 /// The section meshed at the outer radius asked, then (twisted layers)
-/// in the wells' own columns at 0.4 and 0.25 of the head cell's side
-/// (beside a throw, or where the sides cannot be moved in): the first
+/// in the wells' own columns at 0.4, 0.25 and 0.15 of the head cell's
+/// side, then as wide as asked, each first as it is, then with its sides
+/// split near the wells (a well near a side: system 3 infeasible there
+/// otherwise, at every radius in emerald's (7, 4) and edge columns): the first
 /// whose links to the wells are all orthogonal (the ring's sites mirrored
 /// across its sides) and whose cavities no throw crosses, else the one
 /// with fewest links off.
@@ -187,21 +189,23 @@ fn pick<B: Backend + ?Sized>(
     who: &str,
 ) -> Result<std::result::Result<(Hybrid, Vec<Cavity>), String>> {
     let twisted = sec.frame.twisted;
-    // (radius, in the wells' own columns)
-    let radii: Vec<(f64, bool)> = match twisted {
+    // (radius, in the wells' own columns, sides split near the wells):
+    // twisted, each radius as it is, then split
+    let radii: Vec<(f64, bool, bool)> = match twisted {
         true => OWN_COLUMN
             .into_iter()
             .filter(|&o| o < outer)
             .map(|o| (o, true))
             .chain([(outer, false)])
+            .flat_map(|(o, mine)| [(o, mine, true), (o, mine, false)])
             .collect(),
-        false => vec![(outer, false)],
+        false => vec![(outer, false, false)],
     };
     let mut best: Option<(usize, Hybrid, Vec<Cavity>)> = None;
     let mut why = "the section's sides could not be moved in".to_string();
-    for (r, mine) in radii {
+    for (r, mine, split) in radii {
         let start = mine.then(|| own.iter().copied().collect());
-        let Some((m, found)) = sec.mesh(backend, r, start)? else {
+        let Some((m, found)) = sec.mesh(backend, r, start, split)? else {
             continue;
         };
         if let Some(c) = found
@@ -291,6 +295,7 @@ impl Sec<'_> {
         backend: &B,
         outer: f64,
         start: Option<BTreeSet<[usize; 2]>>,
+        split: bool,
     ) -> Result<Option<(Hybrid, Vec<Cavity>)>> {
         let (f, [k0, k1]) = (self.frame, self.k);
         let [top, bottom] = f.ends();
@@ -306,7 +311,15 @@ impl Sec<'_> {
             if !section::inset(self.g, f, heights, &mut moved, &set, layers) {
                 break;
             }
-            let m = section::mesh(backend, &moved, self.points, self.rs, outer, Some(&set));
+            let m = section::mesh(
+                backend,
+                &moved,
+                self.points,
+                self.rs,
+                outer,
+                Some(&set),
+                split,
+            );
             let Ok(m) = m else { break };
             let cavs = found(&m);
             let now: BTreeSet<[usize; 2]> = cavs.iter().flat_map(|c| c.cols.clone()).collect();
@@ -318,7 +331,7 @@ impl Sec<'_> {
         if f.twisted {
             return Ok(None);
         }
-        let m = section::mesh(backend, self.grid, self.points, self.rs, outer, None)?;
+        let m = section::mesh(backend, self.grid, self.points, self.rs, outer, None, split)?;
         let cavs = found(&m);
         Ok(Some((m, cavs)))
     }

@@ -34,13 +34,15 @@ pub(super) fn grid(
 
 /// The 2D hybrid's options for the section: the 3D hybrid's rings, sectors
 /// and outer radius, its wells at map points `at` (frame coordinates), the
-/// cavities' columns chosen by the 2D hybrid or the given ones.
+/// cavities' columns chosen by the 2D hybrid or the given ones, their
+/// sides split near the wells where asked.
 fn options(
     s: &CornerPointGrid,
     wells: &[(String, [f64; 2], f64)],
     [rings, sectors]: [usize; 2],
     outer: f64,
     cavity: Option<&BTreeSet<[usize; 2]>>,
+    split_sides: bool,
 ) -> (Vec<WellInput>, HybridOptions) {
     let input: Vec<WellInput> = wells
         .iter()
@@ -57,6 +59,7 @@ fn options(
         outer,
         allow_sites_outside: true,
         layered_section: true,
+        split_sides,
         cavity: cavity.map(|cols| {
             let mut flags = vec![false; s.nx * s.ny];
             for &[i, j] in cols {
@@ -77,8 +80,9 @@ pub(super) fn mesh<B: Backend + ?Sized>(
     rs: [usize; 2],
     outer: f64,
     cavity: Option<&BTreeSet<[usize; 2]>>,
+    split_sides: bool,
 ) -> Result<Hybrid> {
-    let (input, opts) = options(s, wells, rs, outer, cavity);
+    let (input, opts) = options(s, wells, rs, outer, cavity, split_sides);
     hybrid::build(backend, s, &input, &opts)
 }
 
@@ -89,7 +93,7 @@ pub(super) fn columns(
     rs: [usize; 2],
     outer: f64,
 ) -> Result<BTreeSet<[usize; 2]>> {
-    let (input, opts) = options(s, wells, rs, outer, None);
+    let (input, opts) = options(s, wells, rs, outer, None, false);
     let flags = hybrid::cavity_columns(s, &input, &opts)?;
     Ok((0..s.nx * s.ny)
         .filter(|&c| flags[c])
