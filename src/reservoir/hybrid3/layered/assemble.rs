@@ -343,7 +343,7 @@ pub(crate) fn unfilled(h: &Hybrid3) -> Option<String> {
             .cavities
             .iter()
             .map(|c| c.volume_gap)
-            .find(|g| !(*g <= FILLED))?;
+            .find(|&g| !fills(g))?;
         Some(format!(
             "the layered cavity of wells {} fills its grid cells to only {gap:.1e} of their \
              volume (its cells overlap or leave a hole)",
