@@ -90,57 +90,68 @@ impl Cones {
                 .map(|w| (x[0] - w[0]).hypot(x[1] - w[1]))
                 .fold(f64::INFINITY, f64::min)
         };
-        let apex = [at(0.25), at(0.75)]
-            .into_iter()
-            .max_by(|x, y| clear(*x).total_cmp(&clear(*y)))
-            .expect("two");
         let size = f.size;
-        let mut sides: HashMap<[[u64; 3]; 2], u32> = HashMap::new();
-        let mut out = vec![];
+        // the face's parts: whole or two triangles, or cut where the cells
+        // across a throw meet them (both sides cut them alike); pieces
+        // without area (a pillar where the cell has no thickness) bound
+        // nothing
+        let mut pieces = vec![];
         for face in 0..6 {
-            // the face's parts: whole or two triangles, or cut where the
-            // cells across a throw meet it (both sides cut it alike)
-            let parts = cpg.parts(c, face).map_err(|e| e.to_string())?;
-            for part in parts {
+            for part in cpg.parts(c, face).map_err(|e| e.to_string())? {
                 let pts: Vec<[f64; 3]> = part.points.iter().map(|&x| f.to(x)).collect();
                 let h = plane_of(&pts);
                 let len = dot_f(h.n, h.n).sqrt();
-                // a piece without area (a pillar where the cell has no
-                // thickness) bounds nothing
-                if len <= 1e-12 * size * size {
-                    continue;
+                if len > 1e-12 * size * size {
+                    pieces.push((pts, h, len, part.across));
                 }
-                let mut key: Vec<[u64; 3]> = pts.iter().map(|x| x.map(f64::to_bits)).collect();
-                key.sort_unstable();
-                let id = *self.by_corners.entry(key).or_insert_with(|| cut.plane(h));
-                self.faces.entry(id).or_default().push((c, part.across));
-                let e = cut.planes[id as usize].eval(apex) / len;
-                if e.abs() <= 1e-9 * size {
-                    return Err(format!(
-                        "cell {} is not star-shaped from a point between its diagonals",
-                        super::super::cpg::one_based(c)
-                    ));
+            }
+        }
+        // the pieces face out of the cell: an apex behind every one (else
+        // pyramids overlap: emerald (14, 41, 7), beside a throw to cells 7
+        // layers down, at 0.25 and 0.75), the farthest from the wells
+        let behind = |x: &[f64; 3]| {
+            pieces
+                .iter()
+                .all(|(_, h, len, _)| (dot_f(h.n, *x) - h.c) / len < -1e-9 * size)
+        };
+        let apex = [0.25, 0.75, 0.5, 0.1, 0.9]
+            .map(at)
+            .into_iter()
+            .filter(behind)
+            .max_by(|x, y| clear(*x).total_cmp(&clear(*y)))
+            .ok_or_else(|| {
+                format!(
+                    "cell {} is not star-shaped from a point between its diagonals",
+                    super::super::cpg::one_based(c)
+                )
+            })?;
+        let mut sides: HashMap<[[u64; 3]; 2], u32> = HashMap::new();
+        let mut out = vec![];
+        for (pts, h, len, across) in pieces {
+            let mut key: Vec<[u64; 3]> = pts.iter().map(|x| x.map(f64::to_bits)).collect();
+            key.sort_unstable();
+            let id = *self.by_corners.entry(key).or_insert_with(|| cut.plane(h));
+            self.faces.entry(id).or_default().push((c, across));
+            let e = cut.planes[id as usize].eval(apex) / len;
+            for poly in convex(&pts, h.n) {
+                let mut planes = vec![(id, e > 0.0)];
+                let mid: [f64; 3] = std::array::from_fn(|k| {
+                    poly.iter().map(|x| x[k]).sum::<f64>() / poly.len() as f64
+                });
+                for k in 0..poly.len() {
+                    let (u, v) = (poly[k], poly[(k + 1) % poly.len()]);
+                    let mut key = [u.map(f64::to_bits), v.map(f64::to_bits)];
+                    key.sort_unstable();
+                    let id = *sides
+                        .entry(key)
+                        .or_insert_with(|| cut.plane(through(apex, u, v)));
+                    self.inner.insert(id);
+                    planes.push((id, cut.planes[id as usize].eval(mid) > 0.0));
                 }
-                for poly in convex(&pts, h.n) {
-                    let mut planes = vec![(id, e > 0.0)];
-                    let mid: [f64; 3] = std::array::from_fn(|k| {
-                        poly.iter().map(|x| x[k]).sum::<f64>() / poly.len() as f64
-                    });
-                    for k in 0..poly.len() {
-                        let (u, v) = (poly[k], poly[(k + 1) % poly.len()]);
-                        let mut key = [u.map(f64::to_bits), v.map(f64::to_bits)];
-                        key.sort_unstable();
-                        let id = *sides
-                            .entry(key)
-                            .or_insert_with(|| cut.plane(through(apex, u, v)));
-                        self.inner.insert(id);
-                        planes.push((id, cut.planes[id as usize].eval(mid) > 0.0));
-                    }
-                    let flat: Vec<[f64; 2]> =
-                        poly.iter().chain([&apex]).map(|x| [x[0], x[1]]).collect();
-                    let (lo, hi) = crate::geom::bbox(&flat);
-                    out.push(Pyramid { planes, lo, hi });
-                }
+                let flat: Vec<[f64; 2]> =
+                    poly.iter().chain([&apex]).map(|x| [x[0], x[1]]).collect();
+                let (lo, hi) = crate::geom::bbox(&flat);
+                out.push(Pyramid { planes, lo, hi });
             }
         }
         Ok(out)
