@@ -108,17 +108,21 @@ impl Cones {
         }
         // the pieces face out of the cell: an apex behind every one (else
         // pyramids overlap: emerald (14, 41, 7), beside a throw to cells 7
-        // layers down, at 0.25 and 0.75), the farthest from the wells
+        // layers down, at 0.25 and 0.75), the farther from the wells of
+        // those a quarter of the way along, else of the others
         let behind = |x: &[f64; 3]| {
             pieces
                 .iter()
                 .all(|(_, h, len, _)| (dot_f(h.n, *x) - h.c) / len < -1e-9 * size)
         };
-        let apex = [0.25, 0.75, 0.5, 0.1, 0.9]
-            .map(at)
-            .into_iter()
-            .filter(behind)
-            .max_by(|x, y| clear(*x).total_cmp(&clear(*y)))
+        let pick = |ss: &[f64]| {
+            ss.iter()
+                .map(|&s| at(s))
+                .filter(behind)
+                .max_by(|x, y| clear(*x).total_cmp(&clear(*y)))
+        };
+        let apex = pick(&[0.25, 0.75])
+            .or_else(|| pick(&[0.5, 0.1, 0.9]))
             .ok_or_else(|| {
                 format!(
                     "cell {} is not star-shaped from a point between its diagonals",
