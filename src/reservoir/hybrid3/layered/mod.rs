@@ -173,9 +173,9 @@ fn section_height(cpg: &Cpg, frame: &Frame, cols: &[[usize; 2]], [k0, k1]: [usiz
 
 /// The section meshed at the outer radius asked, then (twisted layers)
 /// in the wells' own columns at 0.4, 0.25 and 0.15 of the head cell's
-/// side, then as wide as asked, each first as it is, then with its sides
-/// split near the wells (a well near a side: system 3 infeasible there
-/// otherwise, at every radius in emerald's (7, 4) and edge columns): the first
+/// side, then as wide as asked, each first with its sides split near the
+/// wells, then whole (a well near a whole side: system 3 infeasible at
+/// every radius in emerald's (7, 4) and edge columns): the first
 /// whose links to the wells are all orthogonal (the ring's sites mirrored
 /// across its sides) and whose cavities no throw crosses, else the one
 /// with fewest links off.
@@ -190,7 +190,7 @@ fn pick<B: Backend + ?Sized>(
 ) -> Result<std::result::Result<(Hybrid, Vec<Cavity>), String>> {
     let twisted = sec.frame.twisted;
     // (radius, in the wells' own columns, sides split near the wells):
-    // twisted, each radius as it is, then split
+    // twisted, each radius split, then whole
     let radii: Vec<(f64, bool, bool)> = match twisted {
         true => OWN_COLUMN
             .into_iter()
