@@ -120,6 +120,7 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
                 rings: a.rings.unwrap_or(d.rings),
                 sectors: a.sectors.unwrap_or(d.sectors),
                 outer: a.outer.unwrap_or(d.outer),
+                in_column: !a.rings_over_columns,
             }
         }),
         // a bar over the cavities when someone watches

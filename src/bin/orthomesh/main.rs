@@ -223,6 +223,12 @@ struct HybridArgs {
     /// parallel planes (where the layered transition would serve).
     #[arg(long = "transition-3d", requires = "three_d")]
     transition_3d: bool,
+    /// 3D, layered sections on planes: radial meshes out to --outer over
+    /// several columns (the well's inflow closer to Thiem's, fewer links
+    /// to the reservoir cells below and above orthogonal) instead of
+    /// inside their well's column.
+    #[arg(long = "rings-over-columns", requires = "three_d")]
+    rings_over_columns: bool,
     /// Also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
     #[arg(long, value_name = "MESH")]
     tough: Option<PathBuf>,

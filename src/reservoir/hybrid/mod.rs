@@ -95,6 +95,15 @@ pub struct HybridOptions {
     /// caller has chosen them; still grown where the transition needs
     /// room.
     pub cavity: Option<Vec<bool>>,
+    /// Each radial mesh kept inside its well's column, clear of the
+    /// column's sides by a quarter of its outer radius (so that every
+    /// column side inside a cavity can be a constraint), however far
+    /// `outer` would reach.
+    pub in_column: bool,
+    /// Column sides inside cavities are split into pieces no longer than
+    /// this share of their distance to the nearest well polygon: the
+    /// transition's cells near the wells are that much finer.
+    pub piece_share: f64,
 }
 
 impl Default for HybridOptions {
@@ -115,6 +124,8 @@ impl Default for HybridOptions {
             layered_section: false,
             split_sides: false,
             cavity: None,
+            in_column: false,
+            piece_share: 1.0,
         }
     }
 }
@@ -431,5 +442,35 @@ mod tests {
         opts.cavity = Some(vec![true; 3]);
         let e = build(&*compiled()[0], &grid, &wells, &opts).unwrap_err();
         assert!(e.to_string().contains("15 x 15 columns"), "{e}");
+    }
+
+    /// Radial meshes kept in their columns: the demo's well (column 7, 8,
+    /// 1-based; 10 m columns) has its rings within 0.75 of its 5 m to the
+    /// column's sides, however far `outer` reaches, and the cavity is the
+    /// one `outer` gives.
+    #[test]
+    fn radial_meshes_kept_in_their_columns() {
+        let (grid, wells, mut opts) = demo();
+        let flags = cavity_columns(&grid, &wells, &opts).unwrap();
+        opts.cavity = Some(flags.clone());
+        opts.in_column = true;
+        opts.layered_section = true;
+        let h = build(&*compiled()[0], &grid, &wells, &opts).unwrap();
+        assert_eq!(h.report.cavity_cells, flags.iter().filter(|&&f| f).count());
+        let well = (0..h.region.len()).filter(|&c| h.region[c] == Region::Well);
+        for c in well {
+            assert_eq!(&h.host[c][..2], &[6, 7], "cell {c}");
+        }
+        let reach = h
+            .mesh
+            .sites
+            .iter()
+            .zip(&h.region)
+            .filter(|p| *p.1 == Region::Well);
+        let [x, y] = h.wells[0].centre;
+        let far = reach
+            .map(|(p, _)| (p[0] - x).hypot(p[1] - y))
+            .fold(0.0, f64::max);
+        assert!(far > 1.0 && far < 0.75 * 5.0, "{far}");
     }
 }

@@ -36,13 +36,15 @@ pub(super) struct Transition {
     pub(super) notes: Vec<String>,
 }
 
-/// Pieces for a side that may be split: none longer than its distance to
-/// the nearest well polygon, so that it stays Gabriel.
-fn pieces_near_wells(placed: &[Placed], pp: [f64; 2], pq: [f64; 2]) -> usize {
-    let gap = placed
-        .iter()
-        .map(|w| to_segment(w.centre, [pp, pq]) - w.radii.last().unwrap())
-        .fold(f64::INFINITY, f64::min);
+/// Pieces for a side that may be split: none longer than `share` of its
+/// distance to the nearest well polygon (at most 1, so that it stays
+/// Gabriel).
+fn pieces_near_wells(placed: &[Placed], pp: [f64; 2], pq: [f64; 2], share: f64) -> usize {
+    let gap = share
+        * placed
+            .iter()
+            .map(|w| to_segment(w.centre, [pp, pq]) - w.radii.last().unwrap())
+            .fold(f64::INFINITY, f64::min);
     let len = (pq[0] - pp[0]).hypot(pq[1] - pp[1]);
     ((len / gap.max(len / 64.0)).ceil() as usize).clamp(1, 64)
 }
@@ -119,7 +121,7 @@ fn complex(
                 let outer_side = !(a < nx && b < ny && grid.active(a, b, k));
                 let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
                 let pieces = if outer_side || opts.split_sides {
-                    pieces_near_wells(placed, pp, pq)
+                    pieces_near_wells(placed, pp, pq, 1.0)
                 } else {
                     1
                 };
@@ -153,8 +155,8 @@ fn complex(
             false => push_point(cx, at(t)),
         };
         let (u, v) = (end(&mut cx, t0, p), end(&mut cx, t1, q));
-        let (pp, pq) = (at(t0), at(t1));
-        for (from, to) in split(&mut cx, u, v, pieces_near_wells(placed, pp, pq)) {
+        let pieces = pieces_near_wells(placed, at(t0), at(t1), opts.piece_share.min(1.0));
+        for (from, to) in split(&mut cx, u, v, pieces) {
             cx.segments.push([from, to]);
             anchors.push(None);
             owner.push(home);
@@ -181,7 +183,7 @@ fn complex(
             for x in chain {
                 let id = push_point(&mut cx, x);
                 if let Some(p) = prev {
-                    let pieces = pieces_near_wells(placed, cx.points[p as usize], x);
+                    let pieces = pieces_near_wells(placed, cx.points[p as usize], x, 1.0);
                     for (from, to) in split(&mut cx, p, id, pieces) {
                         cx.segments.push([from, to]);
                         anchors.push(None);

@@ -127,7 +127,16 @@ pub(super) fn place(
                 (p[0] - q[0]).hypot(p[1] - q[1])
             })
             .fold(f64::INFINITY, f64::min);
-        let outer = placed[a].radii[1].min(0.3 * nearest).min(0.6 * wall);
+        let mut outer = placed[a].radii[1].min(0.3 * nearest).min(0.6 * wall);
+        if opts.in_column {
+            // the column's sides beyond 1.25 outer radii, with a margin
+            let (i, j) = placed[a].column;
+            let q = quad_points(i, j);
+            let side = (0..4)
+                .map(|e| to_segment(placed[a].centre, [q[e], q[(e + 1) % 4]]))
+                .fold(f64::INFINITY, f64::min);
+            outer = outer.min(0.75 * side);
+        }
         let rw = placed[a].radii[0];
         if !(rw > 0.0 && rw < outer / 2.0) {
             return Err(Error::Usage(format!(

@@ -94,6 +94,11 @@ pub struct Section {
     pub sectors: usize,
     /// Outer radius, in the well's cell's shorter sides.
     pub outer: f64,
+    /// On planes, each radial mesh kept inside its well's column, in a
+    /// cavity as wide as `outer` would make it (every link to the radial
+    /// cells across the cavity's ends orthogonal); else the rings reach
+    /// `outer` over several columns (Thiem's check closer).
+    pub in_column: bool,
 }
 
 impl Default for Section {
@@ -102,6 +107,7 @@ impl Default for Section {
             rings: 12,
             sectors: 32,
             outer: 1.9,
+            in_column: true,
         }
     }
 }

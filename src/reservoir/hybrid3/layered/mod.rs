@@ -25,6 +25,7 @@ use crate::backend::Backend;
 use crate::error::Result;
 use crate::geom::Cutter;
 use crate::reservoir::hybrid::{Hybrid, Region};
+use section::Ask;
 use std::collections::BTreeSet;
 
 /// A group of wells meshed on one section.
@@ -120,6 +121,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
             live: &live,
             k: [k0, k1],
             at,
+            in_column: section.in_column,
         };
         let who = names(wells, &ws);
         let (mesh2, found) = match pick(cpg, &sec, backend, section.outer, &own, &cols, &who)? {
@@ -171,7 +173,22 @@ fn section_height(cpg: &Cpg, frame: &Frame, cols: &[[usize; 2]], [k0, k1]: [usiz
     }
 }
 
-/// The section meshed at the outer radius asked, then (twisted layers)
+/// Where a try's cavities start: the wells' own columns, the columns a
+/// radial mesh of the outer radius asked would reach, or as the 2D hybrid
+/// grows them.
+#[derive(Clone, Copy)]
+enum Start {
+    Own,
+    Reach,
+    Grown,
+}
+
+/// The section's tries, the first that serves kept. Planes: radial meshes
+/// in their own columns in cavities as wide as the outer radius asked
+/// (every column side a constraint, so that no cell at the cavity's end
+/// lies under two cells across: SPE9's links to the reservoir 94% by
+/// count, 100% to the radial cells, against 81% and 93% with radial
+/// meshes over several columns), then as wide as asked. Twisted layers:
 /// in the wells' own columns at 0.4, 0.25 and 0.15 of the head cell's
 /// side, then as wide as asked, each first with its sides split near the
 /// wells, then whole (a well near a whole side: system 3 infeasible at
@@ -189,23 +206,33 @@ fn pick<B: Backend + ?Sized>(
     who: &str,
 ) -> Result<std::result::Result<(Hybrid, Vec<Cavity>), String>> {
     let twisted = sec.frame.twisted;
-    // (radius, in the wells' own columns, sides split near the wells):
-    // twisted, each radius split, then whole
-    let radii: Vec<(f64, bool, bool)> = match twisted {
+    let ask = |split, in_column| Ask { split, in_column };
+    let tries: Vec<(f64, Start, Ask)> = match twisted {
         true => OWN_COLUMN
             .into_iter()
             .filter(|&o| o < outer)
-            .map(|o| (o, true))
-            .chain([(outer, false)])
-            .flat_map(|(o, mine)| [(o, mine, true), (o, mine, false)])
+            .map(|o| (o, Start::Own))
+            .chain([(outer, Start::Grown)])
+            .flat_map(|(o, s)| [(o, s, ask(true, false)), (o, s, ask(false, false))])
             .collect(),
-        false => vec![(outer, false, false)],
+        false => [
+            (Start::Reach, ask(false, true)),
+            (Start::Grown, ask(false, false)),
+        ]
+        .into_iter()
+        .filter(|t| sec.in_column || !t.1.in_column)
+        .map(|(s, a)| (outer, s, a))
+        .collect(),
     };
     let mut best: Option<(usize, Hybrid, Vec<Cavity>)> = None;
     let mut why = "the section's sides could not be moved in".to_string();
-    for (r, mine, split) in radii {
-        let start = mine.then(|| own.iter().copied().collect());
-        let Some((m, found)) = sec.mesh(backend, r, start, split)? else {
+    for (r, from, ask) in tries {
+        let start = match from {
+            Start::Own => Some(own.iter().copied().collect()),
+            Start::Reach => Some(section::columns(sec.grid, sec.points, sec.rs, r)?),
+            Start::Grown => None,
+        };
+        let Some((m, found)) = sec.mesh(backend, r, start, ask)? else {
             continue;
         };
         if let Some(c) = found
@@ -280,6 +307,8 @@ struct Sec<'a> {
     k: [usize; 2],
     /// The height of the section's plane (frame coordinates).
     at: f64,
+    /// Planes: radial meshes first tried in their own columns.
+    in_column: bool,
 }
 
 impl Sec<'_> {
@@ -289,21 +318,21 @@ impl Sec<'_> {
     /// (again where the mesher grew them), or from the columns given
     /// (None if the mesher grew those, or grew a cavity with split
     /// sides). Planes: as they are where a
-    /// cavity touches itself at a pillar or that fails; twisted layers:
-    /// None then.
+    /// cavity touches itself at a pillar or that fails; twisted layers and
+    /// radial meshes kept in their columns: None then.
     fn mesh<B: Backend + ?Sized>(
         &self,
         backend: &B,
         outer: f64,
         start: Option<BTreeSet<[usize; 2]>>,
-        split: bool,
+        ask: Ask,
     ) -> Result<Option<(Hybrid, Vec<Cavity>)>> {
         let (f, [k0, k1]) = (self.frame, self.k);
         let [top, bottom] = f.ends();
         let heights = [self.at, top, bottom];
         let layers = f.twisted.then_some([k0, k1]);
         let found = |m: &Hybrid| cavities(m, [self.g.nx, self.g.ny], self.live, self.k);
-        let grow = !split && start.is_none();
+        let grow = !ask.split && start.is_none();
         let mut set = match start {
             Some(s) => s,
             None => section::columns(self.grid, self.points, self.rs, outer)?,
@@ -320,7 +349,7 @@ impl Sec<'_> {
                 self.rs,
                 outer,
                 Some(&set),
-                split,
+                ask,
             );
             let Ok(m) = m else { break };
             let cavs = found(&m);
@@ -337,10 +366,10 @@ impl Sec<'_> {
             }
             set = now;
         }
-        if f.twisted {
+        if f.twisted || ask.in_column {
             return Ok(None);
         }
-        let m = section::mesh(backend, self.grid, self.points, self.rs, outer, None, split)?;
+        let m = section::mesh(backend, self.grid, self.points, self.rs, outer, None, ask)?;
         let cavs = found(&m);
         Ok(Some((m, cavs)))
     }

@@ -32,17 +32,28 @@ pub(super) fn grid(
     s
 }
 
+/// How the section's 2D hybrid is asked: its cavities' sides split near
+/// the wells, its radial meshes kept in their columns.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Ask {
+    pub(super) split: bool,
+    pub(super) in_column: bool,
+}
+
 /// The 2D hybrid's options for the section: the 3D hybrid's rings, sectors
 /// and outer radius, its wells at map points `at` (frame coordinates), the
-/// cavities' columns chosen by the 2D hybrid or the given ones, their
-/// sides split near the wells where asked.
+/// cavities' columns chosen by the 2D hybrid or the given ones, as asked.
+/// Radial meshes in their columns get column sides split twice as finely
+/// near them: the transition then resolves the radial flow beyond the
+/// rings (Thiem on a layered section, tests/hybrid3.rs: 0.6% off, 1.2%
+/// with pieces as long as their distance to the well).
 fn options(
     s: &CornerPointGrid,
     wells: &[(String, [f64; 2], f64)],
     [rings, sectors]: [usize; 2],
     outer: f64,
     cavity: Option<&BTreeSet<[usize; 2]>>,
-    split_sides: bool,
+    ask: Ask,
 ) -> (Vec<WellInput>, HybridOptions) {
     let input: Vec<WellInput> = wells
         .iter()
@@ -59,7 +70,9 @@ fn options(
         outer,
         allow_sites_outside: true,
         layered_section: true,
-        split_sides,
+        split_sides: ask.split,
+        in_column: ask.in_column,
+        piece_share: if ask.in_column { 0.5 } else { 1.0 },
         cavity: cavity.map(|cols| {
             let mut flags = vec![false; s.nx * s.ny];
             for &[i, j] in cols {
@@ -80,9 +93,9 @@ pub(super) fn mesh<B: Backend + ?Sized>(
     rs: [usize; 2],
     outer: f64,
     cavity: Option<&BTreeSet<[usize; 2]>>,
-    split_sides: bool,
+    ask: Ask,
 ) -> Result<Hybrid> {
-    let (input, opts) = options(s, wells, rs, outer, cavity, split_sides);
+    let (input, opts) = options(s, wells, rs, outer, cavity, ask);
     hybrid::build(backend, s, &input, &opts)
 }
 
@@ -93,7 +106,7 @@ pub(super) fn columns(
     rs: [usize; 2],
     outer: f64,
 ) -> Result<BTreeSet<[usize; 2]>> {
-    let (input, opts) = options(s, wells, rs, outer, None, false);
+    let (input, opts) = options(s, wells, rs, outer, None, Ask::default());
     let flags = hybrid::cavity_columns(s, &input, &opts)?;
     Ok((0..s.nx * s.ny)
         .filter(|&c| flags[c])
