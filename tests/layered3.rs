@@ -112,7 +112,7 @@ fn emerald_wells_on_twisted_layers() {
         orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
             .unwrap();
     // 1-based column, layers (1-based), what it is
-    let cases: [([usize; 2], Option<[usize; 2]>, &str); 8] = [
+    let cases: [([usize; 2], Option<[usize; 2]>, &str); 9] = [
         ([19, 18], Some([5, 8]), "leaning column, layers 5-8"),
         ([1, 20], Some([5, 8]), "at the grid's edge, layers 5-8"),
         ([19, 18], None, "leaning column, every layer"),
@@ -135,6 +135,14 @@ fn emerald_wells_on_twisted_layers() {
             [7, 4],
             Some([5, 8]),
             "across the throw from (8, 4), layers 5-8",
+        ),
+        // its bottom in layer 7 cut where the cells across a 17 m throw
+        // meet it: cut in ears across the column's diagonal, a piece faced
+        // into the cell (refused, the 3D transition took over 5 minutes)
+        (
+            [14, 41],
+            Some([5, 8]),
+            "beside a throw to a column 7 layers deeper, layers 5-8",
         ),
     ];
     let b = &*compiled()[0];

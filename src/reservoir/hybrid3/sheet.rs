@@ -11,7 +11,7 @@
 
 use super::cpg::{lex, next, one_based, Cpg, Ijk};
 use crate::error::{Error, Result};
-use crate::geom::{ear_clip, newell, orient3, shoelace};
+use crate::geom::{ear_clip, newell, orient, orient3, shoelace};
 use std::cmp::Ordering;
 
 /// A piece of a cell's face: its points (outward from the cell), the live
@@ -320,9 +320,10 @@ impl Cpg<'_> {
             .min_by(|&a, &b| lex(&poly[a], &poly[b]))
             .unwrap_or(0);
         poly.rotate_left(least);
-        let mut tris: Vec<Vec<[f64; 3]>> = if planar(&poly) {
-            vec![poly.clone()]
-        } else {
+        let ears = |poly: &[[f64; 3]]| -> Result<Vec<Vec<[f64; 3]>>> {
+            if planar(poly) {
+                return Ok(vec![poly.to_vec()]);
+            }
             let flat: Vec<[f64; 2]> = poly.iter().map(xy).collect();
             let ears = ear_clip(&flat).ok_or_else(|| {
                 Error::Usage(format!(
@@ -331,7 +332,26 @@ impl Cpg<'_> {
                     ["top", "bottom"][b]
                 ))
             })?;
-            ears.iter().map(|t| t.map(|n| poly[n]).to_vec()).collect()
+            Ok(ears.iter().map(|t| t.map(|n| poly[n]).to_vec()).collect())
+        };
+        // not planar: in ears, but where an ear spans the column's
+        // diagonal (the fold between the face's two planes, where it could
+        // face into the cell: emerald (14, 41, 7)), either side of it
+        let [d0, d1] = self.diagonal(c).map(|n| self.corner(c, n + 4 * b));
+        let spans = |t: &Vec<[f64; 3]>| {
+            let side = |p: &[f64; 3]| orient(xy(&d0), xy(&d1), xy(p));
+            let s: Vec<Ordering> = t.iter().map(side).collect();
+            s.contains(&Ordering::Less) && s.contains(&Ordering::Greater)
+        };
+        let mut tris = match planar(&poly) {
+            true => vec![poly.clone()],
+            false => {
+                let all = ears(&poly)?;
+                match (all.iter().any(spans), halves(&poly, d0, d1)) {
+                    (true, Some([h0, h1])) => [ears(&h0)?, ears(&h1)?].concat(),
+                    _ => all,
+                }
+            }
         };
         // counter-clockwise seen from above: the top's outward side
         if b == 1 {
@@ -346,6 +366,24 @@ impl Cpg<'_> {
             })
             .collect())
     }
+}
+
+/// A polygon (points in turn) cut along its chord from point a to point
+/// b: the polygons either side, each from its least point (so that both
+/// cells across a face cut it alike); None unless both are its points.
+fn halves(poly: &[[f64; 3]], a: [f64; 3], b: [f64; 3]) -> Option<[Vec<[f64; 3]>; 2]> {
+    let n = poly.len();
+    let i = poly.iter().position(|p| *p == a)?;
+    let j = poly.iter().position(|p| *p == b)?;
+    let arc = |from: usize, to: usize| {
+        let mut h: Vec<[f64; 3]> = (0..=(to + n - from) % n)
+            .map(|k| poly[(from + k) % n])
+            .collect();
+        let least = (0..h.len()).min_by(|&x, &y| lex(&h[x], &h[y])).unwrap_or(0);
+        h.rotate_left(least);
+        h
+    };
+    (i != j).then(|| [arc(i, j), arc(j, i)])
 }
 
 /// Whether a polygon's points lie in one plane, exactly.
@@ -478,6 +516,51 @@ mod tests {
         let down = cpg.parts([0, 0, 0], 5).unwrap();
         let up = cpg.parts([0, 0, 1], 4).unwrap();
         assert_eq!(keys(&down), keys(&up));
+    }
+
+    /// A twisted bottom cut where a throw meets it: no piece spans the
+    /// column's diagonal (its two planes), and the cell below cuts its top
+    /// alike.
+    #[test]
+    fn a_twisted_level_is_cut_either_side_of_its_diagonal() {
+        let mut g = thrown();
+        // the second column tilted (its layers cross the first's, a cut
+        // on (0, 0, 0)'s bottom), and that bottom twisted at corner (0, 1)
+        for k in 0..3 {
+            for b in 0..2 {
+                for di in 0..2 {
+                    g.zcorn[(((2 * k + b) * 2 + 1) * 2 + 1) * 2 + di] += 6.0;
+                }
+            }
+        }
+        g.zcorn[((2 + 1) * 2) * 2] += 0.5; // k = 0 bottom, j = 0 (dj = 1), i = 0, di = 0
+        g.zcorn[((2 * 1) * 2 + 1) * 2 * 2] += 0.5; // k = 1 top, the same corner
+        let cpg = Cpg::new(&g);
+        let down = cpg.parts([0, 0, 0], 5).unwrap();
+        let up = cpg.parts([0, 0, 1], 4).unwrap();
+        assert_eq!(keys(&down), keys(&up));
+        assert!(down.len() >= 2, "{}", down.len());
+        let [d0, d1] = cpg
+            .diagonal([0, 0, 0])
+            .map(|n| cpg.corner([0, 0, 0], n + 4));
+        let side = |p: &[f64; 3]| crate::geom::orient([d0[0], d0[1]], [d1[0], d1[1]], [p[0], p[1]]);
+        for piece in &down {
+            let sides: std::collections::BTreeSet<Ordering> = piece
+                .points
+                .iter()
+                .map(side)
+                .filter(|&o| o != Ordering::Equal)
+                .collect();
+            assert_eq!(sides.len(), 1, "{:?}", piece.points);
+        }
+        let total: f64 = down.iter().map(|p| area(&p.points)).sum();
+        let pieces = cpg.face_pieces([0, 0, 0], 5);
+        let whole: f64 = pieces
+            .1
+            .iter()
+            .map(|t| area(&t.iter().map(|&n| pieces.0[n]).collect::<Vec<_>>()))
+            .sum();
+        assert!((total - whole).abs() < 1e-9 * whole, "{total} {whole}");
     }
 
     #[test]
