@@ -461,6 +461,20 @@ mod tests {
         g
     }
 
+    /// `thrown` with its second column tilted: its layers cross the
+    /// first's.
+    fn tilted() -> CornerPointGrid {
+        let mut g = thrown();
+        for k in 0..3 {
+            for b in 0..2 {
+                for di in 0..2 {
+                    g.zcorn[(((2 * k + b) * 2 + 1) * 2 + 1) * 2 + di] += 6.0; // dj = 1, i = 1
+                }
+            }
+        }
+        g
+    }
+
     fn area(points: &[[f64; 3]]) -> f64 {
         newell(points).iter().map(|x| x * x).sum::<f64>().sqrt() / 2.0
     }
@@ -523,16 +537,9 @@ mod tests {
     /// alike.
     #[test]
     fn a_twisted_level_is_cut_either_side_of_its_diagonal() {
-        let mut g = thrown();
-        // the second column tilted (its layers cross the first's, a cut
-        // on (0, 0, 0)'s bottom), and that bottom twisted at corner (0, 1)
-        for k in 0..3 {
-            for b in 0..2 {
-                for di in 0..2 {
-                    g.zcorn[(((2 * k + b) * 2 + 1) * 2 + 1) * 2 + di] += 6.0;
-                }
-            }
-        }
+        // the second column tilted (a cut on (0, 0, 0)'s bottom), and that
+        // bottom twisted at corner (0, 1)
+        let mut g = tilted();
         g.zcorn[((2 + 1) * 2) * 2] += 0.5; // k = 0 bottom, j = 0 (dj = 1), i = 0, di = 0
         g.zcorn[((2 * 1) * 2 + 1) * 2 * 2] += 0.5; // k = 1 top, the same corner
         let cpg = Cpg::new(&g);
@@ -565,15 +572,7 @@ mod tests {
 
     #[test]
     fn a_crossing_throw_cuts_the_tops_beside_it() {
-        // the second column tilted: its layers cross the first's
-        let mut g = thrown();
-        for k in 0..3 {
-            for b in 0..2 {
-                for di in 0..2 {
-                    g.zcorn[(((2 * k + b) * 2 + 1) * 2 + 1) * 2 + di] += 6.0; // dj = 1, i = 1
-                }
-            }
-        }
+        let g = tilted();
         let cpg = Cpg::new(&g);
         // (0, 0, 0)'s bottom line on the fault (4 m deep) is crossed by
         // (1, 0, 0)'s top line (1 m to 7 m): its bottom face (flat, kept
