@@ -112,7 +112,7 @@ fn emerald_wells_on_twisted_layers() {
         orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
             .unwrap();
     // 1-based column, layers (1-based), what it is
-    let cases: [([usize; 2], Option<[usize; 2]>, &str); 9] = [
+    let cases: [([usize; 2], Option<[usize; 2]>, &str); 10] = [
         ([19, 18], Some([5, 8]), "leaning column, layers 5-8"),
         ([1, 20], Some([5, 8]), "at the grid's edge, layers 5-8"),
         ([19, 18], None, "leaning column, every layer"),
@@ -147,6 +147,16 @@ fn emerald_wells_on_twisted_layers() {
             Some([5, 8]),
             "beside a throw to a column 7 layers deeper, layers 5-8",
         ),
+        // its section nearly a triangle (one corner a straight angle in
+        // the layers' frame): in its own column, cells too thin for
+        // doubles; kept in its column in a cavity as wide as asked (the
+        // 3D transition: 457 of 602 sites outside, 54 s). CGAL only, as
+        // (14, 41)
+        (
+            [21, 36],
+            Some([5, 8]),
+            "a section nearly a triangle, layers 5-8",
+        ),
     ];
     let b = &*compiled()[0];
     let mut wells: Vec<(Well3, String, &str)> = cases
@@ -179,7 +189,8 @@ fn emerald_wells_on_twisted_layers() {
         "completion changing column",
     ));
     for (w, file, what) in wells {
-        if file.starts_with("14-41") && b.name() != "cgal" {
+        let cgal_only = file.starts_with("14-41") || file.starts_with("21-36");
+        if cgal_only && b.name() != "cgal" {
             continue;
         }
         let t = std::time::Instant::now();

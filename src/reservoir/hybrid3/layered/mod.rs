@@ -190,7 +190,9 @@ enum Start {
 /// count, 100% to the radial cells, against 81% and 93% with radial
 /// meshes over several columns), then as wide as asked. Twisted layers:
 /// in the wells' own columns at 0.4, 0.25 and 0.15 of the head cell's
-/// side, then as wide as asked, each first with its sides split near the
+/// side, then kept in their columns in cavities as wide as asked (within
+/// the frame: emerald (21, 36) and (12, 39), whose own columns fail), then
+/// as wide as asked, each first with its sides split near the
 /// wells, then whole (a well near a whole side: system 3 infeasible at
 /// every radius in emerald's (7, 4) and edge columns): the first
 /// whose links to the wells are all orthogonal (the ring's sites mirrored
@@ -211,9 +213,9 @@ fn pick<B: Backend + ?Sized>(
         true => OWN_COLUMN
             .into_iter()
             .filter(|&o| o < outer)
-            .map(|o| (o, Start::Own))
-            .chain([(outer, Start::Grown)])
-            .flat_map(|(o, s)| [(o, s, ask(true, false)), (o, s, ask(false, false))])
+            .map(|o| (o, Start::Own, false))
+            .chain([(outer, Start::Reach, true), (outer, Start::Grown, false)])
+            .flat_map(|(o, s, c)| [(o, s, ask(true, c)), (o, s, ask(false, c))])
             .collect(),
         false => [
             (Start::Reach, ask(false, true)),
@@ -229,7 +231,12 @@ fn pick<B: Backend + ?Sized>(
     for (r, from, ask) in tries {
         let start = match from {
             Start::Own => Some(own.iter().copied().collect()),
-            Start::Reach => Some(section::columns(sec.grid, sec.points, sec.rs, r)?),
+            Start::Reach => Some(
+                section::columns(sec.grid, sec.points, sec.rs, r)?
+                    .into_iter()
+                    .filter(|c| cols.contains(c))
+                    .collect(),
+            ),
             Start::Grown => None,
         };
         let Some((m, found)) = sec.mesh(backend, r, start, ask)? else {
