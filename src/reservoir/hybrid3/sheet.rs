@@ -347,8 +347,8 @@ impl Cpg<'_> {
             true => vec![poly.clone()],
             false => {
                 let all = ears(&poly)?;
-                match (all.iter().any(spans), halves(&poly, d0, d1)) {
-                    (true, Some([h0, h1])) => [ears(&h0)?, ears(&h1)?].concat(),
+                match all.iter().any(spans).then(|| halves(&poly, d0, d1)) {
+                    Some(Some([h0, h1])) => [ears(&h0)?, ears(&h1)?].concat(),
                     _ => all,
                 }
             }

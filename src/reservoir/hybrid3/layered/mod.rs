@@ -226,17 +226,23 @@ fn pick<B: Backend + ?Sized>(
         .map(|(s, a)| (outer, s, a))
         .collect(),
     };
+    // the columns the outer radius reaches (within the frame), once
+    let reach: Option<BTreeSet<[usize; 2]>> =
+        match tries.iter().any(|t| matches!(t.1, Start::Reach)) {
+            true => Some(
+                section::columns(sec.grid, sec.points, sec.rs, outer)?
+                    .into_iter()
+                    .filter(|c| cols.contains(c))
+                    .collect(),
+            ),
+            false => None,
+        };
     let mut best: Option<(usize, Hybrid, Vec<Cavity>)> = None;
     let mut why = "the section's sides could not be moved in".to_string();
     for (r, from, ask) in tries {
         let start = match from {
             Start::Own => Some(own.iter().copied().collect()),
-            Start::Reach => Some(
-                section::columns(sec.grid, sec.points, sec.rs, r)?
-                    .into_iter()
-                    .filter(|c| cols.contains(c))
-                    .collect(),
-            ),
+            Start::Reach => reach.clone(),
             Start::Grown => None,
         };
         let Some((m, found)) = sec.mesh(backend, r, start, ask)? else {
