@@ -75,3 +75,25 @@ fn out_of_range_and_degenerate_inputs_are_errors() {
         out.report.certificate
     );
 }
+
+/// A side split by a point a hair inside the domain (as split points of a
+/// slanted side round): the hull then has a sliver beyond the side, whose
+/// power centre lies beyond doubles. The sites outside the side are taken
+/// nearer along their dual edges: meshed and certified.
+#[test]
+fn a_side_split_a_hair_inward_is_meshed() {
+    let b = default_backend();
+    for eps in [1e-300, 1e-17] {
+        let cx = Complex::new(
+            vec![[0.0, 0.0], [1.0, eps], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]],
+            vec![[0, 1], [1, 2], [2, 3], [3, 4], [4, 0]],
+        );
+        let tag = format!("hair-{eps:e}");
+        let out = run(&b, &cx, &tag, true).unwrap_or_else(|e| panic!("{tag}: {e}"));
+        assert!(
+            out.report.certificate.conforms(),
+            "{tag}: {:?}",
+            out.report.certificate
+        );
+    }
+}

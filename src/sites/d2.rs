@@ -18,6 +18,10 @@ use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 mod extra;
 
+/// How far along its dual edge (in lengths of its segment) a segment's
+/// site is looked for.
+const DUAL_REACH: f64 = 1e4;
+
 /// What a site is for.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Role {
@@ -152,7 +156,14 @@ impl Sites {
             .par_iter()
             .enumerate()
             .map(|(k, &[i, j])| {
+                // a site may lie anywhere on its dual edge: its far end
+                // kept within reach (a sliver on the hull, split points of
+                // a side rounded a hair inward, puts it beyond doubles)
                 let (tl, tr) = s.dual_params(rt, i, j);
+                let (tl, tr) = (
+                    tl.map(|t| t.min(DUAL_REACH)),
+                    tr.map(|t| t.max(-DUAL_REACH)),
+                );
                 // (left, ta, tb, fraction, movable) of the two sites
                 let placements = if failed[k] {
                     // The dual edge misses the segment: both sites on it, fixed.
