@@ -112,7 +112,7 @@ fn emerald_wells_on_twisted_layers() {
         orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
             .unwrap();
     // 1-based column, layers (1-based), what it is
-    let cases: [([usize; 2], Option<[usize; 2]>, &str); 11] = [
+    let cases: [([usize; 2], Option<[usize; 2]>, &str); 12] = [
         ([19, 18], Some([5, 8]), "leaning column, layers 5-8"),
         ([1, 20], Some([5, 8]), "at the grid's edge, layers 5-8"),
         ([19, 18], None, "leaning column, every layer"),
@@ -160,6 +160,10 @@ fn emerald_wells_on_twisted_layers() {
             Some([5, 8]),
             "split sides rounding inward, layers 5-8",
         ),
+        // completed in layers 5-8 of which 5-7 are inactive: the cavity
+        // ends at them (it once took one layer beyond and fell to the 3D
+        // transition: 160 of 286 sites outside)
+        ([4, 9], Some([5, 8]), "below inactive cells, layers 5-8"),
     ];
     let b = &*compiled()[0];
     let mut wells: Vec<(Well3, String, &str)> = cases

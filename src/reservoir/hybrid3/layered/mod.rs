@@ -60,7 +60,11 @@ pub(crate) fn build<B: Backend + ?Sized>(
         }
         let k0 = p.cells.iter().map(|c| c[2]).min().unwrap_or(0);
         let k1 = p.cells.iter().map(|c| c[2]).max().unwrap_or(0);
-        spans.push([k0.saturating_sub(1), (k1 + 1).min(g.nz - 1)]);
+        // a layer beyond each end where the cell there is live (an
+        // inactive cell over a completion ends the cavity instead)
+        let lo = k0.checked_sub(1).filter(|&k| cpg.live([i, j, k]));
+        let hi = Some(k1 + 1).filter(|&k| k < g.nz && cpg.live([i, j, k]));
+        spans.push([lo.unwrap_or(k0), hi.unwrap_or(k1)]);
     }
     // wells whose spans overlap or touch share a section (so that
     // cavities of two sections never meet face to face)
