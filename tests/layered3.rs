@@ -112,7 +112,7 @@ fn emerald_wells_on_twisted_layers() {
         orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
             .unwrap();
     // 1-based column, layers (1-based), what it is
-    let cases: [([usize; 2], Option<[usize; 2]>, &str); 12] = [
+    let cases: [([usize; 2], Option<[usize; 2]>, &str); 13] = [
         ([19, 18], Some([5, 8]), "leaning column, layers 5-8"),
         ([1, 20], Some([5, 8]), "at the grid's edge, layers 5-8"),
         ([19, 18], None, "leaning column, every layer"),
@@ -164,6 +164,15 @@ fn emerald_wells_on_twisted_layers() {
         // ends at them (it once took one layer beyond and fell to the 3D
         // transition: 160 of 286 sites outside)
         ([4, 9], Some([5, 8]), "below inactive cells, layers 5-8"),
+        // nearly a triangle, the well 9 m from its long side: with pieces
+        // as long as their distance to the well, system 3 was infeasible
+        // at every radius (grown to 19 columns: 18 sites outside, 36
+        // links to the well 18.6 degrees off, 12 one-sided)
+        (
+            [12, 39],
+            Some([5, 8]),
+            "the well near a long side, layers 5-8",
+        ),
     ];
     let b = &*compiled()[0];
     let mut wells: Vec<(Well3, String, &str)> = cases

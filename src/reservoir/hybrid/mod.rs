@@ -86,10 +86,10 @@ pub struct HybridOptions {
     /// their sites on its perpendicular bisector where weights are zero).
     pub layered_section: bool,
     /// Every cavity side split into pieces no longer than its distance to
-    /// the nearest well polygon, not only those on the mesh's outer
-    /// boundary (a layered section keeps no reservoir cells to anchor
-    /// them at): a well near a side then does not make system 3
-    /// infeasible.
+    /// the nearest well polygon, nor than two outer radii of the smallest
+    /// radial mesh, not only those on the mesh's outer boundary (a layered
+    /// section keeps no reservoir cells to anchor them at): a well near a
+    /// side then does not make system 3 infeasible.
     pub split_sides: bool,
     /// The cavities' columns (a flag per column, `j * nx + i`) where the
     /// caller has chosen them; still grown where the transition needs

@@ -38,13 +38,20 @@ pub(super) struct Transition {
 
 /// Pieces for a side that may be split: none longer than `share` of its
 /// distance to the nearest well polygon (at most 1, so that it stays
-/// Gabriel).
-fn pieces_near_wells(placed: &[Placed], pp: [f64; 2], pq: [f64; 2], share: f64) -> usize {
+/// Gabriel), nor than `longest`.
+fn pieces_near_wells(
+    placed: &[Placed],
+    pp: [f64; 2],
+    pq: [f64; 2],
+    share: f64,
+    longest: f64,
+) -> usize {
     let gap = share
         * placed
             .iter()
             .map(|w| to_segment(w.centre, [pp, pq]) - w.radii.last().unwrap())
             .fold(f64::INFINITY, f64::min);
+    let gap = gap.min(longest);
     let len = (pq[0] - pp[0]).hypot(pq[1] - pp[1]);
     ((len / gap.max(len / 64.0)).ceil() as usize).clamp(1, 64)
 }
@@ -69,6 +76,51 @@ fn split(cx: &mut Complex, u: u32, v: u32, pieces: usize) -> Vec<(u32, u32)> {
     ids.windows(2).map(|w| (w[0], w[1])).collect()
 }
 
+/// The longest piece a split side may have (layered sections): two outer
+/// radii of the smallest radial mesh. In a column nearly a triangle with
+/// the well near its long side (emerald (12, 39)), pieces as long as their
+/// distance to the well left system 3 infeasible at every radius; so
+/// short, feasible. Unbounded where sides are not split.
+fn longest_piece(placed: &[Placed], opts: &HybridOptions) -> f64 {
+    match opts.split_sides {
+        true => {
+            2.0 * placed
+                .iter()
+                .map(|w| *w.radii.last().unwrap())
+                .fold(f64::INFINITY, f64::min)
+        }
+        false => f64::INFINITY,
+    }
+}
+
+/// Each well's outer polygon (m sides, anchored at the outer ring's sites
+/// across its chords, owned by the well's column), with a hole at it.
+fn well_polygons(
+    cx: &mut Complex,
+    anchors: &mut Vec<Option<[f64; 2]>>,
+    owner: &mut Vec<usize>,
+    placed: &[Placed],
+    well_column: &[usize],
+    m: usize,
+) {
+    for (w, &c) in placed.iter().zip(well_column) {
+        let r = *w.radii.last().unwrap();
+        // the outer ring's sites, across the chords
+        let rho = *site_radii(&w.radii, m).last().unwrap();
+        let first = cx.points.len() as u32;
+        for s in 0..m {
+            cx.points.push(polygon_point(w.centre, r, s, m));
+        }
+        for s in 0..m {
+            cx.segments
+                .push([first + s as u32, first + ((s + 1) % m) as u32]);
+            anchors.push(Some(radial_site(w.centre, rho, s, m)));
+            owner.push(c);
+        }
+        cx.holes.push(w.centre);
+    }
+}
+
 /// The constraint complex of the cavities: column sides between a cavity
 /// column and anything else (anchored at the reservoir site across), faults
 /// inside cavities, and the wells' outer polygons (anchored at the radial
@@ -90,6 +142,7 @@ fn complex(
     let mut anchors = vec![]; // per segment, the site across it
     let mut outer_pieces: Vec<(u32, u32)> = vec![]; // on the outer boundary
     let mut fault_segments = 0;
+    let longest = longest_piece(placed, opts);
     let mut vid: FastMap<u32, u32> = FastMap::default();
     let mut vertex = |cx: &mut Complex, p: u32| -> u32 {
         *vid.entry(p).or_insert_with(|| {
@@ -121,7 +174,7 @@ fn complex(
                 let outer_side = !(a < nx && b < ny && grid.active(a, b, k));
                 let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
                 let pieces = if outer_side || opts.split_sides {
-                    pieces_near_wells(placed, pp, pq, 1.0)
+                    pieces_near_wells(placed, pp, pq, 1.0, longest)
                 } else {
                     1
                 };
@@ -155,7 +208,13 @@ fn complex(
             false => push_point(cx, at(t)),
         };
         let (u, v) = (end(&mut cx, t0, p), end(&mut cx, t1, q));
-        let pieces = pieces_near_wells(placed, at(t0), at(t1), opts.piece_share.min(1.0));
+        let pieces = pieces_near_wells(
+            placed,
+            at(t0),
+            at(t1),
+            opts.piece_share.min(1.0),
+            f64::INFINITY,
+        );
         for (from, to) in split(&mut cx, u, v, pieces) {
             cx.segments.push([from, to]);
             anchors.push(None);
@@ -183,7 +242,8 @@ fn complex(
             for x in chain {
                 let id = push_point(&mut cx, x);
                 if let Some(p) = prev {
-                    let pieces = pieces_near_wells(placed, cx.points[p as usize], x, 1.0);
+                    let pieces =
+                        pieces_near_wells(placed, cx.points[p as usize], x, 1.0, f64::INFINITY);
                     for (from, to) in split(&mut cx, p, id, pieces) {
                         cx.segments.push([from, to]);
                         anchors.push(None);
@@ -195,22 +255,7 @@ fn complex(
             }
         }
     }
-    for (w, &c) in placed.iter().zip(well_column) {
-        let r = *w.radii.last().unwrap();
-        // the outer ring's sites, across the chords
-        let rho = *site_radii(&w.radii, m).last().unwrap();
-        let first = cx.points.len() as u32;
-        for s in 0..m {
-            cx.points.push(polygon_point(w.centre, r, s, m));
-        }
-        for s in 0..m {
-            cx.segments
-                .push([first + s as u32, first + ((s + 1) % m) as u32]);
-            anchors.push(Some(radial_site(w.centre, rho, s, m)));
-            owner.push(c);
-        }
-        cx.holes.push(w.centre);
-    }
+    well_polygons(&mut cx, &mut anchors, &mut owner, placed, well_column, m);
     let cx = Complex {
         holes: cx.holes,
         anchors,
