@@ -259,3 +259,69 @@ fn emerald_wells_on_twisted_layers() {
         write_as(&format!("twisted3-emerald-layered-{file}"), &h);
     }
 }
+
+/// A sweep of emerald's live columns of every other row, a well in layers
+/// 5-8 of each (about two minutes; `cargo test --release --test layered3
+/// -- --ignored`): every one layered, no transition site outside, and the
+/// links to the wells and to the reservoir counted.
+#[test]
+#[ignore]
+fn emerald_sweep() {
+    let g =
+        orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
+            .unwrap();
+    let b = &*compiled()[0];
+    let (mut wells, mut sites, mut outside, mut slowest) = (0, 0, 0, 0.0f64);
+    let sum = |h: &orthomesh::reservoir::hybrid3::Hybrid3, pair: &str, acc: &mut [usize; 3]| {
+        let c = &h.report.by_regions[pair];
+        acc[0] += c.connections;
+        acc[1] += c.non_orthogonal;
+        acc[2] += c.mirrored;
+    };
+    let [mut tw, mut rt, mut rw] = [[0; 3]; 3];
+    for i in 0..g.nx {
+        for j in (0..g.ny).step_by(2) {
+            if (4..8).all(|k| !g.active(i, j, k)) {
+                continue;
+            }
+            let w = Well3 {
+                name: "W".into(),
+                i,
+                j,
+                k: Some([4, 7]),
+                radius: 0.1,
+                ..Default::default()
+            };
+            let t = std::time::Instant::now();
+            // columns whose cells there are all pinched are refused
+            let h = match build(b, &g, &[w], &layered()) {
+                Ok(h) => h,
+                Err(e) if e.to_string().contains("no active cell with thickness") => continue,
+                Err(e) => panic!("({}, {}): {e}", i + 1, j + 1),
+            };
+            slowest = slowest.max(t.elapsed().as_secs_f64());
+            let r = &h.report;
+            assert_eq!(r.sections.len(), 1, "({}, {}): {:?}", i + 1, j + 1, r.notes);
+            wells += 1;
+            sites += r.cells[1];
+            outside += r.sites_outside;
+            sum(&h, "transition-well", &mut tw);
+            sum(&h, "reservoir-transition", &mut rt);
+            sum(&h, "reservoir-well", &mut rw);
+        }
+    }
+    println!(
+        "emerald sweep ({}): {wells} wells layered, slowest {slowest:.1} s; {outside} of {sites} \
+         transition sites outside; links to the wells {} of {} off orthogonal; crossing their \
+         faces: reservoir-transition {} of {}, reservoir-well {} of {}",
+        b.name(),
+        tw[1],
+        tw[0],
+        rt[2],
+        rt[0],
+        rw[2],
+        rw[0]
+    );
+    assert!(wells > 200);
+    assert_eq!(outside, 0);
+}
