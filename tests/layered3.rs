@@ -17,6 +17,25 @@ fn layered() -> Hybrid3Options {
     }
 }
 
+/// Emerald with its hole (leaning pillars, throws, twisted tops).
+fn emerald() -> orthomesh::reservoir::CornerPointGrid {
+    orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
+        .unwrap()
+}
+
+/// Well W of radius 0.1 down column (i, j), in layers k (0-based; every
+/// layer where None).
+fn well_w([i, j]: [usize; 2], k: Option<[usize; 2]>) -> Well3 {
+    Well3 {
+        name: "W".into(),
+        i,
+        j,
+        k,
+        radius: 0.1,
+        ..Default::default()
+    }
+}
+
 /// SPE9's grid (dipping 10 degrees, layers 4 to 98 ft thick) with its
 /// deck's 26 wells: every link inside the cavities orthogonal, every
 /// transition site inside its cell, the cavities filled once.
@@ -108,9 +127,7 @@ fn spe9_all_wells_on_layered_sections() {
 /// each column.
 #[test]
 fn emerald_wells_on_twisted_layers() {
-    let g =
-        orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
-            .unwrap();
+    let g = emerald();
     // 1-based column, layers (1-based), what it is
     let cases: [([usize; 2], Option<[usize; 2]>, &str); 13] = [
         ([19, 18], Some([5, 8]), "leaning column, layers 5-8"),
@@ -178,14 +195,7 @@ fn emerald_wells_on_twisted_layers() {
     let mut wells: Vec<(Well3, String, &str)> = cases
         .into_iter()
         .map(|([i, j], k, what)| {
-            let w = Well3 {
-                name: "W".into(),
-                i: i - 1,
-                j: j - 1,
-                k: k.map(|k| k.map(|x| x - 1)),
-                radius: 0.1,
-                ..Default::default()
-            };
+            let w = well_w([i - 1, j - 1], k.map(|k| k.map(|x| x - 1)));
             let layers = k.map_or("all".to_string(), |[a, z]| format!("{a}-{z}"));
             (w, format!("{i}-{j}-{layers}"), what)
         })
@@ -267,9 +277,7 @@ fn emerald_wells_on_twisted_layers() {
 #[test]
 #[ignore]
 fn emerald_sweep() {
-    let g =
-        orthomesh::io::eclipse::read_grid(Path::new("tests/data/grids/eme_small_w_hole.grdecl"))
-            .unwrap();
+    let g = emerald();
     let b = &*compiled()[0];
     let (mut wells, mut sites, mut outside, mut slowest) = (0, 0, 0, 0.0f64);
     let sum = |h: &orthomesh::reservoir::hybrid3::Hybrid3, pair: &str, acc: &mut [usize; 3]| {
@@ -284,14 +292,7 @@ fn emerald_sweep() {
             if (4..8).all(|k| !g.active(i, j, k)) {
                 continue;
             }
-            let w = Well3 {
-                name: "W".into(),
-                i,
-                j,
-                k: Some([4, 7]),
-                radius: 0.1,
-                ..Default::default()
-            };
+            let w = well_w([i, j], Some([4, 7]));
             let t = std::time::Instant::now();
             // columns whose cells there are all pinched are refused
             let h = match build(b, &g, &[w], &layered()) {

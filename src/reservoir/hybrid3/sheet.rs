@@ -316,10 +316,7 @@ impl Cpg<'_> {
         if shoelace(poly.len(), |k| xy(&poly[k])) < 0.0 {
             poly.reverse();
         }
-        let least = (0..poly.len())
-            .min_by(|&a, &b| lex(&poly[a], &poly[b]))
-            .unwrap_or(0);
-        poly.rotate_left(least);
+        from_least(&mut poly);
         let ears = |poly: &[[f64; 3]]| -> Result<Vec<Vec<[f64; 3]>>> {
             if planar(poly) {
                 return Ok(vec![poly.to_vec()]);
@@ -379,11 +376,19 @@ fn halves(poly: &[[f64; 3]], a: [f64; 3], b: [f64; 3]) -> Option<[Vec<[f64; 3]>;
         let mut h: Vec<[f64; 3]> = (0..=(to + n - from) % n)
             .map(|k| poly[(from + k) % n])
             .collect();
-        let least = (0..h.len()).min_by(|&x, &y| lex(&h[x], &h[y])).unwrap_or(0);
-        h.rotate_left(least);
+        from_least(&mut h);
         h
     };
     (i != j).then(|| [arc(i, j), arc(j, i)])
+}
+
+/// A polygon turned to start at its least point (`lex`), so that the
+/// cells on both sides of a face cut it alike.
+fn from_least(poly: &mut [[f64; 3]]) {
+    let least = (0..poly.len())
+        .min_by(|&a, &b| lex(&poly[a], &poly[b]))
+        .unwrap_or(0);
+    poly.rotate_left(least);
 }
 
 /// Whether a polygon's points lie in one plane, exactly.
