@@ -15,6 +15,10 @@ pub struct Options {
     /// Called as stages end and (2D) as the LP's pieces are solved:
     /// (what, done, of).
     pub progress: Option<Progress>,
+    /// 2D: at a convex corner of the domain between two segments, one site
+    /// at the power centre of their triangle in RT(w) serves both (its cell
+    /// owns the corner) where that centre lies inside the domain.
+    pub corner_sites: bool,
     /// 2D: where system 3 is infeasible, split the segments that miss their
     /// duals at Steiner points and mesh again (`split`).
     pub split_segments: bool,

@@ -154,3 +154,55 @@ fn crowded_extra_sites_mostly_find_their_cells() {
     );
     assert!(outside <= 8, "{outside} sites outside");
 }
+
+/// A square whose sides are cut 2 from each corner: with corner sites, the
+/// power centre of each corner's triangle, (1, 1) from the corner, is one
+/// site serving both sides there, and its cell is the only one at the
+/// corner (two cells meet there without). Certified on every backend.
+#[test]
+fn a_corner_site_owns_each_convex_corner() {
+    use orthomesh::backend::compiled;
+    use orthomesh::{Mesher, Options};
+    let mut points = vec![];
+    for k in 0..4 {
+        let rot = |[x, y]: [f64; 2]| match k {
+            0 => [x, y],
+            1 => [10.0 - y, x],
+            2 => [10.0 - x, 10.0 - y],
+            _ => [y, 10.0 - x],
+        };
+        points.extend([[0.0, 0.0], [2.0, 0.0], [8.0, 0.0]].map(rot));
+    }
+    let segments = (0..12u32).map(|k| [k, (k + 1) % 12]).collect();
+    let cx = Complex::new(points, segments);
+    for b in compiled() {
+        let owners = |corner_sites: bool| {
+            let out = Mesher::new(&*b)
+                .options(Options {
+                    corner_sites,
+                    ..Default::default()
+                })
+                .conform(&cx)
+                .unwrap();
+            assert_certified(&out, "square corners");
+            assert_eq!(out.report.certificate.sites_outside, 0);
+            let m = &out.mesh;
+            let at = |p: [f64; 2]| {
+                let cells = m
+                    .cells
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| c.iter().any(|&v| m.points[v as usize] == p));
+                cells.map(|(k, _)| m.sites[k]).collect::<Vec<_>>()
+            };
+            (at([0.0, 0.0]), at([10.0, 10.0]), m.cells.len())
+        };
+        let (origin, far, n) = owners(true);
+        assert_eq!(origin, vec![[1.0, 1.0]], "{}", b.name());
+        assert_eq!(far, vec![[9.0, 9.0]], "{}", b.name());
+        let (origin, _, n0) = owners(false);
+        assert_eq!(origin.len(), 2, "{}", b.name());
+        // one site for two at each of the four corners
+        assert_eq!(n0 - n, 4, "{}", b.name());
+    }
+}

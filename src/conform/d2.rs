@@ -61,7 +61,8 @@ fn with_weights<B: Backend + ?Sized>(
         .par_iter()
         .map(|&[i, j]| [inside(dom.cdt.left_of(i, j)), inside(dom.cdt.left_of(j, i))])
         .collect();
-    let mut sites = Sites::place(cx, &wts.w, &wts.rt, &wts.sys3_failed, &domain_side);
+    let corners = opts.corner_sites;
+    let mut sites = Sites::place(cx, &wts.w, &wts.rt, &wts.sys3_failed, &domain_side, corners);
     if let Some(s) = sites.unrepresentable() {
         return Err(Error::Certificate(format!(
             "{} lies beyond the range of doubles: cells this thin cannot be written in double precision",

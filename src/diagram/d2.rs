@@ -329,13 +329,18 @@ impl Diagram {
         let n = sites.len();
         let cx = &dom.complex;
         let pairs = sites.segment_pairs(cx.segments.len());
-        let mut partner = vec![u32::MAX; n];
+        // a corner's site has two partners, one per segment
+        let mut partner = vec![[u32::MAX; 2]; n];
+        let mut pair = |a: u32, b: u32| {
+            let slots = &mut partner[a as usize];
+            slots[usize::from(slots[0] != u32::MAX)] = b;
+        };
         let mut label: Vec<Option<bool>> = vec![None; n];
         let inside = |t: Option<u32>| t.is_some_and(|t| dom.inside[t as usize]);
         for (k, &[l, r]) in pairs.iter().enumerate() {
             let [i, j] = cx.segments[k];
-            partner[l as usize] = r;
-            partner[r as usize] = l;
+            pair(l, r);
+            pair(r, l);
             label[l as usize] = Some(inside(dom.cdt.left_of(i, j)));
             label[r as usize] = Some(inside(dom.cdt.left_of(j, i)));
         }
@@ -346,7 +351,8 @@ impl Diagram {
             for k in 0..3 {
                 let (a, b) = (tri[k], tri[(k + 1) % 3]);
                 let other = rt.across(t as u32, k);
-                if other.is_some_and(|o| class[o as usize] == class[t]) || partner[a as usize] == b
+                if other.is_some_and(|o| class[o as usize] == class[t])
+                    || partner[a as usize].contains(&b)
                 {
                     continue;
                 }
@@ -436,9 +442,9 @@ fn input_vertices(
         let mut served: Vec<(u32, u32)> = members
             .iter()
             .flat_map(|&s| {
-                let [i, j] = sites.served_by(s as usize);
-                let both = if i == j { vec![i] } else { vec![i, j] };
-                both.into_iter().map(move |v| (v, s))
+                let mut vs = sites.served_by(s as usize).to_vec();
+                vs.dedup();
+                vs.into_iter().map(move |v| (v, s))
             })
             .collect();
         served.sort_unstable();

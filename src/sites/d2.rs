@@ -16,6 +16,7 @@ use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
+mod corner;
 mod extra;
 
 /// How far along its dual edge (in lengths of its segment) a segment's
@@ -31,6 +32,9 @@ pub enum Role {
     /// free ends and isolated vertices among `serves`; (i, i) for a site
     /// inside the power cell of i.
     Vertex { edge: (u32, u32), serves: Vec<u32> },
+    /// The one domain-side site of the two segments (seg, left) at a
+    /// convex corner of the domain (`corner.rs`).
+    Corner { segs: [(u32, bool); 2] },
 }
 
 /// A site, exactly.
@@ -41,6 +45,8 @@ pub enum Def {
     Line { i: u32, j: u32, t: f64 },
     /// A double point serving `anchor`.
     Free { p: [f64; 2], anchor: u32 },
+    /// The power centre of a triangle of RT(w), serving its three vertices.
+    Centre { tri: [u32; 3] },
 }
 
 /// Where a site may move: t in (ta, tb) on a line, or base + t dir.
@@ -123,13 +129,16 @@ impl Sites {
     /// segment (the radical line of its pair is the segment's line wherever
     /// it is), so it goes at a scattered fraction of its dual edge, which
     /// keeps symmetric holes (a regular well polygon) from being nearly
-    /// co-orthogonal, a case only exact arithmetic could decide.
+    /// co-orthogonal, a case only exact arithmetic could decide. With
+    /// `corners`, one site serves both segments at a convex corner of the
+    /// domain where it can (`corner.rs`).
     pub fn place(
         cx: &Complex,
         w: &[f64],
         rt: &Triangulation,
         sys3_failed: &[u32],
         domain_side: &[[bool; 2]],
+        corners: bool,
     ) -> Sites {
         let p = &cx.points;
         let centres = rt
@@ -151,7 +160,7 @@ impl Sites {
             failed[k as usize] = true;
         }
         // Segment sites are independent of one another: placed in parallel.
-        let placed: Vec<[(Role, Track, f64, bool); 2]> = cx
+        let placed: Vec<[corner::Placed; 2]> = cx
             .segments
             .par_iter()
             .enumerate()
@@ -205,7 +214,13 @@ impl Sites {
                 })
             })
             .collect();
-        s.extend(placed);
+        match corners {
+            true => {
+                let found = s.corners(cx, rt, domain_side);
+                s.extend(corner::with_corners(placed, &found));
+            }
+            false => s.extend(placed),
+        }
         s.place_vertex_sites(cx, rt);
         s
     }
@@ -262,6 +277,7 @@ impl Sites {
                 p: [p[0] + t * tk.dir[0], p[1] + t * tk.dir[1]],
                 anchor,
             },
+            Def::Centre { .. } => tk.kind,
         }
     }
 
@@ -295,6 +311,10 @@ impl Sites {
                     (x - a[0]).sqr() + (y - a[1]).sqr() - Iv::of(self.weights[anchor as usize]),
                 ]
             }
+            Def::Centre { tri } => {
+                let (p, w) = self.centre_q(tri);
+                [Iv::of_q(&p[0]), Iv::of_q(&p[1]), Iv::of_q(&w)]
+            }
         }
     }
 
@@ -325,16 +345,18 @@ impl Sites {
                     let w = &d[0] * &d[0] + &d[1] * &d[1] - q(self.weights[anchor as usize]);
                     (pos, w)
                 }
+                Def::Centre { tri } => self.centre_q(tri),
             }
         }
     }
 
     /// The input vertices at which this site has that vertex's weight as its
-    /// power, by construction.
-    pub fn served_by(&self, s: usize) -> [u32; 2] {
+    /// power, by construction (repeated to fill three).
+    pub fn served_by(&self, s: usize) -> [u32; 3] {
         match self.def[s] {
-            Def::Line { i, j, .. } => [i, j],
-            Def::Free { anchor, .. } => [anchor, anchor],
+            Def::Line { i, j, .. } => [i, j, j],
+            Def::Free { anchor, .. } => [anchor; 3],
+            Def::Centre { tri } => tri,
         }
     }
 
@@ -403,6 +425,7 @@ impl Sites {
                 let [x, y] = p;
                 [x, y, w, Dyadic::int(1)]
             }
+            Def::Centre { tri } => self.centre_homogeneous(tri),
         }
     }
 
@@ -503,6 +526,7 @@ impl Sites {
                 }
                 target
             }
+            Role::Corner { .. } => return false,
             Role::Vertex { .. } => {
                 // The sampled fraction farthest inside the faces with
                 // `against` (its neighbours), among those better than now
@@ -741,6 +765,10 @@ impl Sites {
                     .collect();
                 format!("site {s} (extra site of vertex {})", ids.join(", "))
             }
+            Role::Corner { segs } => format!(
+                "site {s} (corner site of segments {} and {})",
+                cx.segment_ids[segs[0].0 as usize], cx.segment_ids[segs[1].0 as usize]
+            ),
         }
     }
 
@@ -748,8 +776,14 @@ impl Sites {
     pub fn segment_pairs(&self, nseg: usize) -> Vec<[u32; 2]> {
         let mut pairs = vec![[u32::MAX; 2]; nseg];
         for (s, r) in self.role.iter().enumerate() {
-            if let Role::Segment { seg, left } = r {
-                pairs[*seg as usize][usize::from(!*left)] = s as u32;
+            match r {
+                Role::Segment { seg, left } => pairs[*seg as usize][usize::from(!*left)] = s as u32,
+                Role::Corner { segs } => {
+                    for (seg, left) in segs {
+                        pairs[*seg as usize][usize::from(!*left)] = s as u32;
+                    }
+                }
+                Role::Vertex { .. } => {}
             }
         }
         pairs
@@ -797,131 +831,4 @@ impl crate::backend::FlipTests for Sites {
 mod exact_tests;
 
 #[cfg(test)]
-pub(crate) mod tests {
-    use super::*;
-
-    /// Unweighted sites at the given points (each a vertex serving itself).
-    pub(crate) fn points_as_sites(points: &[[f64; 2]]) -> Sites {
-        weighted_sites(points, &vec![0.0; points.len()])
-    }
-
-    /// Unweighted sites at the given points, site s free to move to
-    /// points[s] + f dirs[s] (f = 0 now).
-    pub(crate) fn sites_on_tracks(points: &[[f64; 2]], dirs: &[[f64; 2]]) -> Sites {
-        let mut s = points_as_sites(points);
-        for (k, &d) in dirs.iter().enumerate() {
-            s.track[k].tb = 1.0;
-            s.track[k].dir = d;
-        }
-        s
-    }
-
-    /// Sites at the given points with weights -w (each serves itself, a
-    /// vertex of weight w).
-    pub(crate) fn weighted_sites(points: &[[f64; 2]], w: &[f64]) -> Sites {
-        let mut s = Sites {
-            points: points.to_vec(),
-            weights: w.to_vec(),
-            ..Default::default()
-        };
-        for (i, &p) in points.iter().enumerate() {
-            let track = Track {
-                ta: 0.0,
-                tb: 0.0,
-                kind: Def::Free {
-                    p,
-                    anchor: i as u32,
-                },
-                dir: [0.0; 2],
-            };
-            let role = Role::Vertex {
-                edge: (i as u32, i as u32),
-                serves: vec![i as u32],
-            };
-            s.push(role, track, 0.0, false);
-        }
-        s
-    }
-
-    #[test]
-    fn power_test_is_the_incircle_test_for_zero_weights() {
-        // d inside the circle through a, b, c (ccw): the edge is not regular.
-        let s = points_as_sites(&[[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [1.5, 1.5], [3.0, 3.0]]);
-        assert_eq!(s.power_test(0, 1, 2, 3), Ordering::Greater);
-        assert_eq!(s.power_test(0, 1, 2, 4), Ordering::Less);
-        assert_eq!(s.orient(0, 1, 2), Ordering::Greater);
-        assert_eq!(s.exact_evaluations.load(Relaxed), 0);
-    }
-
-    #[test]
-    fn cocircular_sites_are_decided_exactly() {
-        // Exactly cocircular: the intervals hold zero, the rationals say so.
-        let s = points_as_sites(&[[0.0, 0.0], [0.1, 0.0], [0.1, 0.1], [0.0, 0.1]]);
-        assert_eq!(s.power_test(0, 1, 2, 3), Ordering::Equal);
-        assert!(s.exact_evaluations.load(Relaxed) > 0);
-        // 0.1 is not 1/10: the site one ulp off the circle is decided too.
-        let off = f64::from_bits(0.1f64.to_bits() + 1);
-        let t = points_as_sites(&[[0.0, 0.0], [0.1, 0.0], [0.1, 0.1], [0.0, off]]);
-        assert_eq!(t.power_test(0, 1, 2, 3), Ordering::Less);
-    }
-
-    #[test]
-    fn sites_on_a_radical_line_serve_both_ends_exactly() {
-        let mut s = points_as_sites(&[[0.0, 0.0], [3.0, 1.0]]);
-        s.weights = vec![0.5, -0.25];
-        let track = Track {
-            ta: 0.0,
-            tb: 1.0,
-            kind: Def::Line { i: 0, j: 1, t: 0.0 },
-            dir: [0.0; 2],
-        };
-        let role = Role::Segment { seg: 0, left: true };
-        s.push(role, track, 0.3, true);
-        let (p, w) = s.exact(2);
-        for v in 0..2 {
-            let d = [&p[0] - q(s.points[v][0]), &p[1] - q(s.points[v][1])];
-            let power = &d[0] * &d[0] + &d[1] * &d[1] - &w;
-            assert_eq!(power, q(s.weights[v]), "vertex {v}");
-        }
-        // and the enclosures hold the exact values
-        for (x, i) in p.iter().zip(&s.iv[2]) {
-            assert!(q(i.lo) <= *x && *x <= q(i.hi));
-        }
-        assert!(q(s.iv[2][2].lo) <= w && w <= q(s.iv[2][2].hi));
-    }
-
-    #[test]
-    fn a_vertex_site_is_held_to_the_cell_it_serves_exactly() {
-        // Vertex 0 at the origin, neighbours 1 at (1, 0) and 2 at (-1, 0):
-        // its cell is the strip |x| <= 1/2 (zero weights); site 3 serves 0.
-        let mut s = points_as_sites(&[[0.0, 0.0], [1.0, 0.0], [-1.0, 0.0]]);
-        s.cell_walls = vec![vec![1, 2], vec![], vec![]];
-        let track = Track {
-            ta: 0.0,
-            tb: 1.0,
-            kind: Def::Free {
-                p: [0.0, 5.0],
-                anchor: 0,
-            },
-            dir: [1.0, 0.0],
-        };
-        let role = Role::Vertex {
-            edge: (0, 0),
-            serves: vec![0],
-        };
-        s.push(role, track, 0.25, true);
-        assert!(s.in_served_cells(3));
-        // on the wall x = 1/2 exactly: closed cell, still serves
-        s.move_to(3, 0.5);
-        assert!(s.in_served_cells(3));
-        // one ulp beyond it: decided exactly, outside
-        s.move_to(3, f64::from_bits(0.5f64.to_bits() + 1));
-        assert!(!s.in_served_cells(3));
-    }
-
-    #[test]
-    fn inside_with_respect_to_a_neighbour() {
-        let s = points_as_sites(&[[0.0, 0.0], [1.0, 0.0]]);
-        assert!(s.inside_wrt(0, 1) && s.inside_wrt(1, 0));
-    }
-}
+pub(crate) mod tests;

@@ -104,6 +104,11 @@ pub struct HybridOptions {
     /// this share of their distance to the nearest well polygon: the
     /// transition's cells near the wells are that much finer.
     pub piece_share: f64,
+    /// Each convex corner of the cavities cut off by a short piece of both
+    /// sides and owned by one cell (`Options::corner_sites`): a layered
+    /// section's prisms lean off its walls, and the cell beside a corner
+    /// then reaches the two walls without crossing the pillar.
+    pub corner_cells: bool,
 }
 
 impl Default for HybridOptions {
@@ -126,6 +131,7 @@ impl Default for HybridOptions {
             cavity: None,
             in_column: false,
             piece_share: 1.0,
+            corner_cells: false,
         }
     }
 }

@@ -64,16 +64,60 @@ fn push_point(cx: &mut Complex, x: [f64; 2]) -> u32 {
 
 /// The side u - v cut into equal pieces (new vertices in between).
 fn split(cx: &mut Complex, u: u32, v: u32, pieces: usize) -> Vec<(u32, u32)> {
+    split_ends(cx, u, v, pieces, [0.0; 2])
+}
+
+/// The side u - v with pieces of `ends` (shares of it, 0 for none) cut off
+/// at its ends, the rest cut into equal pieces.
+fn split_ends(cx: &mut Complex, u: u32, v: u32, pieces: usize, ends: [f64; 2]) -> Vec<(u32, u32)> {
     let (pu, pv) = (cx.points[u as usize], cx.points[v as usize]);
+    let (t0, t1) = (ends[0], 1.0 - ends[1]);
+    let mut ts: Vec<f64> = (0..=pieces)
+        .map(|k| t0 + (t1 - t0) * k as f64 / pieces as f64)
+        .collect();
+    ts.retain(|&t| t > 0.0 && t < 1.0);
     let mut ids = vec![u];
-    for piece in 1..pieces {
-        let t = piece as f64 / pieces as f64;
+    for t in ts {
         cx.points
             .push([pu[0] + t * (pv[0] - pu[0]), pu[1] + t * (pv[1] - pu[1])]);
         ids.push(cx.points.len() as u32 - 1);
     }
     ids.push(v);
     ids.windows(2).map(|w| (w[0], w[1])).collect()
+}
+
+/// A layered section's corner pieces: at a pillar where the cavity has one
+/// column of the four (a convex corner of its outline), the side's share
+/// cut off there, so that the corner's triangle is in the weighted
+/// Delaunay triangulation and one cell can own the corner (`corner_sites`):
+/// an eighth of the side, within half the distance to the nearest well
+/// polygon.
+fn corner_ends(layer: &Layer, cavity: &[bool], placed: &[Placed], (p, q): (u32, u32)) -> [f64; 2] {
+    let (nx, ny) = (layer.nx, layer.ny);
+    let convex = |pid: u32| {
+        let (pi, pj) = (pid as usize % (nx + 1), pid as usize / (nx + 1));
+        let around = [(0, 0), (1, 0), (0, 1), (1, 1)]
+            .iter()
+            .filter(|(di, dj)| {
+                let (i, j) = ((pi + di).wrapping_sub(1), (pj + dj).wrapping_sub(1));
+                i < nx && j < ny && cavity[layer.col(i, j)]
+            })
+            .count();
+        around == 1
+    };
+    let (pp, pq) = (layer.view.pillar[p as usize], layer.view.pillar[q as usize]);
+    let len = (pq[0] - pp[0]).hypot(pq[1] - pp[1]);
+    [p, q].map(|x| {
+        if !convex(x) {
+            return 0.0;
+        }
+        let at = layer.view.pillar[x as usize];
+        let gap = placed
+            .iter()
+            .map(|w| (w.centre[0] - at[0]).hypot(w.centre[1] - at[1]) - w.radii.last().unwrap())
+            .fold(f64::INFINITY, f64::min);
+        (len / 8.0).min(0.5 * gap) / len
+    })
 }
 
 /// The longest piece a split side may have (layered sections): two outer
@@ -182,7 +226,11 @@ fn complex(
                 // dual line of each piece (orthogonal interface); a
                 // layered section keeps no reservoir cells.
                 let across = (!outer_side && !opts.layered_section).then(|| view.centroid(a, b));
-                for (from, to) in split(&mut cx, u, v, pieces) {
+                let ends = match opts.corner_cells {
+                    true => corner_ends(layer, cavity, placed, (p, q)),
+                    false => [0.0; 2],
+                };
+                for (from, to) in split_ends(&mut cx, u, v, pieces, ends) {
                     cx.segments.push([from, to]);
                     anchors.push(across);
                     owner.push(col(i, j));
@@ -296,6 +344,9 @@ pub(super) fn solve<B: Backend + ?Sized>(
         let allow = opts.allow_sites_outside && give_up;
         let options = Options {
             allow_sites_outside: allow,
+            // a layered section's prisms lean off the walls: each corner
+            // of a cavity then belongs to one cell
+            corner_sites: opts.corner_cells,
             ..Default::default()
         };
         match conform2(backend, &cx, &options) {

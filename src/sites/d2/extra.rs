@@ -201,7 +201,7 @@ impl Sites {
         let Role::Vertex { serves, .. } = &self.role[s] else {
             return true;
         };
-        let [i, j] = self.served_by(s);
+        let [i, j, _] = self.served_by(s);
         serves.iter().all(|&v| {
             let walls = self.cell_walls.get(v as usize).map_or(&[][..], |w| &w[..]);
             walls

@@ -212,7 +212,14 @@ fn pick<B: Backend + ?Sized>(
     who: &str,
 ) -> Result<std::result::Result<(Hybrid, Vec<Cavity>), String>> {
     let twisted = sec.frame.twisted;
-    let ask = |split, in_column| Ask { split, in_column };
+    // where the walls lean off the prisms, each convex corner of a cavity
+    // is owned by one cell
+    let corners = !twisted && leaning(cpg, sec.frame, own);
+    let ask = |split, in_column| Ask {
+        split,
+        in_column,
+        corners,
+    };
     let tries: Vec<(f64, Start, Ask)> = match twisted {
         true => OWN_COLUMN
             .into_iter()
@@ -307,6 +314,26 @@ fn section_points(
             (wells[w].name.clone(), [q[0], q[1]], wells[w].radius)
         })
         .collect()
+}
+
+/// Whether the wells' columns' pillars lean, between the frame's top and
+/// bottom, along their columns' I or J sides (in the frame, where prisms
+/// stand upright): a prism beside a pillar then reaches past it.
+fn leaning(cpg: &Cpg, f: &Frame, own: &[[usize; 2]]) -> bool {
+    let g = cpg.g;
+    let [top, bottom] = f.ends();
+    let at = |i: usize, j: usize, h: f64| f.crossing(g.coord[j * (g.nx + 1) + i], h);
+    let mut out = false;
+    for &[i, j] in own {
+        let (lo, hi) = (at(i, j, bottom), at(i, j, top));
+        let lean = [hi[0] - lo[0], hi[1] - lo[1]];
+        for far in [at(i + 1, j, top), at(i, j + 1, top)] {
+            let t = [far[0] - hi[0], far[1] - hi[1]];
+            let len = t[0].hypot(t[1]);
+            out |= (lean[0] * t[0] + lean[1] * t[1]).abs() > frame::PLANAR * f.size * len;
+        }
+    }
+    out
 }
 
 /// The outer radii (of the head cell's side) at which twisted layers'

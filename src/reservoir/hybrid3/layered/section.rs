@@ -38,6 +38,8 @@ pub(super) fn grid(
 pub(super) struct Ask {
     pub(super) split: bool,
     pub(super) in_column: bool,
+    /// Convex corners of the cavities owned by one cell each.
+    pub(super) corners: bool,
 }
 
 /// The 2D hybrid's options for the section: the 3D hybrid's rings, sectors
@@ -72,6 +74,7 @@ fn options(
         layered_section: true,
         split_sides: ask.split,
         in_column: ask.in_column,
+        corner_cells: ask.corners,
         piece_share: if ask.in_column { 0.5 } else { 1.0 },
         cavity: cavity.map(|cols| {
             let mut flags = vec![false; s.nx * s.ny];
