@@ -62,17 +62,6 @@ pub fn build<B: Backend + ?Sized>(
     for w in wells.iter().filter(|w| w.path.is_none()) {
         notes.extend(path::completed(&cpg, w)?.1);
     }
-    // one path per well, or per straight leg of a trajectory that bends
-    let mut owner = vec![];
-    let mut legs = vec![];
-    let mut paths = vec![];
-    for (n, w) in wells.iter().enumerate() {
-        for (leg, path) in bend::paths(&cpg, w, n, opts.outer)? {
-            owner.push(n);
-            legs.push(leg);
-            paths.push(path);
-        }
-    }
     if let Some(section) = opts.layered {
         // a completion that changes column: a radial mesh per column
         let (split, of) = stretches(wells);
@@ -98,6 +87,17 @@ pub fn build<B: Backend + ?Sized>(
                 }
                 Err(why) => notes.push(format!("the transition is meshed in 3D: {why}")),
             }
+        }
+    }
+    // the 3D transition: one path per well, or per straight leg of a trajectory that bends
+    let mut owner = vec![];
+    let mut legs = vec![];
+    let mut paths = vec![];
+    for (n, w) in wells.iter().enumerate() {
+        for (leg, path) in bend::paths(&cpg, w, n, opts.outer)? {
+            owner.push(n);
+            legs.push(leg);
+            paths.push(path);
         }
     }
     let wells = &legs;
