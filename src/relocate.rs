@@ -73,15 +73,23 @@ pub fn why(
         return (vec![], vec![]);
     }
     let mut crowding = std::collections::BTreeSet::new();
-    let mut segment_of = |s: usize| {
-        if let crate::sites::Role::Segment { seg, .. } = sites.role[s] {
+    let mut segment_of = |s: usize| match sites.role[s] {
+        crate::sites::Role::Segment { seg, .. } => {
             crowding.insert(cx.segment_ids[seg as usize]);
         }
+        crate::sites::Role::Corner { segs } => {
+            crowding.extend(segs.map(|(seg, _)| cx.segment_ids[seg as usize]));
+        }
+        crate::sites::Role::Vertex { .. } => {}
     };
     let mut messages = vec![];
     for &s in outside {
         messages.push(if rt.hidden.contains(&(s as u32)) {
             "hidden: other sites' power is lower everywhere, it has no cell".into()
+        } else if matches!(sites.role[s], crate::sites::Role::Corner { .. }) {
+            segment_of(s);
+            "a corner's site stays at its triangle's power centre, beyond a face with a neighbour"
+                .into()
         } else if !sites.movable[s] {
             segment_of(s);
             "its segment misses its dual edge, so it cannot be on the segment's side".into()
