@@ -109,6 +109,9 @@ struct Build<'a> {
     open: BTreeMap<usize, ([f64; 2], [f64; 2])>,
     /// Twisted layers: the grid cells' pyramids.
     cones: Cones,
+    /// Whether the walls lean off the prisms (the cavity's sides then
+    /// moved in, `section::inset`).
+    leans: bool,
 }
 
 impl Build<'_> {
@@ -206,10 +209,16 @@ fn outline(
         return Some((lines, sides, kinds));
     }
     // open: its closed edges' half-planes, and its open edges' moved out
-    // by `reach` (as far as the walls lean off the section), in 2D
+    // by `reach` (as far as the walls lean off the section), in 2D; where
+    // they lean, by its size more: beside a reflex corner of the outline
+    // a cell on one side reaches that far along the strip between the
+    // other side's moved line and its wall (SPE9 (11, 3) with its sides
+    // cut short left a hole there)
     let pts: Vec<[f64; 2]> = poly.iter().map(|&p| b.m.points[p as usize]).collect();
     let (lo, hi) = crate::geom::bbox(&pts);
-    let (lo, hi) = (lo.map(|x| x - 2.0 * reach), hi.map(|x| x + 2.0 * reach));
+    let grow = margin(b.leans, reach, (lo, hi), (lo, hi));
+    let out = if b.leans { grow } else { reach };
+    let (lo, hi) = (lo.map(|x| x - grow), hi.map(|x| x + grow));
     let shift = |k: usize| -> ([f64; 2], [f64; 2]) {
         let (a, z) = (pts[k], pts[(k + 1) % n]);
         if kinds[k] != Edge::Open {
@@ -217,7 +226,7 @@ fn outline(
         }
         let (dx, dy) = (z[0] - a[0], z[1] - a[1]);
         let len = dx.hypot(dy);
-        let o = [reach * dy / len, -reach * dx / len];
+        let o = [out * dy / len, -out * dx / len];
         ([a[0] + o[0], a[1] + o[1]], [z[0] + o[0], z[1] + o[1]])
     };
     // vertices as (point, the edge before it, the edge after it): edges
@@ -300,6 +309,14 @@ fn outline(
     Some((lines, sides, across))
 }
 
+/// How far past two open cells' bounding boxes their reaches past the
+/// cavity's side may go: twice the walls' lean, and where they lean, the
+/// larger cell's size.
+fn margin(leans: bool, reach: f64, a: ([f64; 2], [f64; 2]), b: ([f64; 2], [f64; 2])) -> f64 {
+    let size = |(l, h): ([f64; 2], [f64; 2])| (h[0] - l[0]).hypot(h[1] - l[1]);
+    2.0 * reach + f64::from(u8::from(leans)) * size(a).max(size(b))
+}
+
 /// Where cell c's reach past the cavity's side may meet another open
 /// cell's, the power bisector of their section sites as a half-plane (a,
 /// z: kept on the left of a -> z) with that cell across: the section's
@@ -319,7 +336,8 @@ fn bisectors(
         return vec![];
     };
     let near = |(l, h): ([f64; 2], [f64; 2])| {
-        (0..2).all(|a| l[a] <= hi[a] + 2.0 * reach && h[a] >= lo[a] - 2.0 * reach)
+        let m = margin(b.leans, reach, (lo, hi), (l, h));
+        (0..2).all(|a| l[a] <= hi[a] + m && h[a] >= lo[a] - m)
     };
     let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
     let (sc, wc) = (b.m.sites[c], b.m.weights[c]);
@@ -583,6 +601,7 @@ pub(crate) fn cells(
                 .collect(),
             ..Cones::default()
         },
+        leans: lean(cpg, f, cav) > PLANAR * f.size,
     };
     // twisted layers: prisms through the whole cavity, cut by the pyramids
     let heights = match f.twisted {
@@ -626,10 +645,9 @@ pub(crate) fn cells(
             b.open.insert(c, crate::geom::bbox(&pts));
         }
     }
-    // from a side moved in by up to the lean (`section::inset`; further
-    // at a corner, moved in along both its sides) out to the wall,
-    // leaning out as far; twisted layers' corners move along their
-    // bisectors, up to twice as far at a 60 degree corner
+    // from a side moved in by up to the lean (`section::inset`; further at
+    // a corner, moved in along both its sides) out to the wall, leaning out
+    // as far; twisted layers' corners move along their bisectors (twice)
     let times = if f.twisted { 10.0 } else { 3.0 };
     let reach = times * lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
     let nl = cav.k[1] - cav.k[0] + 1;
