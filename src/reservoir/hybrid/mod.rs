@@ -109,6 +109,12 @@ pub struct HybridOptions {
     /// section's prisms lean off its walls, and the cell beside a corner
     /// then reaches the two walls without crossing the pillar.
     pub corner_cells: bool,
+    /// A layered section's pillars moved in at reflex corners of its
+    /// cavities (`layered::section::inset`), with the points where they
+    /// were: the column sides inside that start at such a pillar start
+    /// there instead, on the outline's side through it, so that they keep
+    /// the grid's own lines.
+    pub inner_pillars: Vec<(usize, [f64; 2])>,
 }
 
 impl Default for HybridOptions {
@@ -132,6 +138,7 @@ impl Default for HybridOptions {
             in_column: false,
             piece_share: 1.0,
             corner_cells: false,
+            inner_pillars: vec![],
         }
     }
 }

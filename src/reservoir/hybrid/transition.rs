@@ -72,8 +72,13 @@ fn split(cx: &mut Complex, u: u32, v: u32, pieces: usize) -> Vec<(u32, u32)> {
 fn split_ends(cx: &mut Complex, u: u32, v: u32, pieces: usize, ends: [f64; 2]) -> Vec<(u32, u32)> {
     let (pu, pv) = (cx.points[u as usize], cx.points[v as usize]);
     let (t0, t1) = (ends[0], 1.0 - ends[1]);
+    // the ends exactly (t0 + (t1 - t0) can round short of t1)
     let mut ts: Vec<f64> = (0..=pieces)
-        .map(|k| t0 + (t1 - t0) * k as f64 / pieces as f64)
+        .map(|k| match k {
+            0 => t0,
+            k if k == pieces => t1,
+            k => t0 + (t1 - t0) * k as f64 / pieces as f64,
+        })
         .collect();
     ts.retain(|&t| t > 0.0 && t < 1.0);
     let mut ids = vec![u];
@@ -84,6 +89,54 @@ fn split_ends(cx: &mut Complex, u: u32, v: u32, pieces: usize, ends: [f64; 2]) -
     }
     ids.push(v);
     ids.windows(2).map(|w| (w[0], w[1])).collect()
+}
+
+/// A cavity side a -> b (pillars, their vertices and points) as segments:
+/// in `pieces` with `ends` cut off (`split_ends`); where an end's pillar
+/// is a reflex one moved in whose own point lies on the side
+/// (`HybridOptions::inner_pillars`), first cut there (the point shared,
+/// in `inner`, with the column sides inside that start at that pillar).
+fn side_parts(
+    cx: &mut Complex,
+    opts: &HybridOptions,
+    [(p, u, pp), (q, v, pq)]: [(u32, u32, [f64; 2]); 2],
+    pieces: usize,
+    ends: [f64; 2],
+    inner: &mut FastMap<u32, u32>,
+) -> Vec<(u32, u32)> {
+    let own = |r: u32| {
+        let x = opts.inner_pillars.iter().find(|x| x.0 == r as usize)?.1;
+        let (dx, dy) = (pq[0] - pp[0], pq[1] - pp[1]);
+        let len = dx.hypot(dy);
+        let (ex, ey) = (x[0] - pp[0], x[1] - pp[1]);
+        let t = (ex * dx + ey * dy) / (len * len);
+        let off = (dx * ey - dy * ex).abs() / len;
+        (t > 0.0 && t < 1.0 && off <= 1e-9 * len).then_some((x, t))
+    };
+    let mut at = |cx: &mut Complex, r: u32, x: [f64; 2]| {
+        *inner.entry(r).or_insert_with(|| push_point(cx, x))
+    };
+    match (own(p), own(q)) {
+        (Some((x, t)), _) => {
+            let id = at(cx, p, x);
+            let mut out = vec![(u, id)];
+            out.extend(split_ends(cx, id, v, pieces, [0.0, ends[1] / (1.0 - t)]));
+            out
+        }
+        (None, Some((x, t))) => {
+            let id = at(cx, q, x);
+            let mut out = split_ends(cx, u, id, pieces, [ends[0] / t, 0.0]);
+            out.push((id, v));
+            out
+        }
+        _ => split_ends(cx, u, v, pieces, ends),
+    }
+}
+
+/// Whether point m lies on the line through a and b (within 1e-9 of |b - a|).
+fn on_line(m: [f64; 2], a: [f64; 2], b: [f64; 2]) -> bool {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    (dx * (m[1] - a[1]) - dy * (m[0] - a[0])).abs() <= 1e-9 * (dx * dx + dy * dy)
 }
 
 /// A layered section's corner pieces: at a pillar where the cavity has one
@@ -178,15 +231,15 @@ fn complex(
 ) -> Built {
     let (grid, k, view, nx, ny) = (layer.grid, layer.k, &layer.view, layer.nx, layer.ny);
     let col = |i: usize, j: usize| layer.col(i, j);
-    let quad_points = |i: usize, j: usize| layer.quad_points(i, j);
     let m = opts.sectors;
-    let typical_side = placed.iter().map(|w| w.reach).fold(f64::INFINITY, f64::min);
     let mut cx = Complex::default();
     let mut owner = vec![]; // per segment, the cavity column it bounds
     let mut anchors = vec![]; // per segment, the site across it
     let mut outer_pieces: Vec<(u32, u32)> = vec![]; // on the outer boundary
     let mut fault_segments = 0;
     let longest = longest_piece(placed, opts);
+    // reflex pillars' own points on the outline (`inner_pillars`)
+    let mut inner: FastMap<u32, u32> = FastMap::default();
     let mut vid: FastMap<u32, u32> = FastMap::default();
     let mut vertex = |cx: &mut Complex, p: u32| -> u32 {
         *vid.entry(p).or_insert_with(|| {
@@ -230,7 +283,8 @@ fn complex(
                     true => corner_ends(layer, cavity, placed, (p, q)),
                     false => [0.0; 2],
                 };
-                for (from, to) in split_ends(&mut cx, u, v, pieces, ends) {
+                let sides = [(p, u, pp), (q, v, pq)];
+                for (from, to) in side_parts(&mut cx, opts, sides, pieces, ends, &mut inner) {
                     cx.segments.push([from, to]);
                     anchors.push(across);
                     owner.push(col(i, j));
@@ -247,15 +301,33 @@ fn complex(
     // a cavity a side may take extra vertices (cells on both sides are
     // transition cells): pieces no longer than its distance to the nearest
     // well polygon.
-    for (p, q, home, fault, [t0, t1]) in inner_sides(layer, placed, cavity, opts) {
-        let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
+    let own: FastMap<u32, [f64; 2]> = inner
+        .iter()
+        .map(|(&r, &id)| (r, cx.points[id as usize]))
+        .collect();
+    // a side inside from reflex pillar r to pillar o starts at r's own
+    // point where the moved pillar lies off its line (a side that runs on
+    // along the outline's piece there keeps the moved pillar)
+    let pos = |r: u32, o: u32| -> ([f64; 2], bool) {
+        let (m, b) = (view.pillar[r as usize], view.pillar[o as usize]);
+        match own.get(&r) {
+            Some(&x) if !on_line(m, x, b) => (x, true),
+            _ => (m, false),
+        }
+    };
+    let at_side = |r: u32, o: u32| pos(r, o).0;
+    for (p, q, home, fault, [t0, t1]) in inner_sides(layer, placed, cavity, opts, &at_side) {
+        let (pp, pq) = (at_side(p, q), at_side(q, p));
+        let (own_p, own_q) = (pos(p, q).1, pos(q, p).1);
         let at = |t: f64| [pp[0] + t * (pq[0] - pp[0]), pp[1] + t * (pq[1] - pp[1])];
         // a part's ends: the pillars, or new points where it is cut
-        let mut end = |cx: &mut Complex, t: f64, pillar: u32| match t == 0.0 || t == 1.0 {
+        let mut end = |cx: &mut Complex, t: f64, pillar: u32, own: bool| match t == 0.0 || t == 1.0
+        {
+            true if own => inner[&pillar],
             true => vertex(cx, pillar),
             false => push_point(cx, at(t)),
         };
-        let (u, v) = (end(&mut cx, t0, p), end(&mut cx, t1, q));
+        let (u, v) = (end(&mut cx, t0, p, own_p), end(&mut cx, t1, q, own_q));
         let pieces = pieces_near_wells(
             placed,
             at(t0),
@@ -270,8 +342,49 @@ fn complex(
             fault_segments += usize::from(fault);
         }
     }
-    // Fault polylines: the parts inside cavities, pulled back a quarter
-    // cell from where they leave one, so that they end inside it.
+    fault_segments += fault_chains(
+        layer,
+        placed,
+        cavity,
+        well_column[0],
+        opts,
+        &mut cx,
+        &mut anchors,
+        &mut owner,
+    );
+    well_polygons(&mut cx, &mut anchors, &mut owner, placed, well_column, m);
+    let cx = Complex {
+        holes: cx.holes,
+        anchors,
+        ..Complex::new(cx.points, cx.segments)
+    };
+    Built {
+        cx,
+        owner,
+        outer_pieces,
+        fault_segments,
+    }
+}
+
+/// Fault polylines: the parts inside cavities, pulled back a quarter
+/// cell from where they leave one, so that they end inside it, as
+/// segments (their cavity column `home_column` where none holds their
+/// start); how many.
+#[allow(clippy::too_many_arguments)]
+fn fault_chains(
+    layer: &Layer,
+    placed: &[Placed],
+    cavity: &[bool],
+    home_column: usize,
+    opts: &HybridOptions,
+    cx: &mut Complex,
+    anchors: &mut Vec<Option<[f64; 2]>>,
+    owner: &mut Vec<usize>,
+) -> usize {
+    let (nx, ny) = (layer.nx, layer.ny);
+    let quad_points = |i: usize, j: usize| layer.quad_points(i, j);
+    let typical_side = placed.iter().map(|w| w.reach).fold(f64::INFINITY, f64::min);
+    let mut added = 0;
     let boundary_sides: Vec<[[f64; 2]; 2]> = cx
         .segments
         .iter()
@@ -285,36 +398,25 @@ fn complex(
     for line in &opts.fault_lines {
         for chain in clip_to_cavity(line, &boundary_sides, &in_cavity_at, 0.5 * typical_side) {
             // the cavity the chain is in, should it need to grow
-            let home = cavity_column_at(chain[0]).unwrap_or(well_column[0]);
+            let home = cavity_column_at(chain[0]).unwrap_or(home_column);
             let mut prev: Option<u32> = None;
             for x in chain {
-                let id = push_point(&mut cx, x);
+                let id = push_point(cx, x);
                 if let Some(p) = prev {
                     let pieces =
                         pieces_near_wells(placed, cx.points[p as usize], x, 1.0, f64::INFINITY);
-                    for (from, to) in split(&mut cx, p, id, pieces) {
+                    for (from, to) in split(cx, p, id, pieces) {
                         cx.segments.push([from, to]);
                         anchors.push(None);
                         owner.push(home);
-                        fault_segments += 1;
+                        added += 1;
                     }
                 }
                 prev = Some(id);
             }
         }
     }
-    well_polygons(&mut cx, &mut anchors, &mut owner, placed, well_column, m);
-    let cx = Complex {
-        holes: cx.holes,
-        anchors,
-        ..Complex::new(cx.points, cx.segments)
-    };
-    Built {
-        cx,
-        owner,
-        outer_pieces,
-        fault_segments,
-    }
+    added
 }
 
 /// The transition mesh, the cavities grown (at most MAX_GROWTH times)
@@ -412,6 +514,7 @@ fn inner_sides(
     placed: &[Placed],
     cavity: &[bool],
     opts: &HybridOptions,
+    pos: &dyn Fn(u32, u32) -> [f64; 2],
 ) -> Vec<(u32, u32, usize, bool, [f64; 2])> {
     let (view, nx, ny) = (&layer.view, layer.nx, layer.ny);
     let col = |i: usize, j: usize| layer.col(i, j);
@@ -432,7 +535,7 @@ fn inner_sides(
                 ((i + 1, j), (view.pid(i + 1, j), view.pid(i + 1, j + 1))),
                 ((i, j + 1), (view.pid(i, j + 1), view.pid(i + 1, j + 1))),
             ] {
-                let (pp, pq) = (view.pillar[p as usize], view.pillar[q as usize]);
+                let (pp, pq) = (pos(p, q), pos(q, p));
                 if in_cavity(a) && seen.insert((p.min(q), p.max(q))) {
                     for part in clear_of_wells(placed, pp, pq) {
                         out.push((p, q, col(i, j), false, part));
@@ -523,5 +626,49 @@ mod tests {
         assert_eq!(side(3.5), vec![[0.0, 1.0]]);
         assert_eq!(side(3.49), vec![[0.0, 1.0]]);
         assert_eq!(side(3.0).len(), 2);
+    }
+
+    #[test]
+    fn a_side_cut_off_at_one_end_ends_at_its_other_end() {
+        // 0.0525 + 0.9475 rounds short of 1: the last piece ended 8e-14
+        // before the side's end, a segment the mesher cannot take
+        let mut cx = Complex::default();
+        cx.points = vec![
+            [459.2356040870743, -247.8260870391841],
+            [459.2356040870743, 52.17391296081592],
+        ];
+        let parts = split_ends(&mut cx, 0, 1, 6, [0.052466947260185935, 0.0]);
+        assert_eq!(parts.len(), 7);
+        assert_eq!(parts.last().unwrap().1, 1);
+        let short = parts.iter().map(|&(a, b)| {
+            let (p, q) = (cx.points[a as usize], cx.points[b as usize]);
+            (q[0] - p[0]).hypot(q[1] - p[1])
+        });
+        assert!(short.fold(f64::INFINITY, f64::min) > 15.0);
+    }
+
+    #[test]
+    fn a_reflex_pillars_own_point_cuts_the_side_through_it() {
+        // the side from a reflex pillar moved to (16, 0) on to (300, 0):
+        // the pillar's own point at (0, 0) lies off it, and leaves it
+        // whole; at (20, 0) it cuts it (shared with the sides inside)
+        let mut cx = Complex::default();
+        cx.points = vec![[16.0, 0.0], [300.0, 0.0]];
+        let at = |x: f64| HybridOptions {
+            inner_pillars: vec![(7, [x, 0.0])],
+            ..Default::default()
+        };
+        let ends = [(7, 0, [16.0, 0.0]), (9, 1, [300.0, 0.0])];
+        let mut inner = FastMap::default();
+        assert_eq!(
+            side_parts(&mut cx, &at(0.0), ends, 1, [0.0; 2], &mut inner),
+            vec![(0, 1)]
+        );
+        assert!(inner.is_empty());
+        let parts = side_parts(&mut cx, &at(20.0), ends, 2, [0.0; 2], &mut inner);
+        assert_eq!(parts.len(), 3);
+        assert_eq!(parts[0], (0, inner[&7]));
+        assert_eq!(cx.points[inner[&7] as usize], [20.0, 0.0]);
+        assert!(on_line([20.0, 0.0], [0.0, 0.0], [300.0, 0.0]));
     }
 }

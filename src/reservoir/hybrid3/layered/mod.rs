@@ -383,16 +383,16 @@ impl Sec<'_> {
         };
         for _ in 0..3 {
             let mut moved = self.grid.clone();
-            if !section::inset(self.g, f, heights, &mut moved, &set, layers) {
+            let Some(inner) = section::inset(self.g, f, heights, &mut moved, &set, layers) else {
                 break;
-            }
+            };
             let m = section::mesh(
                 backend,
                 &moved,
                 self.points,
                 self.rs,
                 outer,
-                Some(&set),
+                Some((&set, &inner[..])),
                 ask,
             );
             let Ok(m) = m else { break };

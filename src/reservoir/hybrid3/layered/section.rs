@@ -32,6 +32,10 @@ pub(super) fn grid(
     s
 }
 
+/// The cavities' columns, where given, with the points where the
+/// section's reflex pillars were before `inset` moved them.
+pub(super) type Given<'a> = Option<(&'a BTreeSet<[usize; 2]>, &'a [(usize, [f64; 2])])>;
+
 /// How the section's 2D hybrid is asked: its cavities' sides split near
 /// the wells, its radial meshes kept in their columns.
 #[derive(Clone, Copy, Default)]
@@ -54,7 +58,7 @@ fn options(
     wells: &[(String, [f64; 2], f64)],
     [rings, sectors]: [usize; 2],
     outer: f64,
-    cavity: Option<&BTreeSet<[usize; 2]>>,
+    cavity: Given,
     ask: Ask,
 ) -> (Vec<WellInput>, HybridOptions) {
     let input: Vec<WellInput> = wells
@@ -76,7 +80,8 @@ fn options(
         in_column: ask.in_column,
         corner_cells: ask.corners,
         piece_share: if ask.in_column { 0.5 } else { 1.0 },
-        cavity: cavity.map(|cols| {
+        inner_pillars: cavity.map_or(vec![], |c| c.1.to_vec()),
+        cavity: cavity.map(|(cols, _)| {
             let mut flags = vec![false; s.nx * s.ny];
             for &[i, j] in cols {
                 flags[j * s.nx + i] = true;
@@ -95,7 +100,7 @@ pub(super) fn mesh<B: Backend + ?Sized>(
     wells: &[(String, [f64; 2], f64)],
     rs: [usize; 2],
     outer: f64,
-    cavity: Option<&BTreeSet<[usize; 2]>>,
+    cavity: Given,
     ask: Ask,
 ) -> Result<Hybrid> {
     let (input, opts) = options(s, wells, rs, outer, cavity, ask);
@@ -124,7 +129,10 @@ pub(super) fn columns(
 /// site); the cells beside the sides then reach out to the walls. False
 /// where a cavity touches itself at a pillar (the grid left as it was).
 /// Twisted layers (`layers` k0..=k1 given): the lean to the cavity's own
-/// top and bottom corners at each pillar, not to the planes'.
+/// top and bottom corners at each pillar, not to the planes'. Else, the
+/// points where the moved pillars at reflex corners of the outline were
+/// (`HybridOptions::inner_pillars`): the column sides inside that start
+/// there keep their lines.
 pub(super) fn inset(
     g: &CornerPointGrid,
     f: &Frame,
@@ -132,7 +140,7 @@ pub(super) fn inset(
     s: &mut CornerPointGrid,
     cols: &BTreeSet<[usize; 2]>,
     layers: Option<[usize; 2]>,
-) -> bool {
+) -> Option<Vec<(usize, [f64; 2])>> {
     let pid = |i: usize, j: usize| j * (g.nx + 1) + i;
     let mid = |p: usize| f.crossing(g.coord[p], at);
     // per pillar, the lines its sides are moved to: inward unit normal n
@@ -189,7 +197,7 @@ pub(super) fn inset(
     let mut moved = vec![];
     for (p, ls) in lines {
         let [(n1, c1), (n2, c2)] = ls[..] else {
-            return false;
+            return None;
         };
         let det = n1[0] * n2[1] - n1[1] * n2[0];
         let m = mid(p);
@@ -213,8 +221,24 @@ pub(super) fn inset(
         };
         moved.push((p, x));
     }
+    let mut reflex = vec![];
     for (p, [u, v]) in moved {
+        let (i, j) = (p % (g.nx + 1), p / (g.nx + 1));
+        let around = [(0, 0), (1, 0), (0, 1), (1, 1)]
+            .into_iter()
+            .filter(|&(di, dj)| {
+                (i + di)
+                    .checked_sub(1)
+                    .zip((j + dj).checked_sub(1))
+                    .is_some_and(|(a, b)| cols.contains(&[a, b]))
+            })
+            .count();
+        let m = mid(p);
+        let moved = (m[0] - u).hypot(m[1] - v) > 10.0 * super::frame::PLANAR * f.size;
+        if around == 3 && layers.is_none() && moved {
+            reflex.push((p, m));
+        }
         s.coord[p] = [u, v, 0.0, u, v, 1.0];
     }
-    true
+    Some(reflex)
 }
