@@ -108,6 +108,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
                 Err(_) => return Ok(Err(format!("around wells {}: {why}", names(wells, &ws)))),
             },
         };
+        let (frame, [k0, k1]) = trim(cpg, frame, &cols, [k0, k1], &ws, paths);
         let at = section_height(cpg, &frame, &cols, [k0, k1]);
         let alive = |[i, j]: [usize; 2]| (k0..=k1).all(|k| cpg.live([i, j, k]));
         // twisted layers: the wells' fault block only (a prism across a
@@ -154,6 +155,46 @@ pub(crate) fn build<B: Backend + ?Sized>(
         });
     }
     Ok(Ok(out))
+}
+
+/// Planes: the layer beyond a completion's end left out of the cavity
+/// where reservoir cells lie beyond it (kept where it ends at the grid's
+/// top or bottom, so that the section is taken at the cavity's other end).
+/// Each layer of a cavity costs a link at each pillar in the middle of a
+/// side along the dip (docs/limitations.md).
+fn trim(
+    cpg: &Cpg,
+    frame: Frame,
+    cols: &[[usize; 2]],
+    [k0, k1]: [usize; 2],
+    ws: &[usize],
+    paths: &[Path],
+) -> (Frame, [usize; 2]) {
+    if frame.twisted || std::env::var("DBG_KEEPBEYOND").is_ok() {
+        return (frame, [k0, k1]);
+    }
+    let done = ws.iter().flat_map(|&w| paths[w].cells.iter().map(|c| c[2]));
+    let (c0, c1) = done.fold((usize::MAX, 0), |(a, b), k| (a.min(k), b.max(k)));
+    let meets = |k: Option<usize>| {
+        k.is_some_and(|k| k < cpg.g.nz && cols.iter().any(|c| cpg.live([c[0], c[1], k])))
+    };
+    let lo = if k0 < c0 && meets(k0.checked_sub(1)) {
+        c0
+    } else {
+        k0
+    };
+    let hi = if k1 > c1 && meets(Some(k1 + 1)) {
+        c1
+    } else {
+        k1
+    };
+    if [lo, hi] == [k0, k1] {
+        return (frame, [k0, k1]);
+    }
+    match Frame::fit(cpg, cols, lo, hi) {
+        Ok(f) => (f, [lo, hi]),
+        Err(_) => (frame, [k0, k1]),
+    }
 }
 
 /// The height (frame coordinates) of the plane the section is taken at.
