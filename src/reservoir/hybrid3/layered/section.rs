@@ -126,7 +126,7 @@ pub(super) fn columns(
 /// as its wall leans in between the cavity's top and bottom, so that no
 /// prism of the section crosses an outer wall within the cavity's layers
 /// (a cell cut there has a corner of a face on the wall, far from its
-/// site); the cells beside the sides then reach out to the walls. False
+/// site); the cells beside the sides then reach out to the walls. None
 /// where a cavity touches itself at a pillar (the grid left as it was).
 /// Twisted layers (`layers` k0..=k1 given): the lean to the cavity's own
 /// top and bottom corners at each pillar, not to the planes'. Else, the
