@@ -635,17 +635,16 @@ fn thiem_in_3d() {
     assert!(err < 0.005, "{err}");
 }
 
+/// The layered block of the Thiem checks: layers 4, 2 and 6 m thick (their
+/// boundaries' depths) of 50, 200 and 100 mD.
+const LAYERED_DEPTHS: [f64; 4] = [0.0, 4.0, 6.0, 12.0];
+const LAYERED_PERMS: [f64; 3] = [50.0, 200.0, 100.0];
+
 /// Thiem's check in a layered block: 50, 200 and 100 mD in layers of 4, 2
 /// and 6 m.
 #[test]
 fn thiem_in_a_layered_block() {
-    let (err, hy) = vertical_thiem(
-        15,
-        10.0,
-        (&[0.0, 4.0, 6.0, 12.0], 0.0),
-        &[50.0, 200.0, 100.0],
-        None,
-    );
+    let (err, hy) = vertical_thiem(15, 10.0, (&LAYERED_DEPTHS, 0.0), &LAYERED_PERMS, None);
     println!(
         "Thiem check in a layered block (50, 200, 100 mD; 4, 2, 6 m): pressure drop off by {:.3}% \
          ({} of {} transition sites outside, {} non-orthogonal connections)",
@@ -665,12 +664,11 @@ fn thiem_in_a_layered_block() {
 /// two reservoir cells at the cavity's ends); the issue's bar is 1%.
 #[test]
 fn thiem_on_a_layered_section() {
-    let depths = [0.0, 4.0, 6.0, 12.0];
     let (err, hy) = vertical_thiem(
         15,
         10.0,
-        (&depths, 0.0),
-        &[50.0, 200.0, 100.0],
+        (&LAYERED_DEPTHS, 0.0),
+        &LAYERED_PERMS,
         Some(Section::default()),
     );
     println!(
@@ -914,8 +912,8 @@ fn thiem_on_a_dipping_layered_section() {
     let (err, hy) = vertical_thiem(
         15,
         10.0,
-        (&[0.0, 4.0, 6.0, 12.0], 10.0),
-        &[50.0, 200.0, 100.0],
+        (&LAYERED_DEPTHS, 10.0),
+        &LAYERED_PERMS,
         Some(Section::default()),
     );
     let rt = &hy.report.by_regions["reservoir-transition"];

@@ -107,11 +107,8 @@ fn side_parts(
     let own = |r: u32| {
         let x = opts.inner_pillars.iter().find(|x| x.0 == r as usize)?.1;
         let (dx, dy) = (pq[0] - pp[0], pq[1] - pp[1]);
-        let len = dx.hypot(dy);
-        let (ex, ey) = (x[0] - pp[0], x[1] - pp[1]);
-        let t = (ex * dx + ey * dy) / (len * len);
-        let off = (dx * ey - dy * ex).abs() / len;
-        (t > 0.0 && t < 1.0 && off <= 1e-9 * len).then_some((x, t))
+        let t = ((x[0] - pp[0]) * dx + (x[1] - pp[1]) * dy) / (dx * dx + dy * dy);
+        (t > 0.0 && t < 1.0 && on_line(x, pp, pq)).then_some((x, t))
     };
     let mut at = |cx: &mut Complex, r: u32, x: [f64; 2]| {
         *inner.entry(r).or_insert_with(|| push_point(cx, x))
@@ -317,8 +314,7 @@ fn complex(
     };
     let at_side = |r: u32, o: u32| pos(r, o).0;
     for (p, q, home, fault, [t0, t1]) in inner_sides(layer, placed, cavity, opts, &at_side) {
-        let (pp, pq) = (at_side(p, q), at_side(q, p));
-        let (own_p, own_q) = (pos(p, q).1, pos(q, p).1);
+        let ((pp, own_p), (pq, own_q)) = (pos(p, q), pos(q, p));
         let at = |t: f64| [pp[0] + t * (pq[0] - pp[0]), pp[1] + t * (pq[1] - pp[1])];
         // a part's ends: the pillars, or new points where it is cut
         let mut end = |cx: &mut Complex, t: f64, pillar: u32, own: bool| match t == 0.0 || t == 1.0

@@ -175,9 +175,7 @@ fn trim(
     }
     let done = ws.iter().flat_map(|&w| paths[w].cells.iter().map(|c| c[2]));
     let (c0, c1) = done.fold((usize::MAX, 0), |(a, b), k| (a.min(k), b.max(k)));
-    let meets = |k: Option<usize>| {
-        k.is_some_and(|k| k < cpg.g.nz && cols.iter().any(|c| cpg.live([c[0], c[1], k])))
-    };
+    let meets = |k: Option<usize>| live_across(cpg, cols, k) > 0;
     let lo = if k0 < c0 && meets(k0.checked_sub(1)) {
         c0
     } else {
@@ -197,6 +195,14 @@ fn trim(
     }
 }
 
+/// How many of the columns have a live cell in layer k (none if k is
+/// outside the grid).
+fn live_across(cpg: &Cpg, cols: &[[usize; 2]], k: Option<usize>) -> usize {
+    k.filter(|&k| k < cpg.g.nz).map_or(0, |k| {
+        cols.iter().filter(|c| cpg.live([c[0], c[1], k])).count()
+    })
+}
+
 /// The height (frame coordinates) of the plane the section is taken at.
 /// Planes: the cavity's end that meets more live cells across (its top
 /// or its bottom), so that the column sides there are the section's own
@@ -205,11 +211,7 @@ fn trim(
 /// midway where both ends meet as many. Twisted layers: midway.
 fn section_height(cpg: &Cpg, frame: &Frame, cols: &[[usize; 2]], [k0, k1]: [usize; 2]) -> f64 {
     let [top, bottom] = frame.ends();
-    let across = |k: Option<usize>| {
-        k.filter(|&k| k < cpg.g.nz).map_or(0, |k| {
-            cols.iter().filter(|c| cpg.live([c[0], c[1], k])).count()
-        })
-    };
+    let across = |k: Option<usize>| live_across(cpg, cols, k);
     let (above, below) = (across(k0.checked_sub(1)), across(Some(k1 + 1)));
     match (frame.twisted, above.cmp(&below)) {
         (false, std::cmp::Ordering::Greater) => top,
