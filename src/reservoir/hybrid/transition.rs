@@ -628,11 +628,13 @@ mod tests {
     fn a_side_cut_off_at_one_end_ends_at_its_other_end() {
         // 0.0525 + 0.9475 rounds short of 1: the last piece ended 8e-14
         // before the side's end, a segment the mesher cannot take
-        let mut cx = Complex::default();
-        cx.points = vec![
-            [459.2356040870743, -247.8260870391841],
-            [459.2356040870743, 52.17391296081592],
-        ];
+        let mut cx = Complex {
+            points: vec![
+                [459.2356040870743, -247.8260870391841],
+                [459.2356040870743, 52.17391296081592],
+            ],
+            ..Default::default()
+        };
         let parts = split_ends(&mut cx, 0, 1, 6, [0.052466947260185935, 0.0]);
         assert_eq!(parts.len(), 7);
         assert_eq!(parts.last().unwrap().1, 1);
@@ -648,8 +650,10 @@ mod tests {
         // the side from a reflex pillar moved to (16, 0) on to (300, 0):
         // the pillar's own point at (0, 0) lies off it, and leaves it
         // whole; at (20, 0) it cuts it (shared with the sides inside)
-        let mut cx = Complex::default();
-        cx.points = vec![[16.0, 0.0], [300.0, 0.0]];
+        let mut cx = Complex {
+            points: vec![[16.0, 0.0], [300.0, 0.0]],
+            ..Default::default()
+        };
         let at = |x: f64| HybridOptions {
             inner_pillars: vec![(7, [x, 0.0])],
             ..Default::default()
