@@ -104,9 +104,10 @@ fn spe9_all_wells_on_layered_sections() {
         // links to the reservoir crossing their faces, by area and by count
         // (radial meshes in their columns, the section at the cavity's end
         // over reservoir cells, each convex corner owned by one cell, the
-        // column sides inside on their own lines at reflex corners, no
-        // layer beyond the completions over reservoir cells: 97.1%, 99.7%
-        // of the area, and every link to the radial cells; what is left:
+        // column sides inside on their own lines at reflex corners, the
+        // strips there filled by mirror cells, no layer beyond the
+        // completions over reservoir cells: 97.3%, 99.7% of the area, and
+        // every link to the radial cells; what is left:
         // docs/limitations.md)
         let rt = &r.by_regions["reservoir-transition"];
         assert!(rt.mirrored_area > 0.995, "{rt:?}");
@@ -114,16 +115,16 @@ fn spe9_all_wells_on_layered_sections() {
         let rw = &r.by_regions["reservoir-well"];
         assert_eq!(rw.mirrored, rw.connections, "{rw:?}");
         // every link between regions: those to the reservoir crossing their
-        // faces, the others orthogonal (98.9%)
+        // faces, the others orthogonal (the 99%: 20,934 of 21,143)
         let tw = &r.by_regions["transition-well"];
         let all = rt.connections + rw.connections + tw.connections;
         let good = rt.mirrored + rw.mirrored + tw.connections - tw.non_orthogonal;
         let share = good as f64 / all as f64;
         println!(
-            "  links between regions orthogonal or crossing their faces: {good} of {all} ({:.1}%)",
+            "  links between regions orthogonal or crossing their faces: {good} of {all} ({:.2}%)",
             100.0 * share
         );
-        assert!(share > 0.9885, "{share}");
+        assert!(share >= 0.99, "{share}");
         assert!(h.mesh.volumes.iter().all(|&v| v > 0.0));
         // tests/readers.py validates each cell in its own frame (as for
         // emerald's twisted cells) and checks the volumes

@@ -70,7 +70,9 @@ pub(crate) fn assemble(
                 let site = g.frame.from(cell.site);
                 id.insert((cell.c, cell.k), a.out.cells.len());
                 span.insert((cell.c, cell.k), cell.span);
-                a.push_cell(faces, site, g.section.region[cell.c], None);
+                // reflex corners' mirror cells are past the section's
+                let region = g.section.region.get(cell.c).copied();
+                a.push_cell(faces, site, region.unwrap_or(Region::Transition), None);
                 *a.out.site_inside.last_mut().expect("a cell") = cell.inside;
                 host.push(host_of(cpg, site, &grid_cells));
                 cavity_of.push(grid_volumes.len() + 1);
@@ -292,7 +294,7 @@ impl Weld {
             .iter()
             .map(|(_, pts)| clean(pts.iter().map(|&p| self.point(a, at(p))).collect()))
             .collect();
-        super::cells::on_edges(faces, &a.out.points, tol)
+        super::join::on_edges(faces, &a.out.points, tol)
     }
 }
 
@@ -374,7 +376,7 @@ fn hole_height(g: &Group, cells: &[&super::Cell]) -> f64 {
     }
     let Some(c) = cells
         .iter()
-        .find(|c| g.section.region[c.c] == Region::Well)
+        .find(|c| g.section.region.get(c.c) == Some(&Region::Well))
         .map(|c| c.c)
     else {
         return 0.0;

@@ -12,6 +12,8 @@
 use super::super::cpg::{Cpg, Ijk};
 use super::cones::{self, Cones};
 use super::frame::{Frame, PLANAR};
+use super::join;
+use super::reflex::{self, left_of};
 use crate::geom::{CutFace, Cutter, Halfspace};
 use crate::mesh::Mesh;
 use crate::reservoir::hybrid::Region;
@@ -54,6 +56,10 @@ enum Edge {
     Wellbore,
     Open,
     Box,
+    /// A cavity cell across the line of a reflex corner (`reflex`): that
+    /// cell where the column across the face is the cavity's, else the
+    /// grid's cell there.
+    Line(usize),
 }
 
 /// The plane through section points x and y across the layers, its normal
@@ -66,17 +72,19 @@ fn side_plane(x: [f64; 2], y: [f64; 2]) -> Halfspace {
     }
 }
 
-/// How far y lies left of the line a -> z (times |z - a|).
-fn left_of(a: [f64; 2], z: [f64; 2], y: [f64; 2]) -> f64 {
-    (z[0] - a[0]) * (y[1] - a[1]) - (z[1] - a[1]) * (y[0] - a[0])
-}
-
 /// A layered cavity: its columns, layers k0..=k1, and section cells.
 pub(crate) struct Cavity {
     pub(crate) cols: BTreeSet<[usize; 2]>,
     pub(crate) k: [usize; 2],
     pub(crate) cells: Vec<usize>,
+    /// The section's reflex pillars that `section::inset` moved: each
+    /// one's moved point and its own point (on the outline's side through
+    /// the moved one).
+    pub(crate) reflex: Vec<[[f64; 2]; 2]>,
 }
+
+/// A box in the section: its lowest and highest corners.
+type Bounds = ([f64; 2], [f64; 2]);
 
 /// The walls between columns: ('I', i, j) between (i - 1, j) and (i, j),
 /// ('J', i, j) between (i, j - 1) and (i, j).
@@ -104,14 +112,18 @@ struct Build<'a> {
     /// Per column, its walls' planes and whether each normal points out.
     sides: HashMap<[usize; 2], [(u32, bool); 4]>,
     slabs: Vec<u32>,
-    /// The section cells with an edge on the cavity's side, with their
-    /// bounding boxes.
-    open: BTreeMap<usize, ([f64; 2], [f64; 2])>,
+    /// Per world (`Worlds`), the section cells with an edge on the cavity's
+    /// side, with their bounding boxes.
+    open: Vec<BTreeMap<usize, Bounds>>,
     /// Twisted layers: the grid cells' pyramids.
     cones: Cones,
     /// Whether the walls lean off the prisms (the cavity's sides then
     /// moved in, `section::inset`).
     leans: bool,
+    /// Per world, section edges on the lines of reflex corners with the
+    /// cell across; and the world the outlines are built in.
+    over: Vec<HashMap<(u32, u32), Edge>>,
+    world: usize,
 }
 
 impl Build<'_> {
@@ -198,6 +210,7 @@ fn outline(
     for k in 0..n {
         let (p, q) = (poly[k], poly[(k + 1) % n]);
         kinds.push(match owner.get(&(q, p)) {
+            _ if b.over[b.world].contains_key(&(p, q)) => b.over[b.world][&(p, q)],
             Some(&d) if inside(d) => Edge::Cell(d as usize),
             _ if region == Region::Well => Edge::Wellbore,
             _ => Edge::Open,
@@ -332,7 +345,7 @@ fn bisectors(
     reach: f64,
 ) -> Vec<([f64; 2], [f64; 2], Edge)> {
     let at = |p: u32| b.m.points[p as usize];
-    let Some(&(lo, hi)) = b.open.get(&c) else {
+    let Some(&(lo, hi)) = b.open[b.world].get(&c) else {
         return vec![];
     };
     let near = |(l, h): ([f64; 2], [f64; 2])| {
@@ -342,8 +355,9 @@ fn bisectors(
     let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
     let (sc, wc) = (b.m.sites[c], b.m.weights[c]);
     let mut out = vec![];
-    for (&d, &bounds) in &b.open {
-        if d == c || kinds.contains(&Edge::Cell(d)) || !near(bounds) {
+    for (&d, &bounds) in &b.open[b.world] {
+        let across = kinds.contains(&Edge::Cell(d)) || kinds.contains(&Edge::Line(d));
+        if d == c || across || !near(bounds) {
             continue;
         }
         // power_c(y) <= power_d(y) where n . y <= k
@@ -382,6 +396,15 @@ struct At<'s> {
 }
 
 impl At<'_> {
+    /// The cell across a side on a reflex corner's line, if it is one.
+    fn line(&self, plane: u32) -> Option<usize> {
+        let s = self.sides.iter().position(|&s| s == plane)?;
+        match self.kinds[s] {
+            Edge::Line(d) => Some(d),
+            _ => None,
+        }
+    }
+
     /// What lies across the cell's face on one of its section sides: a
     /// cell in its layer, the wellbore, or (the cavity's side) none.
     fn across(&self, plane: u32) -> Across {
@@ -392,13 +415,47 @@ impl At<'_> {
             .map(|s| self.kinds[s])
         {
             Some(Edge::Wellbore) => Across::Wellbore,
-            Some(Edge::Cell(d)) => Across::Cell(d, self.k),
+            Some(Edge::Cell(d) | Edge::Line(d)) => Across::Cell(d, self.k),
             _ => Across::Grid(None),
         }
     }
 }
 
 impl Build<'_> {
+    /// Whether a point lies within column col's walls.
+    fn within(&mut self, col: [usize; 2], x: [f64; 3]) -> bool {
+        self.column(col).iter().all(|&(id, out)| {
+            let e = self.cut.planes[id as usize].eval(x);
+            if out {
+                e <= 0.0
+            } else {
+                e >= 0.0
+            }
+        })
+    }
+
+    /// The column across the wall of column `col` that lies in `plane`
+    /// (within the welding tolerance), if any.
+    fn across_plane(&mut self, col: [usize; 2], plane: u32) -> Option<[usize; 2]> {
+        let unit = |h: Halfspace| {
+            let l = crate::geom::dot_f(h.n, h.n).sqrt();
+            (h.n.map(|x| x / l), h.c / l)
+        };
+        let (n, c) = unit(self.cut.planes[plane as usize]);
+        let sides = self.column(col);
+        let tol = PLANAR * self.f.size;
+        walls(col)
+            .into_iter()
+            .zip(sides)
+            .find_map(|((_, other), (id, _))| {
+                let (m, d) = unit(self.cut.planes[id as usize]);
+                let dot = crate::geom::dot_f(n, m);
+                (dot.abs() >= 1.0 - 1e-9 && (c - dot.signum() * d).abs() <= tol)
+                    .then_some(other)
+                    .flatten()
+            })
+    }
+
     /// A polyhedron's box in the section.
     fn footprint(&self, faces: &[CutFace]) -> ([f64; 2], [f64; 2]) {
         let flat: Vec<[f64; 2]> = faces
@@ -458,14 +515,7 @@ impl Build<'_> {
             .zip(sides)
             .map(|((_, across), (id, out))| (id, out, across))
             .collect();
-        let within = wall_ids.iter().all(|&(id, out, _)| {
-            let e = self.cut.planes[id as usize].eval(site);
-            if out {
-                e <= 0.0
-            } else {
-                e >= 0.0
-            }
-        });
+        let within = self.within(col, site);
         let grid = |c: Option<Ijk>| {
             Across::Grid(
                 c.filter(|x| x[0] < cpg.g.nx && x[1] < cpg.g.ny && x[2] < cpg.g.nz && cpg.live(*x)),
@@ -486,6 +536,12 @@ impl Build<'_> {
                 match at.t + 1 == at.nl {
                     true => grid(Some([col[0], col[1], k + 1])),
                     false => Across::Cell(at.c, k + 1),
+                }
+            } else if let Some(d) = at.line(face.plane) {
+                // the cell across where the column across is the cavity's
+                match self.across_plane(col, face.plane) {
+                    Some(o) if !cav.cols.contains(&o) => grid(Some([o[0], o[1], k])),
+                    _ => Across::Cell(d, k),
                 }
             } else {
                 at.across(face.plane)
@@ -575,6 +631,9 @@ impl Build<'_> {
     }
 }
 
+/// A section cell's outline: its lines, sides, and what is across each.
+type Outline = (Vec<u32>, Vec<u32>, Vec<Edge>);
+
 /// The cells of a layered cavity, and the cutter holding their points.
 pub(crate) fn cells(
     cpg: &Cpg,
@@ -583,6 +642,25 @@ pub(crate) fn cells(
     region: &[Region],
     cav: &Cavity,
 ) -> Result<(Cutter, Vec<Cell>), String> {
+    let leans = lean(cpg, f, cav) > PLANAR * f.size;
+    let corners = match leans && !f.twisted {
+        true => {
+            let owner: HashMap<(u32, u32), u32> = m.edge_owners().into_iter().collect();
+            reflex::corners(m, region, &cav.cells, &owner, &cav.reflex)
+        }
+        false => vec![],
+    };
+    // the corners' mirror cells, cells n0.. of the section
+    let n0 = m.cells.len();
+    let with_mirrors;
+    let m = match corners.is_empty() {
+        true => m,
+        false => {
+            with_mirrors = reflex::mirrored(m, &corners);
+            &with_mirrors
+        }
+    };
+    let region_of = |c: usize| region.get(c).copied().unwrap_or(Region::Transition);
     let mut b = Build {
         cpg,
         f,
@@ -593,58 +671,20 @@ pub(crate) fn cells(
         walls: HashMap::new(),
         sides: HashMap::new(),
         slabs: vec![],
-        open: BTreeMap::new(),
+        open: vec![],
         cones: Cones {
             avoid: (0..m.sites.len())
-                .filter(|&c| region[c] == Region::Well)
+                .filter(|&c| region_of(c) == Region::Well)
                 .map(|c| m.sites[c])
                 .collect(),
             ..Cones::default()
         },
-        leans: lean(cpg, f, cav) > PLANAR * f.size,
+        leans,
+        over: vec![],
+        world: 0,
     };
-    // twisted layers: prisms through the whole cavity, cut by the pyramids
-    let heights = match f.twisted {
-        true => {
-            // over every cell of the cavity (beside a throw the frame's own
-            // columns are not the highest or lowest)
-            let [mut top, mut bottom] = f.ends();
-            for &[i, j] in &cav.cols {
-                for k in cav.k[0]..=cav.k[1] {
-                    for p in cpg.corners([i, j, k]) {
-                        let h = f.to(p)[2];
-                        (top, bottom) = (top.max(h), bottom.min(h));
-                    }
-                }
-            }
-            vec![top + 0.1 * f.size, bottom - 0.1 * f.size]
-        }
-        false => f.h.clone(),
-    };
-    b.slabs = heights
-        .iter()
-        .map(|&h| {
-            b.cut.plane(Halfspace {
-                n: [0.0, 0.0, 1.0],
-                c: h,
-            })
-        })
-        .collect();
-    let set: BTreeSet<u32> = cav.cells.iter().map(|&c| c as u32).collect();
-    let inside = |d: u32| set.contains(&d);
+    b.slabs = slabs(&mut b, cav);
     let owner: HashMap<(u32, u32), u32> = m.edge_owners().into_iter().collect();
-    for &c in cav.cells.iter().filter(|&&c| region[c] != Region::Well) {
-        let poly = &m.cells[c];
-        let n = poly.len();
-        if (0..n).any(|k| {
-            !owner
-                .get(&(poly[(k + 1) % n], poly[k]))
-                .is_some_and(|&d| inside(d))
-        }) {
-            let pts: Vec<[f64; 2]> = poly.iter().map(|&p| m.points[p as usize]).collect();
-            b.open.insert(c, crate::geom::bbox(&pts));
-        }
-    }
     // from a side moved in by up to the lean (`section::inset`; further at
     // a corner, moved in along both its sides) out to the wall, leaning out
     // as far; twisted layers' corners move along their bisectors (twice)
@@ -666,93 +706,210 @@ pub(crate) fn cells(
             ([i, j], crate::geom::bbox(&q))
         })
         .collect();
+    let worlds = Worlds::new(&mut b, cav, &corners, n0, &boxes, &owner, &region_of);
+    let mut cache: HashMap<(usize, usize), Option<Outline>> = HashMap::new();
     let mut out = vec![];
-    for &c in &cav.cells {
-        let Some((lines, sides, kinds)) = outline(&mut b, c, &inside, &owner, region[c], reach)
-        else {
-            continue;
-        };
+    for c in cav.cells.iter().copied().chain(n0..n0 + corners.len()) {
         for t in 0..nl {
-            let k = cav.k[0] + t;
-            let slab = if f.twisted { 0 } else { t };
-            let Some(faces) = b
-                .cut
-                .prism(&lines, &sides, b.slabs[slab + 1], b.slabs[slab])
-            else {
+            let w = worlds.of[t];
+            if c >= n0 && !worlds.sets[w].contains(&(c - n0)) {
+                continue;
+            }
+            let o = cache.entry((w, c)).or_insert_with(|| {
+                b.world = w;
+                let inside = |d: u32| worlds.members[w].contains(&(d as usize));
+                outline(&mut b, c, &inside, &owner, region_of(c), reach)
+            });
+            let Some(o) = o else {
                 continue;
             };
-            let site2 = m.sites[c];
-            // at the layer's mean height, so that links within a layer are
-            // orthogonal; where twisted layers leave that outside the cell,
-            // halfway between its top and bottom there
-            let flat = [site2[0], site2[1], 0.5 * (f.h[t] + f.h[t + 1])];
-            let local = f.twisted.then(|| b.twisted_site(cav, site2, k)).flatten();
-            let span = local.map_or(f.h[t] - f.h[t + 1], |l| l.1);
-            let mut inside_site = false;
-            let mut labelled: Vec<(Across, u32, Vec<u32>)> = vec![];
-            let at = At {
-                c,
-                k,
-                t,
-                nl,
-                sides: &sides,
-                kinds: &kinds,
-            };
-            let mut site = flat;
-            if f.twisted {
-                let pieces = b.cone_pieces(&faces, cav, k)?;
-                let holds = |x: [f64; 3]| pieces.iter().any(|(_, p)| cones::contains(&b.cut, p, x));
-                if let Some((mid, _)) = local.filter(|_| !holds(flat)) {
-                    site = mid;
-                }
-                for (col, piece) in &pieces {
-                    inside_site |= b.label_cone(cav, &at, *col, piece, site, &mut labelled);
-                }
-            } else {
-                for (col, piece) in &b.pieces(&faces, &boxes) {
-                    inside_site |= b.label(cav, &at, *col, piece, site, &mut labelled);
-                }
+            if let Some(cell) = layer_cell(&mut b, cav, o, c, t, &boxes)? {
+                out.push(cell);
             }
-            let merged = merge(labelled, &b.cut.points, f.weld());
-            out.push(Cell {
-                c,
-                k,
-                faces: merged,
-                site,
-                span,
-                inside: inside_site,
-            });
         }
     }
     Ok((b.cut, out))
 }
 
-/// A cell's faces with what is across them, the pieces of one face (one
-/// plane, one cell across) joined where they share edges (first with the
-/// points of each piece that lie inside another's edges put in them).
-fn merge(
-    faces: Vec<(Across, u32, Vec<u32>)>,
-    points: &[[f64; 3]],
-    tol: f64,
-) -> Vec<(Across, Vec<u32>)> {
-    let mut groups: BTreeMap<(Across, u32), Vec<Vec<u32>>> = BTreeMap::new();
-    for (a, p, pts) in faces {
-        groups.entry((a, p)).or_default().push(pts);
-    }
-    let mut out = vec![];
-    for ((a, _), polys) in groups {
-        if polys.len() == 1 {
-            out.extend(polys.into_iter().map(|p| (a, p)));
-            continue;
+/// The planes between a cavity's layers (frame heights); twisted layers:
+/// one prism through the whole cavity (cut by the grid cells' pyramids).
+fn slabs(b: &mut Build, cav: &Cavity) -> Vec<u32> {
+    let (f, cpg) = (b.f, b.cpg);
+    let heights = match f.twisted {
+        true => {
+            // over every cell of the cavity (beside a throw the frame's own
+            // columns are not the highest or lowest)
+            let [mut top, mut bottom] = f.ends();
+            for &[i, j] in &cav.cols {
+                for k in cav.k[0]..=cav.k[1] {
+                    for p in cpg.corners([i, j, k]) {
+                        let h = f.to(p)[2];
+                        (top, bottom) = (top.max(h), bottom.min(h));
+                    }
+                }
+            }
+            vec![top + 0.1 * f.size, bottom - 0.1 * f.size]
         }
-        match crate::mesh::join(&polys)
-            .or_else(|| crate::mesh::join(&on_edges(polys.clone(), points, tol)))
-        {
-            Some(cycle) => out.push((a, cycle)),
-            None => out.extend(polys.into_iter().map(|p| (a, p))),
+        false => f.h.clone(),
+    };
+    heights
+        .iter()
+        .map(|&h| {
+            b.cut.plane(Halfspace {
+                n: [0.0, 0.0, 1.0],
+                c: h,
+            })
+        })
+        .collect()
+}
+
+/// The cavity's cells in each layer with reflex corners' mirror cells
+/// (`reflex`): a mirror cell is in a layer where its site is within the
+/// cavity's columns (the strip it fills narrows to nothing at one end of
+/// the cavity); each set of corners with mirrors is a world, with its own
+/// open cells and outlines.
+struct Worlds {
+    /// Per layer, its world.
+    of: Vec<usize>,
+    /// Per world, the corners with mirrors and the section cells.
+    sets: Vec<BTreeSet<usize>>,
+    members: Vec<BTreeSet<usize>>,
+}
+
+impl Worlds {
+    fn new(
+        b: &mut Build,
+        cav: &Cavity,
+        corners: &[reflex::Corner],
+        n0: usize,
+        boxes: &BTreeMap<[usize; 2], ([f64; 2], [f64; 2])>,
+        owner: &HashMap<(u32, u32), u32>,
+        region: &dyn Fn(usize) -> Region,
+    ) -> Worlds {
+        let (f, m) = (b.f, b.m);
+        let nl = cav.k[1] - cav.k[0] + 1;
+        let mut w = Worlds {
+            of: vec![],
+            sets: vec![],
+            members: vec![],
+        };
+        for t in 0..nl {
+            let h = 0.5 * (f.h[t] + f.h[t + 1]);
+            let set: BTreeSet<usize> = (0..corners.len())
+                .filter(|&i| {
+                    let s = m.sites[n0 + i];
+                    let x = [s[0], s[1], h];
+                    let near = boxes
+                        .iter()
+                        .filter(|(_, (lo, hi))| (0..2).all(|a| lo[a] <= x[a] && x[a] <= hi[a]));
+                    let cols: Vec<[usize; 2]> = near.map(|(c, _)| *c).collect();
+                    cols.into_iter().any(|c| b.within(c, x))
+                })
+                .collect();
+            let at = w.sets.iter().position(|s| *s == set).unwrap_or_else(|| {
+                w.sets.push(set);
+                w.sets.len() - 1
+            });
+            w.of.push(at);
+        }
+        for set in &w.sets {
+            let mut members: BTreeSet<usize> = cav.cells.iter().copied().collect();
+            members.extend(set.iter().map(|&i| n0 + i));
+            let mut over = HashMap::new();
+            for &i in set {
+                let k = &corners[i];
+                for (c, other) in [(k.g, n0 + i), (n0 + i, k.g)] {
+                    let poly = &m.cells[c];
+                    for e in 0..poly.len() {
+                        let (u, v) = (poly[e], poly[(e + 1) % poly.len()]);
+                        if [u, v] == [k.p, k.x] || [u, v] == [k.x, k.p] {
+                            over.insert((u, v), Edge::Line(other));
+                        }
+                    }
+                }
+            }
+            let mut open = BTreeMap::new();
+            for &c in &members {
+                let poly = &m.cells[c];
+                let n = poly.len();
+                let closed = |k: usize| {
+                    let (p, q) = (poly[k], poly[(k + 1) % n]);
+                    let d = owner.get(&(q, p)).map(|&d| d as usize);
+                    over.contains_key(&(p, q)) || d.is_some_and(|d| members.contains(&d))
+                };
+                if region(c) != Region::Well && !(0..n).all(closed) {
+                    let pts: Vec<[f64; 2]> = poly.iter().map(|&p| m.points[p as usize]).collect();
+                    open.insert(c, crate::geom::bbox(&pts));
+                }
+            }
+            b.over.push(over);
+            b.open.push(open);
+            w.members.push(members);
+        }
+        w
+    }
+}
+
+/// Section cell c's prism in layer t of the cavity (its outline `o`), cut
+/// by the walls of the cavity's columns (or the grid cells' pyramids), its
+/// faces labelled; None where the prism is empty.
+fn layer_cell(
+    b: &mut Build,
+    cav: &Cavity,
+    o: &Outline,
+    c: usize,
+    t: usize,
+    boxes: &BTreeMap<[usize; 2], ([f64; 2], [f64; 2])>,
+) -> Result<Option<Cell>, String> {
+    let (f, m) = (b.f, b.m);
+    let (lines, sides, kinds) = o;
+    let nl = cav.k[1] - cav.k[0] + 1;
+    let k = cav.k[0] + t;
+    let slab = if f.twisted { 0 } else { t };
+    let Some(faces) = b.cut.prism(lines, sides, b.slabs[slab + 1], b.slabs[slab]) else {
+        return Ok(None);
+    };
+    let site2 = m.sites[c];
+    // at the layer's mean height, so that links within a layer are
+    // orthogonal; where twisted layers leave that outside the cell,
+    // halfway between its top and bottom there
+    let flat = [site2[0], site2[1], 0.5 * (f.h[t] + f.h[t + 1])];
+    let local = f.twisted.then(|| b.twisted_site(cav, site2, k)).flatten();
+    let span = local.map_or(f.h[t] - f.h[t + 1], |l| l.1);
+    let mut inside_site = false;
+    let mut labelled: Vec<(Across, u32, Vec<u32>)> = vec![];
+    let at = At {
+        c,
+        k,
+        t,
+        nl,
+        sides,
+        kinds,
+    };
+    let mut site = flat;
+    if f.twisted {
+        let pieces = b.cone_pieces(&faces, cav, k)?;
+        let holds = |x: [f64; 3]| pieces.iter().any(|(_, p)| cones::contains(&b.cut, p, x));
+        if let Some((mid, _)) = local.filter(|_| !holds(flat)) {
+            site = mid;
+        }
+        for (col, piece) in &pieces {
+            inside_site |= b.label_cone(cav, &at, *col, piece, site, &mut labelled);
+        }
+    } else {
+        for (col, piece) in &b.pieces(&faces, boxes) {
+            inside_site |= b.label(cav, &at, *col, piece, site, &mut labelled);
         }
     }
-    out
+    let merged = join::merge(labelled, &b.cut.points, f.weld());
+    Ok(Some(Cell {
+        c,
+        k,
+        faces: merged,
+        site,
+        span,
+        inside: inside_site,
+    }))
 }
 
 /// How far the cavity's walls stray from the section's outline within its
@@ -782,41 +939,4 @@ fn lean(cpg: &Cpg, f: &Frame, cav: &Cavity) -> f64 {
         }
     }
     most
-}
-
-/// A cell's faces with each point of the cell that lies inside one of
-/// their edges put in it: a face kept whole beside two pieces of a face
-/// across a column line meets them at a point it would otherwise lack.
-pub(super) fn on_edges(faces: Vec<Vec<u32>>, points: &[[f64; 3]], tol: f64) -> Vec<Vec<u32>> {
-    let mut all: Vec<u32> = faces.iter().flatten().copied().collect();
-    all.sort_unstable();
-    all.dedup();
-    faces
-        .iter()
-        .map(|f| {
-            let mut out = vec![];
-            for k in 0..f.len() {
-                let (u, v) = (f[k], f[(k + 1) % f.len()]);
-                out.push(u);
-                let (p, q) = (points[u as usize], points[v as usize]);
-                let d: [f64; 3] = std::array::from_fn(|i| q[i] - p[i]);
-                let len2 = crate::geom::dot_f(d, d);
-                let mut inside: Vec<(f64, u32)> = all
-                    .iter()
-                    .filter(|&&w| w != u && w != v)
-                    .filter_map(|&w| {
-                        let x = points[w as usize];
-                        let r: [f64; 3] = std::array::from_fn(|i| x[i] - p[i]);
-                        let t = crate::geom::dot_f(r, d) / len2;
-                        let off: [f64; 3] = std::array::from_fn(|i| r[i] - t * d[i]);
-                        let near = crate::geom::dot_f(off, off) <= (1e-18 * len2).max(tol * tol);
-                        (t > 1e-9 && t < 1.0 - 1e-9 && near).then_some((t, w))
-                    })
-                    .collect();
-                inside.sort_by(|a, b| a.0.total_cmp(&b.0));
-                out.extend(inside.into_iter().map(|(_, w)| w));
-            }
-            out
-        })
-        .collect()
 }

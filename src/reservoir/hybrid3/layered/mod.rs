@@ -12,6 +12,8 @@ mod assemble;
 mod cells;
 mod cones;
 mod frame;
+mod join;
+mod reflex;
 mod section;
 
 pub(crate) use assemble::{assemble, unfilled};
@@ -439,9 +441,17 @@ impl Sec<'_> {
                 ask,
             );
             let Ok(m) = m else { break };
-            let cavs = found(&m);
+            let mut cavs = found(&m);
             let now: BTreeSet<[usize; 2]> = cavs.iter().flat_map(|c| c.cols.clone()).collect();
             if now == set {
+                // each reflex pillar's moved point and own point
+                let reflex: Vec<[[f64; 2]; 2]> = inner
+                    .iter()
+                    .map(|&(p, x)| [[moved.coord[p][0], moved.coord[p][1]], x])
+                    .collect();
+                for c in &mut cavs {
+                    c.reflex = reflex.clone();
+                }
                 return Ok(Some((m, cavs)));
             }
             if !grow {
@@ -505,7 +515,12 @@ fn cavities(
             .filter(|m| cols.contains(&m.1))
             .map(|m| m.0)
             .collect();
-        out.push(Cavity { cols, k, cells });
+        out.push(Cavity {
+            cols,
+            k,
+            cells,
+            reflex: vec![],
+        });
     }
     out
 }
