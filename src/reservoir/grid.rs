@@ -60,6 +60,18 @@ pub struct CornerPointGrid {
     pub faults: Vec<Fault>,
 }
 
+/// The six faces' corners (c = di + 2 dj + 4 b, b = 1 at the bottom), each
+/// counter-clockwise seen from outside a right-handed cell, in the order
+/// I-, I+, J-, J+, top, bottom.
+pub(crate) const FACES: [[usize; 4]; 6] = [
+    [0, 2, 6, 4],
+    [1, 5, 7, 3],
+    [0, 4, 5, 1],
+    [2, 3, 7, 6],
+    [0, 1, 3, 2],
+    [4, 6, 7, 5],
+];
+
 impl CornerPointGrid {
     /// A Cartesian block grid of nx x ny x nz cells of size dx, dy, dz,
     /// all active, from the origin, depth increasing with k.

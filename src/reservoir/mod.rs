@@ -1,8 +1,9 @@
 //! Reservoir meshes (paper section 5, docs/reservoir.md): the corner-point
 //! grid model (`grid`), hybrid meshes of one layer in map view (`hybrid`:
 //! wells, cavities, faults, the certified transition mesh), mapped onto
-//! every layer (`layers`, 2.5D) or built in true 3D (`hybrid3`), and the
-//! two-point flux check against Thiem's solution (`flow`).
+//! every layer (`layers`, 2.5D) or built in true 3D (`hybrid3`), the
+//! two-point flux check against Thiem's solution (`flow`), and the grid's
+//! own transmissibilities as OPM Flow computes them (`trans`).
 
 pub mod deck;
 pub mod flow;
@@ -10,6 +11,7 @@ mod grid;
 pub mod hybrid;
 pub mod hybrid3;
 pub mod layers;
+pub mod trans;
 
 pub use grid::{CornerPointGrid, Fault, FaultFace};
 pub use hybrid::{

@@ -6,23 +6,12 @@
 
 use crate::error::{Error, Result};
 use crate::geom::{in_solid, newell, orient, orient3};
+use crate::reservoir::grid::FACES;
 use crate::reservoir::CornerPointGrid;
 use std::cmp::Ordering;
 
 /// A cell (i, j, k), 0-based.
 pub(super) type Ijk = [usize; 3];
-
-/// The six faces' corners (c = di + 2 dj + 4 b, b = 1 at the bottom), each
-/// counter-clockwise seen from outside a right-handed cell, in the order
-/// I-, I+, J-, J+, top, bottom.
-const FACES: [[usize; 4]; 6] = [
-    [0, 2, 6, 4],
-    [1, 5, 7, 3],
-    [0, 4, 5, 1],
-    [2, 3, 7, 6],
-    [0, 1, 3, 2],
-    [4, 6, 7, 5],
-];
 
 /// The corner across face f that matches corner c of this cell.
 fn across(f: usize, c: usize) -> usize {
