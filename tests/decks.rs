@@ -901,3 +901,41 @@ fn spe9_in_3d_deck() {
     });
     orthomesh::io::write_atomic(&dir.join("spe9-3d.json"), sidecar.to_string().as_bytes()).unwrap();
 }
+
+/// SPE9's full black-oil deck: its grid's own transmissibilities as Flow
+/// computes them (`reservoir::trans`: corner-point geometry, PERMX given,
+/// PERMY and PERMZ by the deck's COPY and MULTIPLY), written for
+/// tests/decks.py to compare with the INIT file Flow writes for the deck
+/// (the far field a hybridized deck must keep; issue 51).
+#[test]
+fn spe9_far_field_transmissibilities() {
+    use orthomesh::io::{arrays::read_arrays, eclipse};
+    use orthomesh::reservoir::trans::{darcy, neighbours};
+    let deck = std::path::Path::new("../shared/data/decks/spe9/BENCH_SPE9.DATA");
+    let g = eclipse::read_grid(deck).unwrap();
+    let a = read_arrays(deck, [g.nx, g.ny, g.nz]).unwrap();
+    let n = g.nx * g.ny * g.nz;
+    let perm: Vec<[f64; 3]> = (0..n)
+        .map(|c| ["PERMX", "PERMY", "PERMZ"].map(|p| a.values[p][c]))
+        .collect();
+    let ntg = a.values.get("NTG").cloned().unwrap_or(vec![1.0; n]);
+    let feet = eclipse::length_unit(deck)
+        .unwrap()
+        .is_some_and(|u| u.0 == 0.3048);
+    assert!(feet, "SPE9 is in FIELD units");
+    let t = neighbours(&g, &perm, &ntg, darcy(feet));
+    // 24 x 25 x 15 cells, all active, no throw: every neighbour pair
+    assert_eq!(t.len(), 23 * 25 * 15 + 24 * 24 * 15 + 24 * 25 * 14);
+    let mut text = String::new();
+    for c in &t {
+        text.push_str(&format!(
+            "{} {} {} {:e}\n",
+            c.cells[0], c.cells[1], c.axis, c.value
+        ));
+    }
+    let dir = out_dir().join("trans");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("spe9.txt"), text).unwrap();
+    let side = json!({ "deck": std::fs::canonicalize(deck).unwrap() });
+    std::fs::write(dir.join("spe9.json"), side.to_string()).unwrap();
+}

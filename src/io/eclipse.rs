@@ -148,6 +148,18 @@ pub(super) fn is_keyword(t: &Tok) -> bool {
             .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
 }
 
+/// The next keyword from token `k` on (the tokens between skipped), with
+/// `k` moved past it.
+pub(super) fn next_keyword(ts: &Tokens, k: &mut usize) -> Option<Tok> {
+    while let Some(t) = ts.toks.get(*k) {
+        *k += 1;
+        if is_keyword(t) {
+            return Some(t.clone());
+        }
+    }
+    None
+}
+
 /// One record's items after repeat expansion; None is a defaulted item.
 pub(super) type Record = Vec<Option<Tok>>;
 
@@ -251,7 +263,7 @@ fn dims(ts: &Tokens, kw: &Tok, rec: &Record) -> Result<[usize; 3]> {
     Ok(d)
 }
 
-fn reals(ts: &Tokens, kw: &Tok, rec: &Record, want: usize) -> Result<Vec<f64>> {
+pub(super) fn reals(ts: &Tokens, kw: &Tok, rec: &Record, want: usize) -> Result<Vec<f64>> {
     if rec.len() != want {
         return Err(ts.error(
             kw,
@@ -319,10 +331,28 @@ fn fault_face(ts: &Tokens, kw: &Tok, rec: &Record, d: [usize; 3]) -> Result<(Str
     ))
 }
 
+/// The sections of a deck.
+const SECTIONS: [&str; 8] = [
+    "RUNSPEC", "GRID", "EDIT", "PROPS", "REGIONS", "SOLUTION", "SUMMARY", "SCHEDULE",
+];
+
 /// Skips the records of a keyword this reader does not use: none when the
 /// next token is a keyword, else records up to the one that ends before
-/// the next keyword.
-fn skip(ts: &Tokens, mut k: usize, kw: &Tok) -> Result<usize> {
+/// the next keyword; TITLE's line.
+pub(super) fn skip(ts: &Tokens, mut k: usize, kw: &Tok) -> Result<usize> {
+    // TITLE takes the next line as it is, with no '/'; a section's name
+    // takes no record, the rest of its line a decoration
+    let line = match kw.text.as_str() {
+        "TITLE" => ts.toks.get(k).map(|t| (t.file, t.line)),
+        w if SECTIONS.contains(&w) => Some((kw.file, kw.line)),
+        _ => None,
+    };
+    if let Some(line) = line {
+        while ts.toks.get(k).is_some_and(|t| (t.file, t.line) == line) {
+            k += 1;
+        }
+        return Ok(k);
+    }
     while ts.toks.get(k).is_some_and(|t| !is_keyword(t)) {
         k = record(ts, k, kw)?.1;
     }
@@ -562,12 +592,7 @@ pub fn length_unit(path: &Path) -> Result<Option<(f64, String)>> {
     let ts = Tokens::read(path, true)?;
     let mut system = None;
     let mut k = 0;
-    while k < ts.toks.len() {
-        let kw = ts.toks[k].clone();
-        k += 1;
-        if !is_keyword(&kw) {
-            continue;
-        }
+    while let Some(kw) = next_keyword(&ts, &mut k) {
         let unit = |u: &str| match u {
             "FEET" | "FIELD" => Some(0.3048),
             "METRES" | "METRIC" => Some(1.0),

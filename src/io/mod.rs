@@ -1,5 +1,6 @@
 //! Readers and writers.
 
+pub mod arrays;
 pub mod deck;
 pub mod eclipse;
 pub mod edg;

@@ -1,0 +1,239 @@
+//! A deck's per-cell arrays as the simulator evaluates them on the
+//! original grid: the arrays given (PORO, PERMX, NTG, SATNUM, SWATINIT,
+//! PRESSURE, ...), then the operations on them in the order they come, in
+//! every section: EQUALS, COPY, ADD, MULTIPLY, MINVALUE, MAXVALUE, each
+//! within its own box or the one BOX sets (ENDBOX ends it). An array given
+//! inside a BOX fills that box. Operations this reader does not evaluate
+//! (OPERATE, MULTREGP, ...) are errors naming them.
+
+use super::eclipse::{each_record, next_keyword, number, reals, record, skip, Record, Tok, Tokens};
+use crate::error::Result;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The per-cell arrays this reader keeps: every keyword ending in NUM (the
+/// region arrays) and these.
+const ARRAYS: &[&str] = &[
+    "PORO", "PERMX", "PERMY", "PERMZ", "NTG", "MULTX", "MULTY", "MULTZ", "MULTX-", "MULTY-",
+    "MULTZ-", "MULTPV", "PORV", "SWATINIT", "SWL", "SWCR", "SWU", "SGL", "SGCR", "SGU", "SOWCR",
+    "SOGCR", "ISWL", "ISWCR", "ISWU", "ISGL", "ISGCR", "ISGU", "KRW", "KRO", "KRG", "KRWR",
+    "KRORW", "KRORG", "KRGR", "PCW", "PCG", "PRESSURE", "SWAT", "SGAS", "SOIL", "RS", "RV", "PBUB",
+    "PDEW", "TEMPI", "SALT",
+];
+
+/// Operations on arrays that this reader does not evaluate.
+const UNSUPPORTED: &[&str] = &[
+    "OPERATE", "OPERATER", "MULTREGP", "ADDREG", "MULTIREG", "EQUALREG", "COPYREG", "COPYBOX",
+];
+
+fn is_array(name: &str) -> bool {
+    ARRAYS.contains(&name) || (name.ends_with("NUM") && name.len() > 3)
+}
+
+/// The arrays of a deck with dimensions `d`, by name, per cell
+/// (i + nx (j + ny k)).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Arrays {
+    /// Each array, per cell.
+    pub values: BTreeMap<String, Vec<f64>>,
+}
+
+/// A box of cells, 0-based and inclusive, per axis.
+type Cube = [[usize; 2]; 3];
+
+fn cells(b: Cube, d: [usize; 3]) -> impl Iterator<Item = usize> {
+    (b[2][0]..=b[2][1]).flat_map(move |k| {
+        (b[1][0]..=b[1][1])
+            .flat_map(move |j| (b[0][0]..=b[0][1]).map(move |i| i + d[0] * (j + d[1] * k)))
+    })
+}
+
+/// The box of items `from..from + 6` of a record (1-based, inclusive),
+/// defaulted items taken from `current`.
+fn cube(
+    ts: &Tokens,
+    kw: &Tok,
+    rec: &Record,
+    from: usize,
+    current: Cube,
+    d: [usize; 3],
+) -> Result<Cube> {
+    let mut b = current;
+    for n in 0..6 {
+        let Some(Some(t)) = rec.get(from + n) else {
+            continue;
+        };
+        let x: usize = number(ts, &Some(t.clone()), kw, &format!("{} box", kw.text))?;
+        let (axis, end) = (n / 2, n % 2);
+        if x == 0 || x > d[axis] {
+            return Err(ts.error(
+                t,
+                format!("{}: box index {x} outside 1..{}", kw.text, d[axis]),
+            ));
+        }
+        b[axis][end] = x - 1;
+    }
+    if (0..3).any(|a| b[a][0] > b[a][1]) {
+        return Err(ts.error(kw, format!("{}: an empty box {b:?}", kw.text)));
+    }
+    Ok(b)
+}
+
+fn name(ts: &Tokens, kw: &Tok, t: &Option<Tok>) -> Result<String> {
+    t.as_ref()
+        .map(|t| t.text.to_ascii_uppercase())
+        .ok_or_else(|| {
+            ts.error(
+                kw,
+                format!("{}: an array's name may not be defaulted", kw.text),
+            )
+        })
+}
+
+/// Reads the arrays of a deck (with its includes) whose grid has
+/// dimensions `d`.
+pub fn read_arrays(path: &Path, d: [usize; 3]) -> Result<Arrays> {
+    let ts = Tokens::read(path, false)?;
+    let n = d[0] * d[1] * d[2];
+    let whole: Cube = [[0, d[0] - 1], [0, d[1] - 1], [0, d[2] - 1]];
+    let mut current = whole;
+    let mut a = Arrays::default();
+    let mut k = 0;
+    while let Some(kw) = next_keyword(&ts, &mut k) {
+        let word = kw.text.as_str();
+        if UNSUPPORTED.contains(&word) {
+            return Err(ts.error(
+                &kw,
+                format!("{word}: this operation on arrays is not evaluated"),
+            ));
+        }
+        match word {
+            "BOX" => {
+                let (rec, next) = record(&ts, k, &kw)?;
+                current = cube(&ts, &kw, &rec, 0, whole, d)?;
+                k = next;
+            }
+            "ENDBOX" => current = whole,
+            "EQUALS" | "ADD" | "MULTIPLY" | "MINVALUE" | "MAXVALUE" | "COPY" => {
+                k = each_record(&ts, k, &kw, |rec| {
+                    operate(&ts, &kw, &rec, current, d, &mut a)
+                })?;
+            }
+            w if is_array(w) => {
+                let (rec, next) = record(&ts, k, &kw)?;
+                k = next;
+                let inside: Vec<usize> = cells(current, d).collect();
+                let v = reals(&ts, &kw, &rec, inside.len())?;
+                let slot = a
+                    .values
+                    .entry(w.to_string())
+                    .or_insert_with(|| vec![0.0; n]);
+                for (c, x) in inside.into_iter().zip(v) {
+                    slot[c] = x;
+                }
+            }
+            _ => k = skip(&ts, k, &kw)?,
+        }
+    }
+    Ok(a)
+}
+
+/// One record of EQUALS, ADD, MULTIPLY, MINVALUE, MAXVALUE or COPY.
+fn operate(
+    ts: &Tokens,
+    kw: &Tok,
+    rec: &Record,
+    current: Cube,
+    d: [usize; 3],
+    a: &mut Arrays,
+) -> Result<()> {
+    let n = d[0] * d[1] * d[2];
+    let target = name(ts, kw, rec.first().unwrap_or(&None))?;
+    let b = cube(ts, kw, rec, 2, current, d)?;
+    if kw.text == "COPY" {
+        let to = name(ts, kw, rec.get(1).unwrap_or(&None))?;
+        let from = a
+            .values
+            .get(&target)
+            .cloned()
+            .ok_or_else(|| ts.error(kw, format!("COPY from {target}, which is not set")))?;
+        let slot = a.values.entry(to).or_insert_with(|| vec![0.0; n]);
+        for c in cells(b, d) {
+            slot[c] = from[c];
+        }
+        return Ok(());
+    }
+    let x: f64 = number(
+        ts,
+        rec.get(1).unwrap_or(&None),
+        kw,
+        &format!("{} value", kw.text),
+    )?;
+    let slot = match kw.text.as_str() {
+        "EQUALS" => a.values.entry(target).or_insert_with(|| vec![0.0; n]),
+        _ => a
+            .values
+            .get_mut(&target)
+            .ok_or_else(|| ts.error(kw, format!("{} on {target}, which is not set", kw.text)))?,
+    };
+    for c in cells(b, d) {
+        let v = &mut slot[c];
+        *v = match kw.text.as_str() {
+            "EQUALS" => x,
+            "ADD" => *v + x,
+            "MULTIPLY" => *v * x,
+            "MINVALUE" => v.max(x),
+            _ => v.min(x),
+        };
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn deck(text: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("orthomesh-arrays-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(format!("d{}.DATA", text.len()));
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    #[test]
+    fn operations_in_order_and_boxes() {
+        let p = deck(
+            "GRID\nPERMX\n 1 2 3 4 5 6 7 8 /\nCOPY\n 'PERMX' 'PERMZ' /\n/\n\
+             MULTIPLY\n 'PERMZ' 0.1 1 1 1 2 1 2 /\n/\n\
+             BOX\n 2 2 1 1 1 2 /\nPORO\n 0.3 0.4 /\nENDBOX\n\
+             EQUALS\n 'SATNUM' 2 /\n 'SATNUM' 1 1 1 /\n/\nADD\n 'PERMX' 10 2 2 2 2 2 2 /\n/\n\
+             MINVALUE\n 'PERMX' 4 /\n/\n",
+        );
+        let a = read_arrays(&p, [2, 2, 2]).unwrap();
+        assert_eq!(
+            a.values["PERMX"],
+            vec![4.0, 4.0, 4.0, 4.0, 5.0, 6.0, 7.0, 18.0]
+        );
+        let z = &a.values["PERMZ"];
+        assert!((z[0] - 0.1).abs() < 1e-15 && (z[6] - 0.7).abs() < 1e-15 && z[1] == 2.0);
+        assert_eq!(
+            a.values["PORO"],
+            vec![0.0, 0.3, 0.0, 0.0, 0.0, 0.4, 0.0, 0.0]
+        );
+        assert_eq!(
+            a.values["SATNUM"],
+            vec![1.0, 2.0, 1.0, 2.0, 1.0, 2.0, 1.0, 2.0]
+        );
+    }
+
+    #[test]
+    fn what_cannot_be_evaluated_is_named() {
+        let e = read_arrays(&deck("GRID\nOPERATE\n/\n"), [1, 1, 1]).unwrap_err();
+        assert!(e.to_string().contains("OPERATE"), "{e}");
+        let e = read_arrays(&deck("GRID\nMULTIPLY\n 'PERMX' 2 /\n/\n"), [1, 1, 1]).unwrap_err();
+        assert!(e.to_string().contains("PERMX, which is not set"), "{e}");
+        let e = read_arrays(&deck("GRID\nPORO\n 0.1 0.2 /\n"), [1, 1, 1]).unwrap_err();
+        assert!(e.to_string().contains("PORO has 2 values"), "{e}");
+    }
+}
