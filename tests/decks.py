@@ -86,7 +86,11 @@ def flow_init(deck):
         if p.returncode != 0:
             sys.exit(f"{deck}: flow's dry run failed ({p.returncode}):\n{p.stdout[-3000:]}")
         stem = os.path.splitext(os.path.basename(deck))[0].upper()
-        return {k.strip(): np.array(v) for k, v in resfo.read(f"{tmp}/out/{stem}.INIT")}
+        init = {k.strip(): np.array(v) for k, v in resfo.read(f"{tmp}/out/{stem}.INIT")}
+        grid = {k.strip(): np.array(v) for k, v in resfo.read(f"{tmp}/out/{stem}.EGRID")}
+        # INIT's arrays hold the active cells only, in order
+        init["ACTIVE"] = np.cumsum(grid["ACTNUM"] > 0) - 1
+        return init
 
 
 def far_field(side_path):
@@ -96,7 +100,8 @@ def far_field(side_path):
     init = flow_init(side["deck"])
     ours = np.loadtxt(os.path.splitext(side_path)[0] + ".txt", ndmin=2)
     names = ["TRANX", "TRANY", "TRANZ"]
-    theirs = np.array([init[names[int(ax)]][int(a)] for a, _, ax, _ in ours])
+    active = init["ACTIVE"]
+    theirs = np.array([init[names[int(ax)]][active[int(a)]] for a, _, ax, _ in ours])
     rel = np.abs(ours[:, 3] - theirs) / np.maximum(np.abs(theirs), 1e-300)
     within = (rel <= 1e-6).mean()
     flows = sum(int((init[n] > 0).sum()) for n in names)
