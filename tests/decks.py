@@ -105,7 +105,7 @@ def far_field(side_path):
     rel = np.abs(ours[:, 3] - theirs) / np.maximum(np.abs(theirs), 1e-300)
     within = (rel <= 1e-6).mean()
     flows = sum(int((init[n] > 0).sum()) for n in names)
-    print(f"{os.path.basename(side['deck'])}: far-field transmissibilities: {len(ours)} ours, "
+    print(f"{os.path.basename(os.path.splitext(side_path)[0])}: far-field transmissibilities: {len(ours)} ours, "
           f"{flows} nonzero in Flow's INIT; {100 * within:.3f}% within 1e-6 "
           f"(largest relative difference {rel.max():.2e})")
     assert len(ours) == flows, f"{side_path}: {len(ours)} connections, Flow has {flows}"

@@ -906,24 +906,50 @@ fn spe9_in_3d_deck() {
 /// computes them (`reservoir::trans`: corner-point geometry, PERMX given,
 /// PERMY and PERMZ by the deck's COPY and MULTIPLY), written for
 /// tests/decks.py to compare with the INIT file Flow writes for the deck
-/// (the far field a hybridized deck must keep; issue 51).
+/// (the far field a hybridized deck must keep; issue 51); and again for a
+/// copy with face multipliers of our own (EQUALS in boxes, an array in a
+/// BOX over part of one).
 #[test]
 fn spe9_far_field_transmissibilities() {
+    let src = std::path::Path::new("../shared/data/decks/spe9");
+    far_field("spe9", &src.join("BENCH_SPE9.DATA"));
+    let dir = out_dir().join("trans").join("spe9-mult");
+    std::fs::create_dir_all(&dir).unwrap();
+    for f in ["SPE9.GRDECL", "INITSOL.INC"] {
+        std::fs::copy(src.join(f), dir.join(f)).unwrap();
+    }
+    let text = std::fs::read_to_string(src.join("BENCH_SPE9.DATA")).unwrap();
+    let mults = "EQUALS\n 'MULTX' 0.5 1 12 1 25 1 15 /\n 'MULTY' 0.1 1 24 10 12 1 15 /\n \
+                 'MULTZ' 0.01 1 24 1 25 5 5 /\n/\nBOX\n 1 24 20 25 1 15 /\nMULTZ\n 2160*0.5 /\nENDBOX\n\n";
+    let at = text.find("\nPROPS").expect("a PROPS section");
+    let deck = dir.join("BENCH_SPE9.DATA");
+    std::fs::write(&deck, format!("{}\n{mults}{}", &text[..at], &text[at..])).unwrap();
+    far_field("spe9-mult", &deck);
+}
+
+/// Writes a deck's far-field transmissibilities and a sidecar naming the
+/// deck for tests/decks.py.
+fn far_field(stem: &str, deck: &std::path::Path) {
     use orthomesh::io::{arrays::read_arrays, eclipse};
-    use orthomesh::reservoir::trans::{darcy, neighbours};
-    let deck = std::path::Path::new("../shared/data/decks/spe9/BENCH_SPE9.DATA");
-    let g = eclipse::read_grid(deck).unwrap();
+    use orthomesh::reservoir::trans::{darcy, neighbours, CellProps};
+    let g = eclipse::read_grid(&deck.with_file_name("SPE9.GRDECL")).unwrap();
     let a = read_arrays(deck, [g.nx, g.ny, g.nz]).unwrap();
     let n = g.nx * g.ny * g.nz;
     let perm: Vec<[f64; 3]> = (0..n)
         .map(|c| ["PERMX", "PERMY", "PERMZ"].map(|p| a.values[p][c]))
         .collect();
     let ntg = a.values.get("NTG").cloned().unwrap_or(vec![1.0; n]);
+    let names = ["MULTX", "MULTX-", "MULTY", "MULTY-", "MULTZ", "MULTZ-"];
+    let props = CellProps {
+        perm: &perm,
+        ntg: &ntg,
+        mult: names.map(|m| a.values.get(m).map(|v| &v[..])),
+    };
     let feet = eclipse::length_unit(deck)
         .unwrap()
         .is_some_and(|u| u.0 == 0.3048);
     assert!(feet, "SPE9 is in FIELD units");
-    let t = neighbours(&g, &perm, &ntg, darcy(feet));
+    let t = neighbours(&g, &props, darcy(feet));
     // 24 x 25 x 15 cells, all active, no throw: every neighbour pair
     assert_eq!(t.len(), 23 * 25 * 15 + 24 * 24 * 15 + 24 * 25 * 14);
     let mut text = String::new();
@@ -935,7 +961,7 @@ fn spe9_far_field_transmissibilities() {
     }
     let dir = out_dir().join("trans");
     std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("spe9.txt"), text).unwrap();
+    std::fs::write(dir.join(format!("{stem}.txt")), text).unwrap();
     let side = json!({ "deck": std::fs::canonicalize(deck).unwrap() });
-    std::fs::write(dir.join("spe9.json"), side.to_string()).unwrap();
+    std::fs::write(dir.join(format!("{stem}.json")), side.to_string()).unwrap();
 }

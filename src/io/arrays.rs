@@ -26,6 +26,15 @@ const UNSUPPORTED: &[&str] = &[
     "OPERATE", "OPERATER", "MULTREGP", "ADDREG", "MULTIREG", "EQUALREG", "COPYREG", "COPYBOX",
 ];
 
+/// The value an array holds where the deck sets none: 1 for NTG, the
+/// multipliers and the region numbers, else 0.
+fn default(name: &str) -> f64 {
+    match name == "NTG" || name.starts_with("MULT") || name.ends_with("NUM") {
+        true => 1.0,
+        false => 0.0,
+    }
+}
+
 fn is_array(name: &str) -> bool {
     ARRAYS.contains(&name) || (name.ends_with("NUM") && name.len() > 3)
 }
@@ -127,7 +136,7 @@ pub fn read_arrays(path: &Path, d: [usize; 3]) -> Result<Arrays> {
                 let slot = a
                     .values
                     .entry(w.to_string())
-                    .or_insert_with(|| vec![0.0; n]);
+                    .or_insert_with(|| vec![default(w); n]);
                 for (c, x) in inside.into_iter().zip(v) {
                     slot[c] = x;
                 }
@@ -157,7 +166,8 @@ fn operate(
             .get(&target)
             .cloned()
             .ok_or_else(|| ts.error(kw, format!("COPY from {target}, which is not set")))?;
-        let slot = a.values.entry(to).or_insert_with(|| vec![0.0; n]);
+        let fill = default(&to);
+        let slot = a.values.entry(to).or_insert_with(|| vec![fill; n]);
         for c in cells(b, d) {
             slot[c] = from[c];
         }
@@ -170,7 +180,10 @@ fn operate(
         &format!("{} value", kw.text),
     )?;
     let slot = match kw.text.as_str() {
-        "EQUALS" => a.values.entry(target).or_insert_with(|| vec![0.0; n]),
+        "EQUALS" => {
+            let fill = default(&target);
+            a.values.entry(target).or_insert_with(|| vec![fill; n])
+        }
         _ => a
             .values
             .get_mut(&target)

@@ -10,8 +10,9 @@
 //! against Flow 2022.10's INIT on SPE9 (a prototype of this formula): every
 //! TRANX, TRANY, TRANZ within 1.3e-7 relative (single precision).
 //!
+//! Face multipliers MULTX ... MULTZ- as Flow applies them without PINCH.
 //! Not yet here: faces that do not match across a fault (Flow's NNCs),
-//! multipliers (MULTX ... MULTFLT, MULTREGT), PINCH and MINPV.
+//! MULTFLT, MULTREGT, PINCH and MINPV's inactive cells.
 
 use super::grid::FACES;
 use super::CornerPointGrid;
@@ -54,16 +55,27 @@ fn mean(p: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
     s.map(|x| x / n)
 }
 
+/// What the transmissibilities take from each cell: permeabilities (mD,
+/// per axis), NTG, and the face multipliers where the deck gives them, in
+/// the order MULTX, MULTX-, MULTY, MULTY-, MULTZ, MULTZ- (the + one on the
+/// cell's face towards its higher neighbour, the - one on the other's).
+#[derive(Debug, Clone, Copy)]
+pub struct CellProps<'a> {
+    /// PERMX, PERMY, PERMZ per cell.
+    pub perm: &'a [[f64; 3]],
+    /// NTG per cell.
+    pub ntg: &'a [f64],
+    /// MULTX, MULTX-, MULTY, MULTY-, MULTZ, MULTZ- per cell, where given.
+    pub mult: [Option<&'a [f64]>; 6],
+}
+
 /// The transmissibilities between every pair of active neighbours whose
-/// shared face matches (the same four corners on both sides), with
-/// permeabilities `perm` (mD, per cell and axis) and `ntg` per cell.
-/// Pairs whose faces do not match (a fault's throw) are left out.
-pub fn neighbours(
-    g: &CornerPointGrid,
-    perm: &[[f64; 3]],
-    ntg: &[f64],
-    darcy: f64,
-) -> Vec<Transmissibility> {
+/// shared face matches (the same four corners on both sides), times the
+/// two cells' multipliers on that face. Pairs whose faces do not match (a
+/// fault's throw) are left out.
+pub fn neighbours(g: &CornerPointGrid, props: &CellProps, darcy: f64) -> Vec<Transmissibility> {
+    let (perm, ntg) = (props.perm, props.ntg);
+    let mult = |m: usize, c: usize| props.mult[m].map_or(1.0, |v| v[c]);
     let at = |[i, j, k]: [usize; 3]| g.cell_index(i, j, k);
     let corners =
         |c: [usize; 3]| -> [[f64; 3]; 8] { std::array::from_fn(|n| g.corner(c[0], c[1], c[2], n)) };
@@ -103,7 +115,10 @@ pub fn neighbours(
                     };
                     let (ta, tb) = (half(a, &ca, fa), half(b, &cb, fb));
                     let value = match ta > 0.0 && tb > 0.0 {
-                        true => darcy / (1.0 / ta + 1.0 / tb),
+                        true => {
+                            let m = mult(2 * axis, at(a)) * mult(2 * axis + 1, at(b));
+                            m * darcy / (1.0 / ta + 1.0 / tb)
+                        }
                         false => 0.0,
                     };
                     out.push(Transmissibility {
@@ -140,7 +155,14 @@ mod tests {
             [1.0; 3],
         ];
         let ntg = vec![0.5, 1.0, 1.0, 1.0];
-        let t = neighbours(&g, &perm, &ntg, 1.0);
+        let multx = [1.0, 1.0, 0.5, 1.0];
+        let multz_minus = [1.0, 1.0, 0.25, 1.0];
+        let props = CellProps {
+            perm: &perm,
+            ntg: &ntg,
+            mult: [Some(&multx), None, None, None, None, Some(&multz_minus)],
+        };
+        let t = neighbours(&g, &props, 1.0);
         assert_eq!(t.len(), 4);
         let x = t.iter().find(|c| c.cells == [0, 1]).unwrap();
         let (a, half) = (20.0 * 5.0, 5.0);
@@ -148,8 +170,20 @@ mod tests {
         assert!((x.value - want).abs() < 1e-12 * want, "{x:?} {want}");
         let z = t.iter().find(|c| c.cells == [0, 2]).unwrap();
         let (a, half) = (10.0 * 20.0, 2.5);
-        let want = 1.0 / (half / (10.0 * a) + half / (30.0 * a));
+        let want = 0.25 / (half / (10.0 * a) + half / (30.0 * a));
         assert!((z.value - want).abs() < 1e-12 * want, "{z:?} {want}");
+        // MULTX on cell 2's face towards cell 3
+        let x2 = t.iter().find(|c| c.cells == [2, 3]).unwrap();
+        let free = neighbours(
+            &g,
+            &CellProps {
+                mult: [None; 6],
+                ..props
+            },
+            1.0,
+        );
+        let x2free = free.iter().find(|c| c.cells == [2, 3]).unwrap();
+        assert!((x2.value - 0.5 * x2free.value).abs() < 1e-15 * x2free.value);
     }
 
     /// A dipping pair: the face's area vector leans with the dip, and the
@@ -169,7 +203,12 @@ mod tests {
             let x = [0.0, 10.0, 10.0, 20.0][i];
             *z += 0.2 * x;
         }
-        let t = neighbours(&g, &[[1.0; 3]; 2], &[1.0; 2], 1.0);
+        let props = CellProps {
+            perm: &[[1.0; 3]; 2],
+            ntg: &[1.0; 2],
+            mult: [None; 6],
+        };
+        let t = neighbours(&g, &props, 1.0);
         let x = t.iter().find(|c| c.axis == 0).expect("a face along x");
         // face: x = 10, y in [0, 10], depth in [2, 4]: A = (20, 0, 0); the
         // centre-to-face vector (5, 0, 1): |A.d| / |d|^2 = 100 / 26
