@@ -932,7 +932,7 @@ fn spe9_far_field_transmissibilities() {
 fn far_field(stem: &str, deck: &std::path::Path) {
     use orthomesh::io::{arrays::read_arrays, eclipse};
     use orthomesh::reservoir::trans::{darcy, neighbours, CellProps};
-    let g = eclipse::read_grid(&deck.with_file_name("SPE9.GRDECL")).unwrap();
+    let g = eclipse::read_grid(deck).unwrap();
     let a = read_arrays(deck, [g.nx, g.ny, g.nz]).unwrap();
     let n = g.nx * g.ny * g.nz;
     let perm: Vec<[f64; 3]> = (0..n)

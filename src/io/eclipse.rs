@@ -496,12 +496,8 @@ pub fn read_wells(path: &Path) -> Result<(Vec<Well>, Vec<String>)> {
     let mut wells: Vec<Well> = vec![];
     let mut k = 0;
     let text = |r: &Record, n: usize| r.get(n).cloned().flatten().map(|t| t.text);
-    while k < ts.toks.len() {
-        let kw = ts.toks[k].clone();
-        k += 1;
-        if !is_keyword(&kw) {
-            continue; // data of a keyword this reader does not know
-        }
+    // (tokens between keywords: data of keywords this reader does not know)
+    while let Some(kw) = next_keyword(&ts, &mut k) {
         match kw.text.as_str() {
             "WELSPECS" | "COMPDAT" => {
                 k = each_record(&ts, k, &kw, |rec| {
@@ -643,11 +639,8 @@ pub fn read_properties(paths: &[&Path], cells: usize) -> Result<(Properties, Vec
         let ts = Tokens::read(path, true)?;
         missing.extend(ts.missing.iter().cloned());
         let mut k = 0;
-        while k < ts.toks.len() {
-            let kw = ts.toks[k].clone();
-            k += 1;
+        while let Some(kw) = next_keyword(&ts, &mut k) {
             let slot = match kw.text.as_str() {
-                _ if !is_keyword(&kw) => continue,
                 "PORO" => &mut props.poro,
                 "PERMX" => &mut props.perm[0],
                 "PERMY" => &mut props.perm[1],

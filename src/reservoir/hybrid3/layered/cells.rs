@@ -72,6 +72,18 @@ fn side_plane(x: [f64; 2], y: [f64; 2]) -> Halfspace {
     }
 }
 
+/// Whether two planes are one: their unit normals parallel to within
+/// `angle` (1 - |cos|) and their offsets within `tol`.
+fn coplanar(a: Halfspace, b: Halfspace, angle: f64, tol: f64) -> bool {
+    let unit = |h: Halfspace| {
+        let l = crate::geom::dot_f(h.n, h.n).sqrt();
+        (h.n.map(|x| x / l), h.c / l)
+    };
+    let ((n, c), (m, d)) = (unit(a), unit(b));
+    let dot = crate::geom::dot_f(n, m);
+    dot.abs() >= 1.0 - angle && (c - dot.signum() * d).abs() <= tol
+}
+
 /// A layered cavity: its columns, layers k0..=k1, and section cells.
 pub(crate) struct Cavity {
     pub(crate) cols: BTreeSet<[usize; 2]>,
@@ -178,9 +190,7 @@ impl Build<'_> {
                 // plane, so that a cell's faces there join
                 let tol = PLANAR * self.f.size;
                 let same = self.walls.values().copied().find(|&id| {
-                    let h = self.cut.planes[id as usize];
-                    let d = crate::geom::dot_f(h.n, n);
-                    d.abs() >= 1.0 - 1e-12 && (h.c - d.signum() * c).abs() <= tol
+                    coplanar(self.cut.planes[id as usize], Halfspace { n, c }, 1e-12, tol)
                 });
                 let id = same.unwrap_or_else(|| self.cut.plane(Halfspace { n, c }));
                 self.walls.insert(w, id);
@@ -396,10 +406,15 @@ struct At<'s> {
 }
 
 impl At<'_> {
+    /// What is across the section side on `plane`, if it is one.
+    fn kind(&self, plane: u32) -> Option<Edge> {
+        let s = self.sides.iter().position(|&s| s == plane)?;
+        Some(self.kinds[s])
+    }
+
     /// The cell across a side on a reflex corner's line, if it is one.
     fn line(&self, plane: u32) -> Option<usize> {
-        let s = self.sides.iter().position(|&s| s == plane)?;
-        match self.kinds[s] {
+        match self.kind(plane)? {
             Edge::Line(d) => Some(d),
             _ => None,
         }
@@ -408,12 +423,7 @@ impl At<'_> {
     /// What lies across the cell's face on one of its section sides: a
     /// cell in its layer, the wellbore, or (the cavity's side) none.
     fn across(&self, plane: u32) -> Across {
-        match self
-            .sides
-            .iter()
-            .position(|&s| s == plane)
-            .map(|s| self.kinds[s])
-        {
+        match self.kind(plane) {
             Some(Edge::Wellbore) => Across::Wellbore,
             Some(Edge::Cell(d) | Edge::Line(d)) => Across::Cell(d, self.k),
             _ => Across::Grid(None),
@@ -437,20 +447,14 @@ impl Build<'_> {
     /// The column across the wall of column `col` that lies in `plane`
     /// (within the welding tolerance), if any.
     fn across_plane(&mut self, col: [usize; 2], plane: u32) -> Option<[usize; 2]> {
-        let unit = |h: Halfspace| {
-            let l = crate::geom::dot_f(h.n, h.n).sqrt();
-            (h.n.map(|x| x / l), h.c / l)
-        };
-        let (n, c) = unit(self.cut.planes[plane as usize]);
+        let h = self.cut.planes[plane as usize];
         let sides = self.column(col);
         let tol = PLANAR * self.f.size;
         walls(col)
             .into_iter()
             .zip(sides)
             .find_map(|((_, other), (id, _))| {
-                let (m, d) = unit(self.cut.planes[id as usize]);
-                let dot = crate::geom::dot_f(n, m);
-                (dot.abs() >= 1.0 - 1e-9 && (c - dot.signum() * d).abs() <= tol)
+                coplanar(h, self.cut.planes[id as usize], 1e-9, tol)
                     .then_some(other)
                     .flatten()
             })
@@ -799,11 +803,10 @@ impl Worlds {
                 .filter(|&i| {
                     let s = m.sites[n0 + i];
                     let x = [s[0], s[1], h];
-                    let near = boxes
+                    boxes
                         .iter()
-                        .filter(|(_, (lo, hi))| (0..2).all(|a| lo[a] <= x[a] && x[a] <= hi[a]));
-                    let cols: Vec<[usize; 2]> = near.map(|(c, _)| *c).collect();
-                    cols.into_iter().any(|c| b.within(c, x))
+                        .filter(|(_, (lo, hi))| (0..2).all(|a| lo[a] <= x[a] && x[a] <= hi[a]))
+                        .any(|(&c, _)| b.within(c, x))
                 })
                 .collect();
             let at = w.sets.iter().position(|s| *s == set).unwrap_or_else(|| {
