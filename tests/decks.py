@@ -90,23 +90,42 @@ def flow_init(deck):
         grid = {k.strip(): np.array(v) for k, v in resfo.read(f"{tmp}/out/{stem}.EGRID")}
         # INIT's arrays hold the active cells only, in order
         init["ACTIVE"] = np.cumsum(grid["ACTNUM"] > 0) - 1
+        for k in ("NNC1", "NNC2"):
+            if k in grid:
+                init[k] = grid[k]
         return init
 
 
 def far_field(side_path):
-    """Our transmissibilities for the original grid against Flow's INIT
-    (TRANX/Y/Z, single precision: 1e-6 is well above its rounding)."""
+    """Our transmissibilities for the original grid against Flow's INIT:
+    TRANX/Y/Z between Cartesian neighbours, TRANNNC for the pairs its
+    EGRID lists as non-neighbour connections (across throws). Single
+    precision: 1e-6 is well above its rounding."""
     side = json.load(open(side_path))
     init = flow_init(side["deck"])
+    nx, ny, _ = side["dims"]
     ours = np.loadtxt(os.path.splitext(side_path)[0] + ".txt", ndmin=2)
     names = ["TRANX", "TRANY", "TRANZ"]
+    step = [1, nx, nx * ny]
     active = init["ACTIVE"]
-    theirs = np.array([init[names[int(ax)]][active[int(a)]] for a, _, ax, _ in ours])
+    nnc = {(min(a, b), max(a, b)): t for a, b, t in
+           zip(init.get("NNC1", np.zeros(0, int)) - 1, init.get("NNC2", np.zeros(0, int)) - 1,
+               init.get("TRANNNC", []))}
+    theirs, across = [], 0
+    for a, b, ax, _ in ours:
+        a, b, ax = int(a), int(b), int(ax)
+        if b - a == step[ax]:
+            theirs.append(init[names[ax]][active[a]])
+        else:
+            across += 1
+            theirs.append(nnc.get((min(a, b), max(a, b)), 0.0))
+    theirs = np.array(theirs)
     rel = np.abs(ours[:, 3] - theirs) / np.maximum(np.abs(theirs), 1e-300)
     within = (rel <= 1e-6).mean()
-    flows = sum(int((init[n] > 0).sum()) for n in names)
-    print(f"{os.path.basename(os.path.splitext(side_path)[0])}: far-field transmissibilities: {len(ours)} ours, "
-          f"{flows} nonzero in Flow's INIT; {100 * within:.3f}% within 1e-6 "
+    flows = sum(int((init[n] > 0).sum()) for n in names) + len(nnc)
+    print(f"{os.path.basename(os.path.splitext(side_path)[0])}: far-field transmissibilities: "
+          f"{len(ours)} ours ({across} across throws), {flows} nonzero in Flow's INIT "
+          f"({len(nnc)} NNCs); {100 * within:.3f}% within 1e-6 "
           f"(largest relative difference {rel.max():.2e})")
     assert len(ours) == flows, f"{side_path}: {len(ours)} connections, Flow has {flows}"
     assert within >= 0.999, f"{side_path}: {100 * within:.3f}% within 1e-6"

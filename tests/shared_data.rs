@@ -206,7 +206,7 @@ fn demo_data_is_certified_with_zero_weights() {
 #[test]
 fn test_data_copies_are_unmodified() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    for folder in ["pslg", "grids", "plc3d"] {
+    for folder in ["pslg", "grids", "plc3d", "decks/spe9"] {
         let original = root.join("../shared/data").join(folder);
         let Ok(entries) = std::fs::read_dir(&original) else {
             eprintln!("no shared data next to the repository: nothing to compare");

@@ -7,7 +7,8 @@
 //! (OPERATE, MULTREGP, ...) are errors naming them.
 
 use super::eclipse::{each_record, next_keyword, number, reals, record, skip, Record, Tok, Tokens};
-use crate::error::Result;
+use crate::error::{Error, Result};
+use crate::reservoir::{trans, CornerPointGrid};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -21,9 +22,11 @@ const ARRAYS: &[&str] = &[
     "PDEW", "TEMPI", "SALT",
 ];
 
-/// Operations on arrays that this reader does not evaluate.
+/// Operations on arrays, and keywords that change transmissibilities or
+/// pore volumes, that this reader does not evaluate.
 const UNSUPPORTED: &[&str] = &[
     "OPERATE", "OPERATER", "MULTREGP", "ADDREG", "MULTIREG", "EQUALREG", "COPYREG", "COPYBOX",
+    "PINCH", "MULTREGT", "MINPVV", "MINPORV", "EDITNNC", "NNC", "MULTNUM",
 ];
 
 /// The value an array holds where the deck sets none: 1 for NTG, the
@@ -40,11 +43,76 @@ fn is_array(name: &str) -> bool {
 }
 
 /// The arrays of a deck with dimensions `d`, by name, per cell
-/// (i + nx (j + ny k)).
+/// (i + nx (j + ny k)), and the scalars that go with them.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Arrays {
     /// Each array, per cell.
     pub values: BTreeMap<String, Vec<f64>>,
+    /// MULTFLT's records (fault name or stem with `*`, multiplier) in order.
+    pub multflt: Vec<(String, f64)>,
+    /// MINPV, where given.
+    pub minpv: Option<f64>,
+    /// The deck they come from.
+    pub path: std::path::PathBuf,
+}
+
+impl Arrays {
+    /// Each cell's pore volume as Flow computes it on the original grid:
+    /// PORV where the deck gives it, else PORO times NTG times the cell's
+    /// bulk volume; times MULTPV.
+    pub fn pore_volumes(&self, g: &CornerPointGrid) -> Vec<f64> {
+        let v = &self.values;
+        let one = |name: &str, c: usize| v.get(name).map_or(default(name), |a| a[c]);
+        let mut out = Vec::with_capacity(g.actnum.len());
+        for k in 0..g.nz {
+            for j in 0..g.ny {
+                for i in 0..g.nx {
+                    let c = g.cell_index(i, j, k);
+                    let base = match v.get("PORV") {
+                        Some(p) => p[c],
+                        None => one("PORO", c) * one("NTG", c) * trans::bulk_volume(g, i, j, k),
+                    };
+                    out.push(base * one("MULTPV", c));
+                }
+            }
+        }
+        out
+    }
+
+    /// The transmissibilities between the cells of the original grid as
+    /// Flow computes them (`reservoir::trans`): the cells it keeps
+    /// (ACTNUM, pore volume above MINPV), PERMX/Y/Z, NTG, the face
+    /// multipliers with MULTFLT folded in. `darcy` is the deck's units'
+    /// constant.
+    pub fn transmissibilities(
+        &self,
+        g: &CornerPointGrid,
+        darcy: f64,
+    ) -> Result<Vec<trans::Transmissibility>> {
+        let v = &self.values;
+        let n = g.actnum.len();
+        let get = |name: &str| {
+            v.get(name).ok_or_else(|| Error::Parse {
+                path: self.path.clone(),
+                line: 0,
+                message: format!("the deck sets no {name}; the transmissibilities need it"),
+            })
+        };
+        let (px, py, pz) = (get("PERMX")?, get("PERMY")?, get("PERMZ")?);
+        let perm: Vec<[f64; 3]> = (0..n).map(|c| [px[c], py[c], pz[c]]).collect();
+        let ntg = v.get("NTG").cloned().unwrap_or(vec![1.0; n]);
+        let names = ["MULTX", "MULTX-", "MULTY", "MULTY-", "MULTZ", "MULTZ-"];
+        let mut mult = names.map(|m| v.get(m).cloned().unwrap_or(vec![1.0; n]));
+        trans::apply_multflt(g, &self.multflt, &mut mult);
+        let active = trans::active_cells(g, &self.pore_volumes(g), self.minpv.unwrap_or(1e-6));
+        let props = trans::CellProps {
+            active: &active,
+            perm: &perm,
+            ntg: &ntg,
+            mult: std::array::from_fn(|m| Some(&mult[m][..])),
+        };
+        Ok(trans::transmissibilities(g, &props, darcy))
+    }
 }
 
 /// A box of cells, 0-based and inclusive, per axis.
@@ -106,7 +174,10 @@ pub fn read_arrays(path: &Path, d: [usize; 3]) -> Result<Arrays> {
     let n = d[0] * d[1] * d[2];
     let whole: Cube = [[0, d[0] - 1], [0, d[1] - 1], [0, d[2] - 1]];
     let mut current = whole;
-    let mut a = Arrays::default();
+    let mut a = Arrays {
+        path: path.into(),
+        ..Arrays::default()
+    };
     let mut k = 0;
     while let Some(kw) = next_keyword(&ts, &mut k) {
         let word = kw.text.as_str();
@@ -123,6 +194,19 @@ pub fn read_arrays(path: &Path, d: [usize; 3]) -> Result<Arrays> {
                 k = next;
             }
             "ENDBOX" => current = whole,
+            "MULTFLT" => {
+                k = each_record(&ts, k, &kw, |rec| {
+                    let fault = name(&ts, &kw, rec.first().unwrap_or(&None))?;
+                    let m = number(&ts, rec.get(1).unwrap_or(&None), &kw, "MULTFLT value")?;
+                    a.multflt.push((fault, m));
+                    Ok(())
+                })?;
+            }
+            "MINPV" => {
+                let (rec, next) = record(&ts, k, &kw)?;
+                a.minpv = Some(number(&ts, rec.first().unwrap_or(&None), &kw, "MINPV")?);
+                k = next;
+            }
             "EQUALS" | "ADD" | "MULTIPLY" | "MINVALUE" | "MAXVALUE" | "COPY" => {
                 k = each_record(&ts, k, &kw, |rec| {
                     operate(&ts, &kw, &rec, current, d, &mut a)

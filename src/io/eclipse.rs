@@ -602,7 +602,7 @@ pub fn length_unit(path: &Path) -> Result<Option<(f64, String)>> {
                     .first()
                     .cloned()
                     .flatten()
-                    .map(|t| t.text.to_uppercase());
+                    .map(|t| t.text.trim().to_uppercase());
                 let Some(f) = name.as_deref().and_then(unit) else {
                     return Err(ts.error(&kw, "GRIDUNIT is not FEET, METRES or CM".into()));
                 };
@@ -616,6 +616,22 @@ pub fn length_unit(path: &Path) -> Result<Option<(f64, String)>> {
         }
     }
     Ok(system)
+}
+
+/// A deck's unit system: FIELD, METRIC (also where it names none, as
+/// Eclipse takes it) or LAB.
+pub fn unit_system(path: &Path) -> Result<&'static str> {
+    let ts = Tokens::read(path, true)?;
+    let mut k = 0;
+    while let Some(kw) = next_keyword(&ts, &mut k) {
+        match kw.text.as_str() {
+            "FIELD" => return Ok("FIELD"),
+            "LAB" => return Ok("LAB"),
+            "METRIC" => return Ok("METRIC"),
+            _ => {}
+        }
+    }
+    Ok("METRIC")
 }
 
 /// Rock arrays of a grid or deck, per grid cell (i + nx (j + ny k)).

@@ -10,9 +10,11 @@
 //! against Flow 2022.10's INIT on SPE9 (a prototype of this formula): every
 //! TRANX, TRANY, TRANZ within 1.3e-7 relative (single precision).
 //!
-//! Face multipliers MULTX ... MULTZ- as Flow applies them without PINCH.
-//! Not yet here: faces that do not match across a fault (Flow's NNCs),
-//! MULTFLT, MULTREGT, PINCH and MINPV's inactive cells.
+//! Cells of neighbouring columns connect where their side faces overlap
+//! (across a fault's throw too: Flow's non-neighbour connections), through
+//! the vector area of the overlap as opm-grid builds it. Face multipliers
+//! MULTX ... MULTZ- and MULTFLT as Flow applies them without PINCH. Not
+//! here: MULTREGT and PINCH.
 
 use super::grid::FACES;
 use super::CornerPointGrid;
@@ -55,12 +57,15 @@ fn mean(p: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
     s.map(|x| x / n)
 }
 
-/// What the transmissibilities take from each cell: permeabilities (mD,
-/// per axis), NTG, and the face multipliers where the deck gives them, in
-/// the order MULTX, MULTX-, MULTY, MULTY-, MULTZ, MULTZ- (the + one on the
-/// cell's face towards its higher neighbour, the - one on the other's).
+/// What the transmissibilities take from each cell: whether Flow keeps it
+/// active, permeabilities (mD, per axis), NTG, and the face multipliers
+/// where the deck gives them, in the order MULTX, MULTX-, MULTY, MULTY-,
+/// MULTZ, MULTZ- (the + one on the cell's face towards its higher
+/// neighbour, the - one on the other's), MULTFLT already applied to them.
 #[derive(Debug, Clone, Copy)]
 pub struct CellProps<'a> {
+    /// Per cell: ACTNUM and a pore volume above MINPV (`active_cells`).
+    pub active: &'a [bool],
     /// PERMX, PERMY, PERMZ per cell.
     pub perm: &'a [[f64; 3]],
     /// NTG per cell.
@@ -69,68 +74,260 @@ pub struct CellProps<'a> {
     pub mult: [Option<&'a [f64]>; 6],
 }
 
-/// The transmissibilities between every pair of active neighbours whose
-/// shared face matches (the same four corners on both sides), times the
-/// two cells' multipliers on that face. Pairs whose faces do not match (a
-/// fault's throw) are left out.
-pub fn neighbours(g: &CornerPointGrid, props: &CellProps, darcy: f64) -> Vec<Transmissibility> {
-    let (perm, ntg) = (props.perm, props.ntg);
-    let mult = |m: usize, c: usize| props.mult[m].map_or(1.0, |v| v[c]);
-    let at = |[i, j, k]: [usize; 3]| g.cell_index(i, j, k);
-    let corners =
-        |c: [usize; 3]| -> [[f64; 3]; 8] { std::array::from_fn(|n| g.corner(c[0], c[1], c[2], n)) };
+/// The eight corners of a cell.
+fn corners(g: &CornerPointGrid, [i, j, k]: [usize; 3]) -> [[f64; 3]; 8] {
+    std::array::from_fn(|n| g.corner(i, j, k, n))
+}
+
+/// A cell's bulk volume: the divergence theorem over its faces, each
+/// face split into four triangles about the mean of its corners.
+pub fn bulk_volume(g: &CornerPointGrid, i: usize, j: usize, k: usize) -> f64 {
+    let c = corners(g, [i, j, k]);
+    let mut v = 0.0;
+    for face in FACES {
+        let m = mean(face.iter().map(|&n| c[n]));
+        for e in 0..4 {
+            let (a, b) = (c[face[e]], c[face[(e + 1) % 4]]);
+            v += dot_f(m, cross_f(a, b));
+        }
+    }
+    // the sign is the grid's handedness
+    (v / 6.0).abs()
+}
+
+/// The cells Flow keeps: active in ACTNUM and with a pore volume above
+/// `minpv` (Flow's default 1e-6 of the deck's volume unit).
+pub fn active_cells(g: &CornerPointGrid, pore_volume: &[f64], minpv: f64) -> Vec<bool> {
+    (0..g.actnum.len())
+        .map(|c| g.actnum[c] && pore_volume[c] > minpv)
+        .collect()
+}
+
+/// The polygon, in (s, depth) with s from 0 on the face's first pillar to
+/// 1 on its second, where two cells' side faces between the same pillars
+/// overlap. `a` and `b` hold each cell's top and bottom depths on the first
+/// pillar, then on the second. Its corners are those of the intervals on
+/// the pillars and the crossings of one cell's top or bottom edge with the
+/// other's, as opm-grid finds them, in order around it.
+fn overlap(a: [f64; 4], b: [f64; 4]) -> Vec<[f64; 2]> {
+    let mut pts = vec![];
+    for (s, n) in [(0.0, 0), (1.0, 2)] {
+        let (lo, hi) = (a[n].max(b[n]), a[n + 1].min(b[n + 1]));
+        if lo < hi {
+            pts.extend([[s, lo], [s, hi]]);
+        } else if lo == hi {
+            pts.push([s, lo]);
+        }
+    }
+    let at = |z0: f64, z1: f64, s: f64| z0 + s * (z1 - z0);
+    // inside both cells at s, to the rounding of the crossing's depth
+    let inside = |s: f64, z: f64| {
+        [a, b].iter().all(|c| {
+            let (top, bottom) = (at(c[0], c[2], s), at(c[1], c[3], s));
+            let tol = 1e-12 * (top.abs() + bottom.abs());
+            top - tol <= z && z <= bottom + tol
+        })
+    };
+    for u in [(a[0], a[2]), (a[1], a[3])] {
+        for w in [(b[0], b[2]), (b[1], b[3])] {
+            let den = (u.1 - u.0) - (w.1 - w.0);
+            if den == 0.0 {
+                continue;
+            }
+            let s = (w.0 - u.0) / den;
+            let z = at(u.0, u.1, s);
+            if 0.0 < s && s < 1.0 && inside(s, z) {
+                pts.push([s, z]);
+            }
+        }
+    }
+    if pts.len() < 3 {
+        return vec![];
+    }
+    let c = mean(pts.iter().map(|p| [p[0], p[1], 0.0]));
+    // the corners of a convex polygon, in order of angle about its mean
+    // (an affine map of (s, z) keeps that order)
+    pts.sort_by(|p, q| {
+        let ang = |p: &[f64; 2]| (p[1] - c[1]).atan2(p[0] - c[0]);
+        ang(p).total_cmp(&ang(q))
+    });
+    pts
+}
+
+/// The vector area of a closed polygon (half the sum of its edges' cross
+/// products; for four corners, half the cross product of the diagonals).
+fn vector_area(p: &[[f64; 3]]) -> [f64; 3] {
+    let mut a = [0.0; 3];
+    for (n, &q) in p.iter().enumerate() {
+        let c = cross_f(q, p[(n + 1) % p.len()]);
+        a = std::array::from_fn(|k| a[k] + 0.5 * c[k]);
+    }
+    a
+}
+
+/// The transmissibilities between every pair of active cells that share
+/// a face: vertical neighbours whose shared face matches (the same four
+/// corners on both sides), and cells of neighbouring columns whose side
+/// faces overlap, across a fault's throw too (Flow's non-neighbour
+/// connections), times the two cells' multipliers on that face.
+pub fn transmissibilities(
+    g: &CornerPointGrid,
+    props: &CellProps,
+    darcy: f64,
+) -> Vec<Transmissibility> {
     let mut out = vec![];
     for k in 0..g.nz {
         for j in 0..g.ny {
             for i in 0..g.nx {
-                let a = [i, j, k];
-                if !g.active(i, j, k) {
-                    continue;
-                }
-                let ca = corners(a);
-                for axis in 0..3 {
-                    let mut b = a;
-                    b[axis] += 1;
-                    if b[0] >= g.nx || b[1] >= g.ny || b[2] >= g.nz || !g.active(b[0], b[1], b[2]) {
-                        continue;
-                    }
-                    let cb = corners(b);
-                    // the corners of a's face on b's side, and b's same ones
-                    let bit = 1 << axis;
-                    let fa = FACES[2 * axis + 1];
-                    let fb = fa.map(|c| c ^ bit);
-                    if (0..4).any(|m| ca[fa[m]] != cb[fb[m]]) {
-                        continue;
-                    }
-                    let p = fa.map(|m| ca[m]);
-                    let (u, v) = (sub(p[0], p[2]), sub(p[1], p[3]));
-                    let area = cross_f(u, v).map(|x| 0.5 * x);
-                    let half = |c: [usize; 3], cs: &[[f64; 3]; 8], face: [usize; 4]| {
-                        let d = sub(mean(face.iter().map(|&m| cs[m])), mean(cs.iter().copied()));
-                        let t = perm[at(c)][axis] * dot_f(area, d).abs() / dot_f(d, d);
-                        match axis < 2 {
-                            true => t * ntg[at(c)],
-                            false => t,
-                        }
-                    };
-                    let (ta, tb) = (half(a, &ca, fa), half(b, &cb, fb));
-                    let value = match ta > 0.0 && tb > 0.0 {
-                        true => {
-                            let m = mult(2 * axis, at(a)) * mult(2 * axis + 1, at(b));
-                            m * darcy / (1.0 / ta + 1.0 / tb)
-                        }
-                        false => 0.0,
-                    };
-                    out.push(Transmissibility {
-                        cells: [at(a), at(b)],
-                        axis,
-                        value,
-                    });
+                if props.active[g.cell_index(i, j, k)] {
+                    across_columns(g, props, darcy, [i, j, k], &mut out);
+                    below(g, props, darcy, [i, j, k], &mut out);
                 }
             }
         }
     }
     out
+}
+
+/// One connection from cell `a` across its + face along `axis` to `b`,
+/// through the face's vector area `area`.
+fn connect(
+    g: &CornerPointGrid,
+    props: &CellProps,
+    darcy: f64,
+    (a, b, axis): ([usize; 3], [usize; 3], usize),
+    area: [f64; 3],
+) -> Transmissibility {
+    let at = |[i, j, k]: [usize; 3]| g.cell_index(i, j, k);
+    let mult = |m: usize, c: usize| props.mult[m].map_or(1.0, |v| v[c]);
+    // each cell's centre (the mean of its corners) to its own face's centre
+    let half = |c: [usize; 3], face: [usize; 4]| {
+        let cs = corners(g, c);
+        let d = sub(mean(face.iter().map(|&m| cs[m])), mean(cs.iter().copied()));
+        let t = props.perm[at(c)][axis] * dot_f(area, d).abs() / dot_f(d, d);
+        match axis < 2 {
+            true => t * props.ntg[at(c)],
+            false => t,
+        }
+    };
+    let fa = FACES[2 * axis + 1];
+    let (ta, tb) = (half(a, fa), half(b, FACES[2 * axis]));
+    let value = match ta > 0.0 && tb > 0.0 {
+        true => {
+            let m = mult(2 * axis, at(a)) * mult(2 * axis + 1, at(b));
+            m * darcy / (1.0 / ta + 1.0 / tb)
+        }
+        false => 0.0,
+    };
+    Transmissibility {
+        cells: [at(a), at(b)],
+        axis,
+        value,
+    }
+}
+
+/// Cell `a`'s connection to the cell below, where their faces match.
+fn below(
+    g: &CornerPointGrid,
+    props: &CellProps,
+    darcy: f64,
+    a: [usize; 3],
+    out: &mut Vec<Transmissibility>,
+) {
+    let b = [a[0], a[1], a[2] + 1];
+    if b[2] >= g.nz || !props.active[g.cell_index(b[0], b[1], b[2])] {
+        return;
+    }
+    let (ca, cb) = (corners(g, a), corners(g, b));
+    let (fa, fb) = (FACES[5], FACES[5].map(|c| c ^ 4));
+    if (0..4).all(|m| ca[fa[m]] == cb[fb[m]]) {
+        let p = fa.map(|m| ca[m]);
+        out.push(connect(g, props, darcy, (a, b, 2), vector_area(&p)));
+    }
+}
+
+/// Cell `a`'s connections to the cells of the next column along x and
+/// along y whose side faces overlap its own.
+fn across_columns(
+    g: &CornerPointGrid,
+    props: &CellProps,
+    darcy: f64,
+    a: [usize; 3],
+    out: &mut Vec<Transmissibility>,
+) {
+    let [i, j, _] = a;
+    for axis in 0..2 {
+        let (step, lat) = (1 << axis, 1 << (1 - axis));
+        let (ni, nj) = (i + (axis == 0) as usize, j + (axis == 1) as usize);
+        if ni >= g.nx || nj >= g.ny {
+            continue;
+        }
+        // a's corners on the face's two pillars, then b's same ones
+        let (p, q) = (step, step | lat);
+        let depths = |[i, j, k]: [usize; 3], p: usize, q: usize| {
+            [p, p | 4, q, q | 4].map(|c| g.depth(i, j, k, c))
+        };
+        let za = depths(a, p, q);
+        let pillar = |c: usize| (i + (c & 1), j + ((c >> 1) & 1));
+        let (pp, pq) = (pillar(p), pillar(q));
+        for k2 in 0..g.nz {
+            let b = [ni, nj, k2];
+            if !props.active[g.cell_index(ni, nj, k2)] {
+                continue;
+            }
+            let zb = depths(b, p ^ step, q ^ step);
+            if (zb[1] <= za[0] && zb[3] <= za[2]) || (zb[0] >= za[1] && zb[2] >= za[3]) {
+                continue; // wholly above or below
+            }
+            let poly = overlap(za, zb);
+            if poly.is_empty() {
+                continue;
+            }
+            // opm-grid's points: at the depth z, s of the way between the
+            // two pillars' points at z
+            let pts: Vec<[f64; 3]> = poly
+                .iter()
+                .map(|&[s, z]| {
+                    let (u, w) = (g.on_pillar(pp.0, pp.1, z), g.on_pillar(pq.0, pq.1, z));
+                    std::array::from_fn(|n| (1.0 - s) * u[n] + s * w[n])
+                })
+                .collect();
+            let area = vector_area(&pts);
+            if dot_f(area, area) > 0.0 {
+                out.push(connect(g, props, darcy, (a, b, axis), area));
+            }
+        }
+    }
+}
+
+/// Folds MULTFLT into the face multipliers: each fault's value (the last
+/// MULTFLT naming it, as Flow takes it; a name ending in `*` names every
+/// fault it starts) times the multiplier of every face the fault lists.
+/// `mult` holds MULTX, MULTX-, ... MULTZ- per cell, 1 where not given.
+pub fn apply_multflt(g: &CornerPointGrid, multflt: &[(String, f64)], mult: &mut [Vec<f64>; 6]) {
+    for f in &g.faults {
+        let named = |p: &String| match p.strip_suffix('*') {
+            Some(stem) => f.name.starts_with(stem),
+            None => *p == f.name,
+        };
+        let Some(&(_, m)) = multflt.iter().rev().find(|(p, _)| named(p)) else {
+            continue;
+        };
+        for face in &f.faces {
+            // FAULTS' face X is the + one, MULTX's; X- is MULTX-'s
+            let slot = match face.side() {
+                s if s % 2 == 1 => s - 1,
+                s => s + 1,
+            };
+            for k in face.k[0]..=face.k[1] {
+                for j in face.j[0]..=face.j[1] {
+                    for i in face.i[0]..=face.i[1] {
+                        mult[slot][g.cell_index(i, j, k)] *= m;
+                    }
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -158,11 +355,12 @@ mod tests {
         let multx = [1.0, 1.0, 0.5, 1.0];
         let multz_minus = [1.0, 1.0, 0.25, 1.0];
         let props = CellProps {
+            active: &[true; 4],
             perm: &perm,
             ntg: &ntg,
             mult: [Some(&multx), None, None, None, None, Some(&multz_minus)],
         };
-        let t = neighbours(&g, &props, 1.0);
+        let t = transmissibilities(&g, &props, 1.0);
         assert_eq!(t.len(), 4);
         let x = t.iter().find(|c| c.cells == [0, 1]).unwrap();
         let (a, half) = (20.0 * 5.0, 5.0);
@@ -174,7 +372,7 @@ mod tests {
         assert!((z.value - want).abs() < 1e-12 * want, "{z:?} {want}");
         // MULTX on cell 2's face towards cell 3
         let x2 = t.iter().find(|c| c.cells == [2, 3]).unwrap();
-        let free = neighbours(
+        let free = transmissibilities(
             &g,
             &CellProps {
                 mult: [None; 6],
@@ -204,15 +402,80 @@ mod tests {
             *z += 0.2 * x;
         }
         let props = CellProps {
+            active: &[true; 2],
             perm: &[[1.0; 3]; 2],
             ntg: &[1.0; 2],
             mult: [None; 6],
         };
-        let t = neighbours(&g, &props, 1.0);
+        let t = transmissibilities(&g, &props, 1.0);
         let x = t.iter().find(|c| c.axis == 0).expect("a face along x");
         // face: x = 10, y in [0, 10], depth in [2, 4]: A = (20, 0, 0); the
         // centre-to-face vector (5, 0, 1): |A.d| / |d|^2 = 100 / 26
         let half = 100.0 / 26.0;
         assert!((x.value - half / 2.0).abs() < 1e-12, "{x:?}");
+    }
+
+    /// Two columns, the second thrown down by half a layer: the lower cell
+    /// of the first faces both of the second, the upper one the upper one,
+    /// each through half a face.
+    #[test]
+    fn across_a_throw() {
+        let mut g = CornerPointGrid::cartesian([2, 1, 2], [10.0, 10.0, 4.0]);
+        for (n, z) in g.zcorn.iter_mut().enumerate() {
+            if n % 4 >= 2 {
+                *z += 2.0; // the second column's corners
+            }
+        }
+        let props = CellProps {
+            active: &[true; 4],
+            perm: &[[1.0; 3]; 4],
+            ntg: &[1.0; 4],
+            mult: [None; 6],
+        };
+        let t = transmissibilities(&g, &props, 1.0);
+        let mut x: Vec<_> = t.iter().filter(|c| c.axis == 0).collect();
+        x.sort_by_key(|c| c.cells);
+        let pairs: Vec<_> = x.iter().map(|c| c.cells).collect();
+        assert_eq!(pairs, [[0, 1], [2, 1], [2, 3]]);
+        // area 10 x 2, centre-to-face 5: 2 x 20 / 5 halves, 2 in all
+        for c in &x {
+            assert!((c.value - 2.0).abs() < 1e-12, "{c:?}");
+        }
+        assert_eq!(t.iter().filter(|c| c.axis == 2).count(), 2);
+        // MULTFLT on a fault over the first column's + x faces
+        use super::super::grid::{Fault, FaultFace};
+        g.faults.push(Fault {
+            name: "F1".into(),
+            faces: vec![FaultFace {
+                i: [0, 0],
+                j: [0, 0],
+                k: [1, 1],
+                axis: 'X',
+                sign: 1,
+            }],
+        });
+        let mut mult: [Vec<f64>; 6] = std::array::from_fn(|_| vec![1.0; 4]);
+        let given = [("F*".to_string(), 0.1), ("F1".to_string(), 0.5)];
+        apply_multflt(&g, &given, &mut mult);
+        assert_eq!(mult[0], [1.0, 1.0, 0.5, 1.0]);
+        assert!(mult[1..].iter().all(|m| m == &[1.0; 4]));
+    }
+
+    /// A sloping throw: the overlap of a cell and the next column's is a
+    /// triangle where their edges cross between the pillars.
+    #[test]
+    fn overlaps_where_edges_cross() {
+        // a: 0..2 on both pillars; b: 1..3 on the first, -1..1 on the second
+        let p = overlap([0.0, 2.0, 0.0, 2.0], [1.0, 3.0, -1.0, 1.0]);
+        let area = vector_area(&p.iter().map(|q| [q[0], q[1], 0.0]).collect::<Vec<_>>());
+        // the parallelogram between z = 0 and 2 clipped by b's strip: 1.5
+        assert!((area[2].abs() - 1.5).abs() < 1e-12, "{p:?} {area:?}");
+        assert!(overlap([0.0, 1.0, 0.0, 1.0], [1.0, 2.0, 1.0, 2.0]).is_empty());
+    }
+
+    #[test]
+    fn bulk_volume_of_a_block() {
+        let g = CornerPointGrid::cartesian([1, 1, 1], [10.0, 20.0, 5.0]);
+        assert!((bulk_volume(&g, 0, 0, 0) - 1000.0).abs() < 1e-9);
     }
 }
