@@ -90,9 +90,10 @@ def flow_init(deck):
         grid = {k.strip(): np.array(v) for k, v in resfo.read(f"{tmp}/out/{stem}.EGRID")}
         # INIT's arrays hold the active cells only, in order
         init["ACTIVE"] = np.cumsum(grid["ACTNUM"] > 0) - 1
-        for k in ("NNC1", "NNC2"):
+        for k in ("NNC1", "NNC2", "ACTNUM"):
             if k in grid:
                 init[k] = grid[k]
+        init["DIMS"] = [int(x) for x in grid["GRIDHEAD"][1:4]]
         return init
 
 
@@ -252,6 +253,8 @@ def main():
             equilibrium(deck, side["equil"], summary)
     for side in sorted(glob.glob(os.path.join(sys.argv[1], "decks", "trans", "*.json"))):
         far_field(side)
+    import carried
+    carried.check(sys.argv[1])
 
 
 if __name__ == "__main__":

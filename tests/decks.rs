@@ -286,6 +286,7 @@ fn thiem_deck_with_peacemans_factor_in_a_conform_mesh() {
         name: "W".into(),
         radius: RW,
         links: vec![(cell, factor)],
+        log: (r_o / RW).ln(),
     }];
     let r = |x: [f64; 2]| (x[0] - c[0]).hypot(x[1] - c[1]);
     let mut edge = vec![false; cells];
@@ -900,99 +901,4 @@ fn spe9_in_3d_deck() {
         "well_depth": d.wells.iter().map(|w| (w.name.clone(), json!(d.cells[w.connections[0].0].depth))).collect::<serde_json::Map<_, _>>()
     });
     orthomesh::io::write_atomic(&dir.join("spe9-3d.json"), sidecar.to_string().as_bytes()).unwrap();
-}
-
-/// SPE9's full black-oil deck: its grid's own transmissibilities as Flow
-/// computes them (`reservoir::trans`: corner-point geometry, PERMX given,
-/// PERMY and PERMZ by the deck's COPY and MULTIPLY), written for
-/// tests/decks.py to compare with the INIT file Flow writes for the deck
-/// (the far field a hybridized deck must keep; issue 51); and again for a
-/// copy with face multipliers of our own (EQUALS in boxes, an array in a
-/// BOX over part of one).
-#[test]
-fn spe9_far_field_transmissibilities() {
-    let src = std::path::Path::new("tests/data/decks/spe9");
-    // 24 x 25 x 15 cells, all active, no throw: every neighbour pair
-    let n = 23 * 25 * 15 + 24 * 24 * 15 + 24 * 25 * 14;
-    assert_eq!(far_field("spe9", &src.join("BENCH_SPE9.DATA")), (n, 0));
-    let dir = out_dir().join("trans").join("spe9-mult");
-    std::fs::create_dir_all(&dir).unwrap();
-    for f in ["SPE9.GRDECL", "INITSOL.INC"] {
-        std::fs::copy(src.join(f), dir.join(f)).unwrap();
-    }
-    let text = std::fs::read_to_string(src.join("BENCH_SPE9.DATA")).unwrap();
-    let mults = "EQUALS\n 'MULTX' 0.5 1 12 1 25 1 15 /\n 'MULTY' 0.1 1 24 10 12 1 15 /\n \
-                 'MULTZ' 0.01 1 24 1 25 5 5 /\n/\nBOX\n 1 24 20 25 1 15 /\nMULTZ\n 2160*0.5 /\nENDBOX\n\n";
-    let at = text.find("\nPROPS").expect("a PROPS section");
-    let deck = dir.join("BENCH_SPE9.DATA");
-    std::fs::write(&deck, format!("{}\n{mults}{}", &text[..at], &text[at..])).unwrap();
-    assert_eq!(far_field("spe9-mult", &deck), (n, 0));
-}
-
-/// Emerald (leaning pillars, throws, an inactive hole, PORO 0 in most
-/// cells) in a small deck of our own, with face multipliers, faults on
-/// the +y faces of two rows and the -x faces of a column, across throws,
-/// MULTFLT given twice for one of them (the last holds): its transmissibilities across the throws
-/// too, for tests/decks.py to compare with Flow's INIT and NNCs. The
-/// grid's FACIES array, which Flow 2022.10 refuses, is left out of the copy.
-#[test]
-fn emerald_far_field_transmissibilities() {
-    let dir = out_dir().join("trans").join("emerald");
-    std::fs::create_dir_all(&dir).unwrap();
-    let grid = std::fs::read_to_string("tests/data/grids/eme_small_w_hole.grdecl").unwrap();
-    let from = grid.find("\nFACIES").expect("FACIES in emerald's grid");
-    let to = from + grid[from..].find('/').unwrap() + 1;
-    std::fs::write(
-        dir.join("EME.GRDECL"),
-        format!("{}{}", &grid[..from], &grid[to..]),
-    )
-    .unwrap();
-    let deck = "RUNSPEC\nDIMENS\n 21 41 18 /\nOIL\nWATER\nMETRIC\nTABDIMS\n/\nWELLDIMS\n 0 0 0 0 /\n\
-        START\n 1 'JAN' 2000 /\nGRID\nINIT\nINCLUDE\n 'EME.GRDECL' /\nPERMX\n 15498*100 /\n\
-        COPY\n 'PERMX' 'PERMY' /\n 'PERMX' 'PERMZ' /\n/\nMULTIPLY\n 'PERMZ' 0.1 /\n 'PERMY' 2 1 21 20 41 1 18 /\n/\n\
-        EQUALS\n 'MULTX' 0.5 1 10 1 41 1 18 /\n 'MULTZ' 0.2 1 21 1 41 5 9 /\n 'NTG' 0.8 1 21 1 20 1 18 /\n/\n\
-        FAULTS\n 'FA' 1 21 39 39 1 18 'Y' /\n 'FA' 1 21 40 40 1 18 'Y' /\n 'FB' 13 13 1 41 1 18 'X-' /\n/\n\
-        MULTFLT\n 'FA' 0.1 /\n 'FB' 0.3 /\n/\nMULTFLT\n 'FA' 0.5 /\n/\n\
-        PROPS\nSWOF\n 0 0 1 0\n 1 1 0 0 /\nPVTW\n 200 1 4e-5 0.5 0 /\nPVDO\n 100 1.0 1.0\n 300 0.99 1.1 /\n\
-        DENSITY\n 800 1000 1 /\nROCK\n 200 1e-5 /\nSOLUTION\nEQUIL\n 2000 200 3000 0 0 0 1 1 0 /\n\
-        SCHEDULE\nTSTEP\n 1 /\nEND\n";
-    let path = dir.join("EME.DATA");
-    std::fs::write(&path, deck).unwrap();
-    let (n, thrown) = far_field("emerald", &path);
-    eprintln!("emerald: {n} transmissibilities, {thrown} across throws between layers");
-    assert!(
-        thrown > 0,
-        "emerald's throws connect cells of different layers"
-    );
-}
-
-/// Writes a deck's far-field transmissibilities (the pair, the axis, the
-/// value) and a sidecar naming the deck for tests/decks.py; returns how
-/// many there are and how many join cells of different layers (across a
-/// throw).
-fn far_field(stem: &str, deck: &std::path::Path) -> (usize, usize) {
-    use orthomesh::io::{arrays::read_arrays, eclipse};
-    use orthomesh::reservoir::trans::darcy;
-    let g = eclipse::read_grid(deck).unwrap();
-    let a = read_arrays(deck, [g.nx, g.ny, g.nz]).unwrap();
-    let field = eclipse::unit_system(deck).unwrap() == "FIELD";
-    let t = a.transmissibilities(&g, darcy(field)).unwrap();
-    let mut text = String::new();
-    for c in &t {
-        text.push_str(&format!(
-            "{} {} {} {:e}\n",
-            c.cells[0], c.cells[1], c.axis, c.value
-        ));
-    }
-    let dir = out_dir().join("trans");
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join(format!("{stem}.txt")), text).unwrap();
-    let side = json!({ "deck": std::fs::canonicalize(deck).unwrap(), "dims": [g.nx, g.ny, g.nz] });
-    std::fs::write(dir.join(format!("{stem}.json")), side.to_string()).unwrap();
-    let layer = |c: usize| c / (g.nx * g.ny);
-    let thrown = t
-        .iter()
-        .filter(|c| layer(c.cells[0]) != layer(c.cells[1]))
-        .count();
-    (t.len(), thrown - t.iter().filter(|c| c.axis == 2).count())
 }

@@ -12,7 +12,7 @@ use std::fmt::Write;
 
 /// Numbers as the deck reads them: the shortest text that reads back to
 /// the same double.
-fn num(x: f64) -> String {
+pub(crate) fn num(x: f64) -> String {
     if x == 0.0 || (1e-3..1e9).contains(&x.abs()) {
         format!("{x}")
     } else {
@@ -21,7 +21,7 @@ fn num(x: f64) -> String {
 }
 
 /// A GRID or EDIT array: its keyword and values, six to a line (Eclipse reads 132 columns).
-fn array(s: &mut String, keyword: &str, values: impl Iterator<Item = f64>) {
+pub(crate) fn array(s: &mut String, keyword: &str, values: impl Iterator<Item = f64>) {
     let _ = writeln!(s, "{keyword}");
     let values: Vec<String> = values.map(num).collect();
     for line in values.chunks(6) {

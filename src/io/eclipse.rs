@@ -15,8 +15,8 @@ use std::path::{Path, PathBuf};
 pub(super) struct Tok {
     pub(super) text: String,
     pub(super) quoted: bool,
-    file: usize,
-    line: usize,
+    pub(super) file: usize,
+    pub(super) line: usize,
 }
 
 /// The tokens of a file and of the files it includes, in order.
@@ -501,7 +501,8 @@ pub fn read_wells(path: &Path) -> Result<(Vec<Well>, Vec<String>)> {
         match kw.text.as_str() {
             "WELSPECS" | "COMPDAT" => {
                 k = each_record(&ts, k, &kw, |rec| {
-                    let name = text(&rec, 0).ok_or_else(|| {
+                    // names padded with spaces name the same well
+                    let name = text(&rec, 0).map(|t| t.trim().to_string()).ok_or_else(|| {
                         ts.error(&kw, format!("{} record without a well name", kw.text))
                     })?;
                     let (ci, cj) = if kw.text == "WELSPECS" {

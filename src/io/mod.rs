@@ -1,6 +1,7 @@
 //! Readers and writers.
 
 pub mod arrays;
+pub mod carry;
 pub mod deck;
 pub mod eclipse;
 pub mod edg;

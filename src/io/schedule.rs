@@ -52,7 +52,7 @@ impl Reader<'_> {
         r.get(n)
             .cloned()
             .flatten()
-            .map_or(default.to_string(), |t| t.text.to_uppercase())
+            .map_or(default.to_string(), |t| t.text.trim().to_uppercase())
     }
 
     /// A WCONPROD or WCONINJE record as a water control, translations said.

@@ -171,6 +171,9 @@ pub struct WellLinks {
     pub radius: f64,
     /// (element, geometric factor).
     pub links: Vec<(usize, f64)>,
+    /// ln(rho / r_w) of its factors' radial flow (Peaceman's r_o for rho
+    /// in an ordinary cell): a skin S makes each factor g log / (log + S).
+    pub log: f64,
 }
 
 /// The geometric part of the connection factor of a well of radius `rw`
@@ -350,6 +353,7 @@ pub fn in_metres(network: &Network, wells: &[WellLinks], f: f64) -> (Network, Ve
             name: w.name.clone(),
             radius: w.radius * f,
             links: w.links.iter().map(|&(e, g)| (e, g * f)).collect(),
+            log: w.log,
         })
         .collect();
     (n, wells)
@@ -698,6 +702,7 @@ mod tests {
             name: "W".into(),
             radius: 0.1,
             links: vec![(0, 2.0)],
+            log: 1.0,
         }];
         let (deck, position) = deck("row", &net, &rock, &wells, &DeckSettings::default());
         assert_eq!(position, vec![1, 0]);

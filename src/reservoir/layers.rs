@@ -295,6 +295,7 @@ impl Layered {
                     name: w.name.clone(),
                     radius: w.radius,
                     links,
+                    log: (w.site_radius / w.radius).ln(),
                 }
             })
             .collect()

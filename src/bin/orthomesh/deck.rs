@@ -31,12 +31,36 @@ pub(crate) struct DeckArgs {
     /// schedule of the input deck).
     #[arg(long)]
     days: Option<f64>,
+    /// Deck, `hybrid --3d` with a whole --deck: write today's single-phase
+    /// water model of the mesh instead of carrying the deck whole (for the
+    /// Thiem checks).
+    #[arg(long)]
+    single_phase: bool,
 }
 
 impl DeckArgs {
     /// Whether a deck is asked for.
     pub(crate) fn wanted(&self) -> bool {
         self.eclipse.is_some()
+    }
+
+    /// Whether the deck carries the input deck whole: asked for, a --deck
+    /// with a PROPS section, not --single-phase.
+    pub(crate) fn carries(&self, deck: Option<&Path>) -> Result<bool> {
+        match (self.wanted() && !self.single_phase, deck) {
+            (true, Some(p)) => io::carry::has_section(p, "PROPS"),
+            _ => Ok(false),
+        }
+    }
+
+    /// The deck that carries the input deck whole onto a 3D hybrid mesh,
+    /// what it mended and assumed said on standard error.
+    pub(crate) fn carried(&self, deck: &Path, mesh: &io::carry::Mesh) -> Result<DeckOut> {
+        let Some(path) = &self.eclipse else {
+            return Ok(DeckOut::default());
+        };
+        let (text, notes, position) = io::carry::carry(deck, mesh)?;
+        Ok(DeckOut::written(path, text, &notes, &position))
     }
 
     /// Checks the deck's options before any meshing: those that need
@@ -48,10 +72,21 @@ impl DeckArgs {
                 "--perm, --poro, --rate, --days and --aquifer are for --eclipse".into(),
             ));
         }
+        if self.single_phase && !self.wanted() {
+            return Err(Error::Usage("--single-phase is for --eclipse".into()));
+        }
         if self.aquifer && !hybrid {
             return Err(Error::Usage("--aquifer is for `hybrid`".into()));
         }
         self.choices().check()
+    }
+
+    /// Whether an option of the single-phase model is given.
+    pub(crate) fn single_phase_options(&self) -> bool {
+        [self.perm, self.poro, self.rate, self.days]
+            .iter()
+            .any(Option::is_some)
+            || self.aquifer
     }
 
     /// The user's choices, before what the input gives.
@@ -96,14 +131,7 @@ impl DeckArgs {
             ..self.choices()
         };
         let (text, notes, position) = orthomesh::io::deck::write(title, network, wells, &choices)?;
-        for n in notes {
-            eprintln!("deck: {n}");
-        }
-        let cells = position.iter().map(|&i| i as i64 + 1).collect();
-        Ok(DeckOut {
-            files: vec![(path.clone(), text)],
-            arrays: vec![CellArray::int("deck_cell", 1, cells)],
-        })
+        Ok(DeckOut::written(path, text, &notes, &position))
     }
 
     /// The deck of a `conform` mesh when one is asked for (and so the
@@ -166,6 +194,19 @@ pub(crate) struct DeckOut {
 }
 
 impl DeckOut {
+    /// A deck's file and its cells' map for the VTU (`deck_cell`, 1-based),
+    /// what it assumed said on standard error.
+    fn written(path: &Path, text: String, notes: &[String], position: &[usize]) -> DeckOut {
+        for n in notes {
+            eprintln!("deck: {n}");
+        }
+        let cells = position.iter().map(|&i| i as i64 + 1).collect();
+        DeckOut {
+            files: vec![(path.to_path_buf(), text)],
+            arrays: vec![CellArray::int("deck_cell", 1, cells)],
+        }
+    }
+
     /// Adds a TOUGH MESH file of the network, and its element names.
     pub(crate) fn tough(mut self, path: Option<&Path>, network: Option<&Network>) -> Result<Self> {
         if let (Some(path), Some(network)) = (path, network) {
@@ -240,6 +281,7 @@ pub(crate) fn point_wells(
             name,
             radius,
             links: vec![(cell, factor)],
+            log: (r_o / radius).ln(),
         });
     }
     Ok(wells)

@@ -107,6 +107,14 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     let g = io::eclipse::read_grid(&a.grid)?;
     let list = wells(&a)?;
     a.simulator.check(true)?;
+    let carries = a.simulator.carries(a.deck.as_deref())?;
+    if carries && a.simulator.single_phase_options() {
+        return Err(Error::Usage(
+            "--perm, --poro, --rate, --days and --aquifer are for --single-phase decks: a whole \
+             --deck is carried as it is"
+                .into(),
+        ));
+    }
     let watched = std::io::stderr().is_terminal() && (list.len() >= MANY_WELLS || g.nz > 1);
     let opts = Hybrid3Options {
         rings: a.rings.unwrap_or(6),
@@ -143,20 +151,7 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
     }
     // The network only where a file needs it.
     let network = (a.tough.is_some() || a.simulator.wanted()).then(|| h.mesh.network());
-    let deck = match &network {
-        Some(network) if a.simulator.wanted() => {
-            let title = format!("{} (3D)", a.grid.display());
-            let outer = || h.outer_cells(&g);
-            a.simulator.text(&title, network, &h.wellbore, outer, || {
-                Ok(FromInput {
-                    length: grid_unit(&a)?,
-                    deck: a.deck.as_deref(),
-                    rock: Some(grid_rock(&a, &g, &h.host)?),
-                })
-            })?
-        }
-        _ => DeckOut::default(),
-    };
+    let deck = deck_of(&a, &g, &h, network.as_ref(), carries)?;
     let deck = deck.tough(a.tough.as_deref(), network.as_ref())?;
     let mut texts = vec![(a.out.output.clone(), deck.vtu(h.cells()))];
     texts.extend(deck.files);
@@ -246,5 +241,40 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
                  report), so some of their sites cannot be inside: docs/limitations.md"
             );
         }
+    })
+}
+
+/// The deck asked for: the input deck carried whole (`carries`), or the
+/// single-phase model of the mesh.
+fn deck_of(
+    a: &HybridArgs,
+    g: &orthomesh::reservoir::CornerPointGrid,
+    h: &hybrid3::Hybrid3,
+    network: Option<&orthomesh::Network>,
+    carries: bool,
+) -> Result<DeckOut> {
+    Ok(match (network, &a.deck) {
+        (Some(network), Some(input)) if carries => {
+            let mesh = io::carry::Mesh {
+                grid: g,
+                network,
+                host: &h.host,
+                ijk: &h.ijk,
+                wells: &h.wellbore,
+            };
+            a.simulator.carried(input, &mesh)?
+        }
+        (Some(network), _) if a.simulator.wanted() => {
+            let title = format!("{} (3D)", a.grid.display());
+            let outer = || h.outer_cells(g);
+            a.simulator.text(&title, network, &h.wellbore, outer, || {
+                Ok(FromInput {
+                    length: grid_unit(a)?,
+                    deck: a.deck.as_deref(),
+                    rock: Some(grid_rock(a, g, &h.host)?),
+                })
+            })?
+        }
+        _ => DeckOut::default(),
     })
 }

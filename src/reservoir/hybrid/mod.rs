@@ -223,6 +223,7 @@ impl Hybrid {
                     .into_iter()
                     .map(|(c, g)| (c as usize, g))
                     .collect(),
+                log: (w.site_radius / w.radius).ln(),
             })
             .collect()
     }

@@ -620,6 +620,7 @@ pub(super) fn well_links(
             name: name.clone(),
             radius: *radius,
             links: wellbore(w, first),
+            log: (site_radii(&w.r, w.m)[0] / w.r[0]).ln(),
         })
         .collect()
 }

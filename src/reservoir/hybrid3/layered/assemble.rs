@@ -226,6 +226,7 @@ fn wellbore_links(
         name: name.to_string(),
         radius: wm.radius,
         links,
+        log,
     }
 }
 

@@ -11,7 +11,7 @@
 
 use super::super::cpg::{Cpg, Ijk};
 use super::cones::{self, Cones};
-use super::frame::{Frame, PLANAR};
+use super::frame::Frame;
 use super::join;
 use super::reflex::{self, left_of};
 use crate::geom::{CutFace, Cutter, Halfspace};
@@ -188,7 +188,7 @@ impl Build<'_> {
                 let c = crate::geom::dot_f(n, o);
                 // walls in one plane (columns along the grid's side) are one
                 // plane, so that a cell's faces there join
-                let tol = PLANAR * self.f.size;
+                let tol = self.f.tol();
                 let same = self.walls.values().copied().find(|&id| {
                     coplanar(self.cut.planes[id as usize], Halfspace { n, c }, 1e-12, tol)
                 });
@@ -449,7 +449,7 @@ impl Build<'_> {
     fn across_plane(&mut self, col: [usize; 2], plane: u32) -> Option<[usize; 2]> {
         let h = self.cut.planes[plane as usize];
         let sides = self.column(col);
-        let tol = PLANAR * self.f.size;
+        let tol = self.f.tol();
         walls(col)
             .into_iter()
             .zip(sides)
@@ -646,7 +646,7 @@ pub(crate) fn cells(
     region: &[Region],
     cav: &Cavity,
 ) -> Result<(Cutter, Vec<Cell>), String> {
-    let leans = lean(cpg, f, cav) > PLANAR * f.size;
+    let leans = lean(cpg, f, cav) > f.tol();
     let corners = match leans && !f.twisted {
         true => {
             let owner: HashMap<(u32, u32), u32> = m.edge_owners().into_iter().collect();
@@ -669,7 +669,7 @@ pub(crate) fn cells(
         cpg,
         f,
         m,
-        cut: Cutter::new(if f.twisted { f.weld() } else { PLANAR * f.size }),
+        cut: Cutter::new(if f.twisted { f.weld() } else { f.tol() }),
         lines: HashMap::new(),
         edges: HashMap::new(),
         walls: HashMap::new(),
@@ -693,7 +693,7 @@ pub(crate) fn cells(
     // a corner, moved in along both its sides) out to the wall, leaning out
     // as far; twisted layers' corners move along their bisectors (twice)
     let times = if f.twisted { 10.0 } else { 3.0 };
-    let reach = times * lean(cpg, f, cav) + 10.0 * PLANAR * f.size;
+    let reach = times * lean(cpg, f, cav) + 10.0 * f.tol();
     let nl = cav.k[1] - cav.k[0] + 1;
     // the columns' outlines at the cavity's top and bottom, for quick tests
     let boxes: BTreeMap<[usize; 2], ([f64; 2], [f64; 2])> = cav

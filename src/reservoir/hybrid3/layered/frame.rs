@@ -8,10 +8,18 @@ use crate::geom::{cross_f, dot_f};
 use nalgebra::{Matrix3, SymmetricEigen};
 
 /// Corners may lie this far (relative to the block's size) off their
-/// boundary's plane, and a column's wall off its plane: the decimals of
-/// corner-point files (SPE9's depths have six) round planes by about 1e-9
-/// of a field.
+/// boundary's plane, and a column's wall off its plane, and points this
+/// close are one: the decimals of corner-point files round planes. SPE9's
+/// GRDECL (six decimals) by about 1e-9 of the field.
 pub(crate) const PLANAR: f64 = 1e-7;
+
+/// Corners of data rounded coarser may lie up to this far (relative to the
+/// block's size) off their planes: the SPE9 benchmark deck's depths,
+/// written by MRST to the hundredth of a foot (three decimals in places),
+/// lie 4.1e-3 ft off, 5.3e-7 of its 7,700 ft block. The block's
+/// tolerance is then twice that (`Frame::tol`), and its layered cells
+/// fill it to 2e-9 of its volume (`assemble::FILLED` checks it).
+pub(crate) const ROUNDED: f64 = 1e-6;
 
 /// Cut points of twisted layers within this (relative to the block's
 /// size) are one: 20 nanometres in a block of 200 m.
@@ -40,6 +48,16 @@ pub(crate) struct Frame {
 }
 
 impl Frame {
+    /// Distances below this are the data's rounding: `PLANAR` of the
+    /// block, or twice its corners' distance off their planes where the
+    /// data round coarser (`ROUNDED`).
+    pub(crate) fn tol(&self) -> f64 {
+        match self.twisted {
+            true => PLANAR * self.size,
+            false => (PLANAR * self.size).max(2.0 * self.off),
+        }
+    }
+
     /// A point in frame coordinates (along a, b, n from o).
     pub(crate) fn to(&self, p: [f64; 3]) -> [f64; 3] {
         let d: [f64; 3] = std::array::from_fn(|k| p[k] - self.o[k]);
@@ -91,7 +109,7 @@ impl Frame {
         k1: usize,
     ) -> Result<Frame, String> {
         let mut f = Frame::measure(cpg, cols, k0, k1)?;
-        let tol = PLANAR * f.size;
+        let tol = ROUNDED * f.size;
         if f.off > tol {
             return Err(format!(
                 "its layers' boundaries are not parallel planes (a corner {:.3e} off, above {tol:.3e})",

@@ -375,7 +375,7 @@ fn leaning(cpg: &Cpg, f: &Frame, own: &[[usize; 2]]) -> bool {
         for far in [at(i + 1, j, top), at(i, j + 1, top)] {
             let t = [far[0] - hi[0], far[1] - hi[1]];
             let len = t[0].hypot(t[1]);
-            out |= (lean[0] * t[0] + lean[1] * t[1]).abs() > frame::PLANAR * f.size * len;
+            out |= (lean[0] * t[0] + lean[1] * t[1]).abs() > f.tol() * len;
         }
     }
     out

@@ -234,7 +234,7 @@ pub(super) fn inset(
             })
             .count();
         let m = mid(p);
-        let moved = (m[0] - u).hypot(m[1] - v) > 10.0 * super::frame::PLANAR * f.size;
+        let moved = (m[0] - u).hypot(m[1] - v) > 10.0 * f.tol();
         if around == 3 && layers.is_none() && moved {
             reflex.push((p, m));
         }

@@ -1,0 +1,226 @@
+//! The engineer's deck carried whole (issue 51): the original grid's
+//! transmissibilities as OPM Flow computes them (SPE9's full deck, emerald
+//! with throws, faults and multipliers), and hybrid meshes' decks that
+//! carry their input deck whole (SPE9's black-oil benchmark in 3D; a small
+//! deck with two saturation and two equilibration regions), each written
+//! with a JSON sidecar for `tests/decks.py`, which runs OPM Flow on them
+//! and on the originals.
+
+use orthomesh::backend::default_backend;
+use orthomesh::io::carry::{carry, Mesh};
+use orthomesh::reservoir::hybrid3::{self, Hybrid3Options, Well3};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+fn out_dir() -> PathBuf {
+    let dir = match std::env::var("ORTHOMESH_TEST_OUT") {
+        Ok(d) => PathBuf::from(d).join("decks"),
+        Err(_) => std::env::temp_dir().join(format!("orthomesh-carry-{}", std::process::id())),
+    };
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Meshes a deck's wells in 3D (the command line's defaults: layered
+/// cavities) and writes its hybrid deck, carried whole, into
+/// `decks/carried/NAME/`, with a sidecar for decks.py: the original deck,
+/// per reservoir deck cell its grid cell, per deck cell its host.
+fn carried(name: &str, deck: &Path, radius: f64) -> (usize, Vec<String>) {
+    let g = orthomesh::io::eclipse::read_grid(deck).unwrap();
+    let (found, _) = orthomesh::io::eclipse::read_wells(deck).unwrap();
+    let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(radius)).collect();
+    let opts = Hybrid3Options {
+        allow_sites_outside: true,
+        ..Default::default()
+    };
+    let start = std::time::Instant::now();
+    let h = hybrid3::build(&default_backend(), &g, &wells, &opts).unwrap();
+    assert_eq!(h.report.sites_outside, 0, "{name}");
+    assert_eq!(h.report.sections.len().min(1), 1, "{name}: layered");
+    let net = h.mesh.network();
+    let mesh = Mesh {
+        grid: &g,
+        network: &net,
+        host: &h.host,
+        ijk: &h.ijk,
+        wells: &h.wellbore,
+    };
+    let (text, notes, position) = carry(deck, &mesh).unwrap();
+    println!(
+        "{name}: {} cells, meshed and carried in {:.1} s",
+        position.len(),
+        start.elapsed().as_secs_f64()
+    );
+    let dir = out_dir().join("carried").join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{}.DATA", name.to_uppercase()));
+    std::fs::write(&path, &text).unwrap();
+    let at = |[i, j, k]: [usize; 3]| g.cell_index(i, j, k);
+    let mut reservoir = vec![];
+    let mut host = vec![0; position.len()];
+    for (e, &p) in position.iter().enumerate() {
+        host[p] = at(h.host[e]);
+        if let Some(c) = h.ijk[e] {
+            reservoir.push([p, at(c)]);
+        }
+    }
+    let side = json!({
+        "deck": path, "original": std::fs::canonicalize(deck).unwrap(),
+        "reservoir": reservoir, "host": host,
+    });
+    std::fs::write(dir.join("carried.json"), side.to_string()).unwrap();
+    (position.len(), notes)
+}
+
+/// SPE9's black-oil benchmark deck (three phases, dissolved gas, 26 wells,
+/// an explicit initial state, 900 days) carried whole onto its 3D hybrid:
+/// decks.py checks with Flow's dry run that the reservoir cells keep the
+/// original's pore volumes and transmissibilities (and times a run).
+#[test]
+fn spe9_carried_whole() {
+    let deck = Path::new("tests/data/decks/spe9/BENCH_SPE9.DATA");
+    let (cells, notes) = carried("spe9", deck, 0.25);
+    for n in &notes {
+        println!("  {n}");
+    }
+    assert!(cells > 9000);
+    let said = notes.join("\n");
+    for what in ["padded", "BASIC", "NONNC", "WELLDIMS", "COMPDAT"] {
+        assert!(said.contains(what), "{what}: {said}");
+    }
+}
+
+/// A small black-oil deck of our own on a 7 x 7 x 2 block: two saturation
+/// regions (SATNUM, split along x) and two equilibration regions (EQLNUM,
+/// split along y, different contacts), SWATINIT, one producer in the
+/// middle: carried whole onto its hybrid, each cell keeping its host's
+/// regions (decks.py checks them in Flow's INIT and compares the runs).
+#[test]
+fn regions_carried_whole() {
+    let dir = out_dir().join("carried").join("regions-input");
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = std::fs::read_to_string("tests/golden/block7x7x2.grdecl").unwrap();
+    std::fs::write(dir.join("BLOCK.GRDECL"), grid).unwrap();
+    let satnum: Vec<String> = (0..98)
+        .map(|c| if c % 7 < 3 { "1" } else { "2" }.to_string())
+        .collect();
+    let eqlnum: Vec<String> = (0..98)
+        .map(|c| if (c / 7) % 7 < 3 { "1" } else { "2" }.to_string())
+        .collect();
+    let swatinit: Vec<String> = (0..98)
+        .map(|c| format!("{}", 0.2 + 0.005 * (c % 7) as f64))
+        .collect();
+    let text = format!(
+        "RUNSPEC\nTITLE\nregions\nDIMENS\n 7 7 2 /\nOIL\nWATER\nMETRIC\nTABDIMS\n 2 1 20 20 /\n\
+         EQLDIMS\n 2 /\nWELLDIMS\n 1 2 1 1 /\nSTART\n 1 'JAN' 2020 /\nUNIFOUT\nGRID\nINIT\n\
+         INCLUDE\n 'BLOCK.GRDECL' /\nPORO\n 98*0.25 /\nPERMX\n 98*200 /\nCOPY\n 'PERMX' 'PERMY' /\n\
+         'PERMX' 'PERMZ' /\n/\nMULTIPLY\n 'PERMZ' 0.1 /\n/\nPROPS\nSWOF\n 0.2 0 1 0\n 0.8 0.6 0 0 /\n\
+         0.1 0 1 0\n 0.9 0.9 0 0 /\nPVTW\n 250 1.02 4.5e-5 0.4 0 /\nPVDO\n 100 1.05 2\n 300 1.03 2.2 /\n\
+         DENSITY\n 850 1020 1 /\nROCK\n 250 5e-5 /\nSWATINIT\n {} /\nREGIONS\nSATNUM\n {} /\n\
+         EQLNUM\n {} /\nSOLUTION\nEQUIL\n 2 250 7.5 0 1* 1* /\n 2 250 7 0 1* 1* /\nSUMMARY\nFOPT\nFWPT\n\
+         FOPR\nWBHP\n/\nSCHEDULE\nWELSPECS\n 'P1' 'G' 4 4 1* 'OIL' /\n/\nCOMPDAT\n 'P1' 4 4 1 2 'OPEN' 1* 1* 0.2 /\n/\n\
+         WCONPROD\n 'P1' 'OPEN' 'ORAT' 5 4* 50 /\n/\nTSTEP\n 10*10 /\nEND\n",
+        swatinit.join(" "),
+        satnum.join(" "),
+        eqlnum.join(" ")
+    );
+    let deck = dir.join("REGIONS.DATA");
+    std::fs::write(&deck, text).unwrap();
+    let (cells, notes) = carried("regions", &deck, 0.1);
+    println!("regions: {cells} cells; {}", notes.join("; "));
+}
+
+/// SPE9's full black-oil deck: its grid's own transmissibilities as Flow
+/// computes them (`reservoir::trans`: corner-point geometry, PERMX given,
+/// PERMY and PERMZ by the deck's COPY and MULTIPLY), written for
+/// tests/decks.py to compare with the INIT file Flow writes for the deck
+/// (the far field a hybridized deck must keep; issue 51); and again for a
+/// copy with face multipliers of our own (EQUALS in boxes, an array in a
+/// BOX over part of one).
+#[test]
+fn spe9_far_field_transmissibilities() {
+    let src = Path::new("tests/data/decks/spe9");
+    // 24 x 25 x 15 cells, all active, no throw: every neighbour pair
+    let n = 23 * 25 * 15 + 24 * 24 * 15 + 24 * 25 * 14;
+    assert_eq!(far_field("spe9", &src.join("BENCH_SPE9.DATA")), (n, 0));
+    let dir = out_dir().join("trans").join("spe9-mult");
+    std::fs::create_dir_all(&dir).unwrap();
+    for f in ["SPE9.GRDECL", "INITSOL.INC"] {
+        std::fs::copy(src.join(f), dir.join(f)).unwrap();
+    }
+    let text = std::fs::read_to_string(src.join("BENCH_SPE9.DATA")).unwrap();
+    let mults = "EQUALS\n 'MULTX' 0.5 1 12 1 25 1 15 /\n 'MULTY' 0.1 1 24 10 12 1 15 /\n \
+                 'MULTZ' 0.01 1 24 1 25 5 5 /\n/\nBOX\n 1 24 20 25 1 15 /\nMULTZ\n 2160*0.5 /\nENDBOX\n\n";
+    let at = text.find("\nPROPS").expect("a PROPS section");
+    let deck = dir.join("BENCH_SPE9.DATA");
+    std::fs::write(&deck, format!("{}\n{mults}{}", &text[..at], &text[at..])).unwrap();
+    assert_eq!(far_field("spe9-mult", &deck), (n, 0));
+}
+
+/// Emerald (leaning pillars, throws, an inactive hole, PORO 0 in most
+/// cells) in a small deck of our own, with face multipliers, faults on
+/// the +y faces of two rows and the -x faces of a column, across throws,
+/// MULTFLT given twice for one of them (the last holds): its transmissibilities across the throws
+/// too, for tests/decks.py to compare with Flow's INIT and NNCs. The
+/// grid's FACIES array, which Flow 2022.10 refuses, is left out of the copy.
+#[test]
+fn emerald_far_field_transmissibilities() {
+    let dir = out_dir().join("trans").join("emerald");
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = std::fs::read_to_string("tests/data/grids/eme_small_w_hole.grdecl").unwrap();
+    let from = grid.find("\nFACIES").expect("FACIES in emerald's grid");
+    let to = from + grid[from..].find('/').unwrap() + 1;
+    std::fs::write(
+        dir.join("EME.GRDECL"),
+        format!("{}{}", &grid[..from], &grid[to..]),
+    )
+    .unwrap();
+    let deck = "RUNSPEC\nDIMENS\n 21 41 18 /\nOIL\nWATER\nMETRIC\nTABDIMS\n/\nWELLDIMS\n 0 0 0 0 /\n\
+        START\n 1 'JAN' 2000 /\nGRID\nINIT\nINCLUDE\n 'EME.GRDECL' /\nPERMX\n 15498*100 /\n\
+        COPY\n 'PERMX' 'PERMY' /\n 'PERMX' 'PERMZ' /\n/\nMULTIPLY\n 'PERMZ' 0.1 /\n 'PERMY' 2 1 21 20 41 1 18 /\n/\n\
+        EQUALS\n 'MULTX' 0.5 1 10 1 41 1 18 /\n 'MULTZ' 0.2 1 21 1 41 5 9 /\n 'NTG' 0.8 1 21 1 20 1 18 /\n/\n\
+        FAULTS\n 'FA' 1 21 39 39 1 18 'Y' /\n 'FA' 1 21 40 40 1 18 'Y' /\n 'FB' 13 13 1 41 1 18 'X-' /\n/\n\
+        MULTFLT\n 'FA' 0.1 /\n 'FB' 0.3 /\n/\nMULTFLT\n 'FA' 0.5 /\n/\n\
+        PROPS\nSWOF\n 0 0 1 0\n 1 1 0 0 /\nPVTW\n 200 1 4e-5 0.5 0 /\nPVDO\n 100 1.0 1.0\n 300 0.99 1.1 /\n\
+        DENSITY\n 800 1000 1 /\nROCK\n 200 1e-5 /\nSOLUTION\nEQUIL\n 2000 200 3000 0 0 0 1 1 0 /\n\
+        SCHEDULE\nTSTEP\n 1 /\nEND\n";
+    let path = dir.join("EME.DATA");
+    std::fs::write(&path, deck).unwrap();
+    let (n, thrown) = far_field("emerald", &path);
+    eprintln!("emerald: {n} transmissibilities, {thrown} across throws between layers");
+    assert!(
+        thrown > 0,
+        "emerald's throws connect cells of different layers"
+    );
+}
+
+/// Writes a deck's far-field transmissibilities (the pair, the axis, the
+/// value) and a sidecar naming the deck for tests/decks.py; returns how
+/// many there are and how many join cells of different layers (across a
+/// throw).
+fn far_field(stem: &str, deck: &Path) -> (usize, usize) {
+    use orthomesh::io::{arrays::read_arrays, eclipse};
+    use orthomesh::reservoir::trans::darcy;
+    let g = eclipse::read_grid(deck).unwrap();
+    let a = read_arrays(deck, [g.nx, g.ny, g.nz]).unwrap();
+    let field = eclipse::unit_system(deck).unwrap() == "FIELD";
+    let t = a.transmissibilities(&g, darcy(field)).unwrap();
+    let mut text = String::new();
+    for c in &t {
+        text.push_str(&format!(
+            "{} {} {} {:e}\n",
+            c.cells[0], c.cells[1], c.axis, c.value
+        ));
+    }
+    let dir = out_dir().join("trans");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join(format!("{stem}.txt")), text).unwrap();
+    let side = json!({ "deck": std::fs::canonicalize(deck).unwrap(), "dims": [g.nx, g.ny, g.nz] });
+    std::fs::write(dir.join(format!("{stem}.json")), side.to_string()).unwrap();
+    let layer = |c: usize| c / (g.nx * g.ny);
+    let thrown = t
+        .iter()
+        .filter(|c| layer(c.cells[0]) != layer(c.cells[1]))
+        .count();
+    (t.len(), thrown - t.iter().filter(|c| c.axis == 2).count())
+}
