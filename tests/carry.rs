@@ -97,7 +97,14 @@ fn spe9_carried_whole() {
 /// regions (decks.py checks them in Flow's INIT and compares the runs).
 #[test]
 fn regions_carried_whole() {
-    let dir = out_dir().join("carried").join("regions-input");
+    let deck = regions_input("regions-input");
+    let (cells, notes) = carried("regions", &deck, 0.1);
+    println!("regions: {cells} cells; {}", notes.join("; "));
+}
+
+/// The regions deck and its grid, written to `decks/carried/FOLDER`.
+fn regions_input(folder: &str) -> PathBuf {
+    let dir = out_dir().join("carried").join(folder);
     std::fs::create_dir_all(&dir).unwrap();
     let grid = std::fs::read_to_string("tests/golden/block7x7x2.grdecl").unwrap();
     std::fs::write(dir.join("BLOCK.GRDECL"), grid).unwrap();
@@ -126,8 +133,51 @@ fn regions_carried_whole() {
     );
     let deck = dir.join("REGIONS.DATA");
     std::fs::write(&deck, text).unwrap();
-    let (cells, notes) = carried("regions", &deck, 0.1);
-    println!("regions: {cells} cells; {}", notes.join("; "));
+    deck
+}
+
+/// The command line: `hybrid --3d` with a whole --deck carries it (what it
+/// mended and assumed on stderr); the single-phase model's options are
+/// refused with it; --single-phase writes the water model instead.
+#[test]
+fn the_command_line_carries_a_whole_deck() {
+    let input = regions_input("cli-input");
+    let dir = out_dir().join("carried").join("cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |extra: &[&str]| {
+        let (deck, vtu) = (dir.join("H.DATA"), dir.join("h.vtu"));
+        let _ = std::fs::remove_file(&deck);
+        let mut args = vec![
+            "hybrid",
+            "--3d",
+            "--grid",
+            input.to_str().unwrap(),
+            "--deck",
+        ];
+        args.extend([input.to_str().unwrap(), "-o", vtu.to_str().unwrap()]);
+        args.extend(["--eclipse", deck.to_str().unwrap()]);
+        args.extend(extra);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_orthomesh"))
+            .args(&args)
+            .output()
+            .unwrap();
+        let text = std::fs::read_to_string(&deck).unwrap_or_default();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+            text,
+        )
+    };
+    let (code, err, deck) = run(&[]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("deck: COMPDAT of the meshed wells"), "{err}");
+    assert!(deck.contains("SATNUM") && deck.contains("EQLNUM") && deck.contains("COMPORD"));
+    let (code, err, deck) = run(&["--rate", "5"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("--single-phase") && deck.is_empty(), "{err}");
+    let (code, err, deck) = run(&["--single-phase"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(!deck.contains("SATNUM") && deck.contains("PVTW"), "{err}");
 }
 
 /// SPE9's full black-oil deck: its grid's own transmissibilities as Flow
