@@ -46,7 +46,15 @@ def flow(deck, out):
 
 def restart_arrays(stem, key):
     from resdata.resfile import ResdataFile
+    if not os.path.exists(stem + ".UNRST"):
+        print(f"{stem}: no restart file (the deck asks none: RPTRST), so no maps")
+        return []
     r = ResdataFile(stem + ".UNRST")
+    if key == "SOIL" and r.num_named_kw("SOIL") == 0:
+        # Flow writes the water and gas saturations; oil's is the rest
+        water = [r.iget_named_kw("SWAT", n).numpy_copy() for n in range(r.num_named_kw("SWAT"))]
+        gas = [r.iget_named_kw("SGAS", n).numpy_copy() for n in range(r.num_named_kw("SGAS"))]
+        return [1.0 - w - (gas[n] if gas else 0.0) for n, w in enumerate(water)]
     return [r.iget_named_kw(key, n).numpy_copy() for n in range(r.num_named_kw(key))]
 
 

@@ -38,12 +38,14 @@ fn carried(name: &str, deck: &Path, radius: f64) -> (usize, Vec<String>) {
     assert_eq!(h.report.sites_outside, 0, "{name}");
     assert_eq!(h.report.sections.len().min(1), 1, "{name}: layered");
     let net = h.mesh.network();
+    let extent = orthomesh::io::carry::extents(&h.mesh);
     let mesh = Mesh {
         grid: &g,
         network: &net,
         host: &h.host,
         ijk: &h.ijk,
         wells: &h.wellbore,
+        extent: &extent,
     };
     let (text, notes, position) = carry(deck, &mesh).unwrap();
     println!(

@@ -255,12 +255,14 @@ fn deck_of(
 ) -> Result<DeckOut> {
     Ok(match (network, &a.deck) {
         (Some(network), Some(input)) if carries => {
+            let extent = io::carry::extents(&h.mesh);
             let mesh = io::carry::Mesh {
                 grid: g,
                 network,
                 host: &h.host,
                 ijk: &h.ijk,
                 wells: &h.wellbore,
+                extent: &extent,
             };
             a.simulator.carried(input, &mesh)?
         }

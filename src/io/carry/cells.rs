@@ -31,6 +31,22 @@ pub struct Mesh<'a> {
     pub ijk: &'a [Option<[usize; 3]>],
     /// The radially meshed wells' links to their innermost rings.
     pub wells: &'a [WellLinks],
+    /// Per element, its vertical extent (grid units; `extents`).
+    pub extent: &'a [f64],
+}
+
+/// Each cell's vertical extent: the span of its points' heights.
+pub fn extents(m: &crate::mesh::Mesh3) -> Vec<f64> {
+    m.cells
+        .iter()
+        .map(|faces| {
+            let z = faces.iter().flatten().map(|&p| m.points[p as usize][2]);
+            let (lo, hi) = z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| {
+                (a.min(z), b.max(z))
+            });
+            hi - lo
+        })
+        .collect()
 }
 
 /// A deck cell.
@@ -42,6 +58,9 @@ pub(super) struct Cell {
     pub porv: f64,
     /// Depth of its centre (deck units).
     pub depth: f64,
+    /// Its vertical extent (deck units): the span over which Flow's
+    /// equilibration averages its initial saturations.
+    pub dz: f64,
     /// Whether Flow keeps it (pore volume above MINPV).
     pub active: bool,
 }
@@ -121,10 +140,21 @@ impl<'a> Table<'a> {
                         )
                     }
                 };
+                let dz = match mesh.ijk[e] {
+                    Some([i, j, k]) => {
+                        let z = (0..8).map(|n| g.depth(i, j, k, n));
+                        let (lo, hi) = z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| {
+                            (a.min(z), b.max(z))
+                        });
+                        hi - lo
+                    }
+                    None => mesh.extent[e],
+                };
                 Cell {
                     element: e,
                     porv,
                     depth,
+                    dz: (dz * f).max(1e-3),
                     active: porv > minpv,
                 }
             })
@@ -232,11 +262,13 @@ impl<'a> Table<'a> {
     /// GRID: the dummy cells, their rock for reference, the connections.
     pub fn grid(&self, s: &mut String) {
         let n = self.cells.len();
-        for key in ["DX", "DY", "DZ"] {
+        for key in ["DX", "DY"] {
             let _ = write!(s, "{key}\n {n}*1 /\n\n");
         }
-        // a dummy cell of thickness 1 centred on its depth
-        write_array(s, "TOPS", self.cells.iter().map(|c| c.depth - 0.5));
+        // centred on its depth, as tall as the cell (the span equilibration
+        // averages over); a cell's top and bottom play no other role
+        write_array(s, "DZ", self.cells.iter().map(|c| c.dz));
+        write_array(s, "TOPS", self.cells.iter().map(|c| c.depth - 0.5 * c.dz));
         if self.cells.iter().any(|c| !c.active) {
             write_array(
                 s,

@@ -16,7 +16,7 @@ mod wells;
 
 use super::eclipse::{is_keyword, record, Record, Tok, Tokens};
 use crate::error::{Error, Result};
-pub use cells::Mesh;
+pub use cells::{extents, Mesh};
 use std::collections::BTreeSet;
 use std::fmt::Write;
 use std::path::Path;
@@ -366,6 +366,7 @@ mod tests {
             host: &host,
             ijk: &ijk,
             wells: &[],
+            extent: &[2.0, 2.0],
         };
         let dir = std::env::temp_dir().join(format!("orthomesh-carry-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
