@@ -34,9 +34,12 @@ def flow(deck, out):
     text = open(deck).read()
     mended = re.sub(r"BASIC=([6-9])", "BASIC=5", re.sub(r"'([A-Za-z0-9_-]+) +'", r"'\1'", text))
     if mended != text:
-        copy = os.path.join(os.path.dirname(os.path.abspath(deck)), "mended-" + os.path.basename(deck))
-        open(copy, "w").write(mended)
-        deck = copy
+        # a copy of the deck's folder (its includes) beside the output
+        src, folder = os.path.dirname(os.path.abspath(deck)), out + "-deck"
+        shutil.copytree(src, folder, dirs_exist_ok=True)
+        deck = os.path.join(folder, os.path.basename(deck))
+        os.chmod(deck, 0o644)
+        open(deck, "w").write(mended)
     start = time.time()
     run = subprocess.run(["flow", deck, f"--output-dir={out}"], capture_output=True, text=True)
     if run.returncode != 0:
