@@ -104,6 +104,19 @@ def side_by_side(a, hybrid, original, mesh):
             print(f"wrote {picture}")
 
 
+def total(s, key):
+    """A field total (FOPT ...) from the summary, or its rate (FOPR ...)
+    times each step's length where the deck asks no total."""
+    import numpy as np
+    if s.has_key(key):
+        return s.numpy_vector(key)
+    rate = key[:-1] + "R"
+    if not s.has_key(rate):
+        return None
+    t = np.array([(d - s.start_time).total_seconds() / 86400 for d in s.dates])
+    return np.cumsum(s.numpy_vector(rate) * np.diff(t, prepend=0.0))
+
+
 def curves(a, hybrid, original):
     import matplotlib
     matplotlib.use("Agg")
@@ -115,15 +128,16 @@ def curves(a, hybrid, original):
     days = lambda s: [(d - s.start_time).total_seconds() / 86400 for d in s.dates]
     for w in wells:
         line, = ax[0].plot(days(theirs), theirs.numpy_vector(f"WBHP:{w}"), lw=1)
-        if f"WBHP:{w}" in ours:
+        if ours.has_key(f"WBHP:{w}"):
             ax[0].plot(days(ours), ours.numpy_vector(f"WBHP:{w}"), "--", color=line.get_color(), lw=1)
     ax[0].set(title="bottom-hole pressure (solid original, dashed hybrid)", xlabel="days")
-    for k in ["FOPT", "FGPT", "FWPT"]:
-        if k in theirs and k in ours:
-            line, = ax[1].plot(days(theirs), theirs.numpy_vector(k), label=f"{k} original")
-            ax[1].plot(days(ours), ours.numpy_vector(k), "--", color=line.get_color(), label=f"{k} hybrid")
-            x, y = ours.numpy_vector(k)[-1], theirs.numpy_vector(k)[-1]
-            print(f"{k}: hybrid {x:.6g}, original {y:.6g} ({100 * (x - y) / y:+.2f}%)")
+    for k in ["FOPT", "FGPT", "FWPT", "FWIT"]:
+        x, y = total(ours, k), total(theirs, k)
+        if x is None or y is None or y[-1] <= 0:
+            continue
+        line, = ax[1].plot(days(theirs), y, label=f"{k} original")
+        ax[1].plot(days(ours), x, "--", color=line.get_color(), label=f"{k} hybrid")
+        print(f"{k}: hybrid {x[-1]:.6g}, original {y[-1]:.6g} ({100 * (x[-1] - y[-1]) / y[-1]:+.2f}%)")
     ax[1].set(title="field totals", xlabel="days", yscale="log")
     ax[1].legend()
     picture = f"{a.output}-curves.png"
