@@ -172,6 +172,9 @@ fn records(ts: &Tokens, kw: &Kw) -> Result<Vec<Record>> {
 /// standard error.
 #[derive(Debug, Default)]
 struct Said {
+    /// Per meshed well, its ring's connection factors added up and the
+    /// input's (NaN where a line defaults its factor).
+    factors: std::collections::BTreeMap<String, [f64; 2]>,
     rings: bool,
     blocks: bool,
     padded: bool,
@@ -191,6 +194,22 @@ impl Said {
                  log term; its state and other items kept)"
                     .into(),
             );
+        }
+        if !self.factors.is_empty() {
+            let each: Vec<String> = self
+                .factors
+                .iter()
+                .map(|(w, [ours, input])| match input.is_nan() {
+                    true => format!("{w} {ours:.4}"),
+                    false => format!("{w} {ours:.4} ({input:.4})"),
+                })
+                .collect();
+            out.push(format!(
+                "the meshed wells' connection factors added up, from the wellbore to the \
+                 innermost ring's sites, with the input's in brackets where its COMPDAT gives \
+                 them (those reach the grid block's equivalent radius, so they are smaller): {}",
+                each.join(", ")
+            ));
         }
         if self.blocks {
             out.push(

@@ -168,6 +168,12 @@ impl<'a> Wells<'a> {
             let k1 = index(ts, at, &rec, 3)?.unwrap_or(0);
             let k2 = index(ts, at, &rec, 4)?.unwrap_or(nz - 1);
             let skin: f64 = item(&rec, 9).and_then(|v| v.parse().ok()).unwrap_or(0.0);
+            // the input's own factor for the line, where it gives one
+            let given: f64 = item(&rec, 7)
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(f64::NAN);
+            let sums = said.factors.entry(name.clone()).or_insert([0.0, 0.0]);
+            sums[1] += given;
             let text = |n: usize| {
                 item(&rec, n).map_or("1*".to_string(), |v| match rec[n].as_ref() {
                     Some(tok) if tok.quoted => format!("'{v}'"),
@@ -181,6 +187,9 @@ impl<'a> Wells<'a> {
                 }
                 let perm = (t.perm(e, 0) * t.perm(e, 1)).sqrt();
                 let factor = t.darcy * perm * g * t.f * well.log / (well.log + skin);
+                if let Some(sums) = said.factors.get_mut(&name) {
+                    sums[0] += factor;
+                }
                 let _ = writeln!(
                     s,
                     " '{name}' {} 1 1 1 {} {} {} {} 1* 0 {} {} /",
