@@ -61,22 +61,30 @@ impl Arrays {
     /// PORV where the deck gives it, else PORO times NTG times the cell's
     /// bulk volume; times MULTPV.
     pub fn pore_volumes(&self, g: &CornerPointGrid) -> Vec<f64> {
-        let v = &self.values;
-        let one = |name: &str, c: usize| v.get(name).map_or(default(name), |a| a[c]);
         let mut out = Vec::with_capacity(g.actnum.len());
         for k in 0..g.nz {
             for j in 0..g.ny {
                 for i in 0..g.nx {
                     let c = g.cell_index(i, j, k);
-                    let base = match v.get("PORV") {
-                        Some(p) => p[c],
-                        None => one("PORO", c) * one("NTG", c) * trans::bulk_volume(g, i, j, k),
-                    };
-                    out.push(base * one("MULTPV", c));
+                    out.push(match self.values.get("PORV") {
+                        Some(p) => p[c] * self.value("MULTPV", c),
+                        None => self.pore_fraction(c) * trans::bulk_volume(g, i, j, k),
+                    });
                 }
             }
         }
         out
+    }
+
+    /// Array `name`'s value in cell c, its default where the deck sets none.
+    fn value(&self, name: &str, c: usize) -> f64 {
+        self.values.get(name).map_or(default(name), |a| a[c])
+    }
+
+    /// The share of cell c's bulk volume that is pore volume: PORO times
+    /// NTG times MULTPV.
+    pub fn pore_fraction(&self, c: usize) -> f64 {
+        self.value("PORO", c) * self.value("NTG", c) * self.value("MULTPV", c)
     }
 
     /// The transmissibilities between the cells of the original grid as

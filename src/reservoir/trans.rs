@@ -196,13 +196,13 @@ fn connect(
     props: &CellProps,
     darcy: f64,
     (a, b, axis): ([usize; 3], [usize; 3], usize),
+    (ca, cb): (&[[f64; 3]; 8], &[[f64; 3]; 8]),
     area: [f64; 3],
 ) -> Transmissibility {
     let at = |[i, j, k]: [usize; 3]| g.cell_index(i, j, k);
     let mult = |m: usize, c: usize| props.mult[m].map_or(1.0, |v| v[c]);
     // each cell's centre (the mean of its corners) to its own face's centre
-    let half = |c: [usize; 3], face: [usize; 4]| {
-        let cs = corners(g, c);
+    let half = |c: [usize; 3], cs: &[[f64; 3]; 8], face: [usize; 4]| {
         let d = sub(mean(face.iter().map(|&m| cs[m])), mean(cs.iter().copied()));
         let t = props.perm[at(c)][axis] * dot_f(area, d).abs() / dot_f(d, d);
         match axis < 2 {
@@ -211,7 +211,7 @@ fn connect(
         }
     };
     let fa = FACES[2 * axis + 1];
-    let (ta, tb) = (half(a, fa), half(b, FACES[2 * axis]));
+    let (ta, tb) = (half(a, ca, fa), half(b, cb, FACES[2 * axis]));
     let value = match ta > 0.0 && tb > 0.0 {
         true => {
             let m = mult(2 * axis, at(a)) * mult(2 * axis + 1, at(b));
@@ -242,7 +242,14 @@ fn below(
     let (fa, fb) = (FACES[5], FACES[5].map(|c| c ^ 4));
     if (0..4).all(|m| ca[fa[m]] == cb[fb[m]]) {
         let p = fa.map(|m| ca[m]);
-        out.push(connect(g, props, darcy, (a, b, 2), vector_area(&p)));
+        out.push(connect(
+            g,
+            props,
+            darcy,
+            (a, b, 2),
+            (&ca, &cb),
+            vector_area(&p),
+        ));
     }
 }
 
@@ -268,6 +275,7 @@ fn across_columns(
             [p, p | 4, q, q | 4].map(|c| g.depth(i, j, k, c))
         };
         let za = depths(a, p, q);
+        let ca = corners(g, a);
         let pillar = |c: usize| (i + (c & 1), j + ((c >> 1) & 1));
         let (pp, pq) = (pillar(p), pillar(q));
         for k2 in 0..g.nz {
@@ -294,7 +302,14 @@ fn across_columns(
                 .collect();
             let area = vector_area(&pts);
             if dot_f(area, area) > 0.0 {
-                out.push(connect(g, props, darcy, (a, b, axis), area));
+                out.push(connect(
+                    g,
+                    props,
+                    darcy,
+                    (a, b, axis),
+                    (&ca, &corners(g, b)),
+                    area,
+                ));
             }
         }
     }

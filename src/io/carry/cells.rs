@@ -110,7 +110,6 @@ impl<'a> Table<'a> {
         let minpv = arrays.minpv.unwrap_or(1e-6);
         let at = |[i, j, k]: [usize; 3]| g.cell_index(i, j, k);
         let host: Vec<usize> = mesh.host.iter().map(|&h| at(h)).collect();
-        let one = |name: &str, c: usize| arrays.values.get(name).map_or(1.0, |v| v[c]);
         let net = mesh.network;
         let order = hilbert_order(net);
         let mut position = vec![0; order.len()];
@@ -121,34 +120,24 @@ impl<'a> Table<'a> {
         let cells: Vec<Cell> = order
             .iter()
             .map(|&e| {
-                let (porv, depth) = match mesh.ijk[e] {
+                // pore volume, depth (a grid cell's: the mean of its
+                // corners') and height
+                let (porv, depth, dz) = match mesh.ijk[e] {
                     Some([i, j, k]) => {
-                        let d: f64 = (0..8).map(|n| g.depth(i, j, k, n)).sum::<f64>() / 8.0;
-                        (pv_grid[at([i, j, k])] * pv3, d * f)
+                        let z: [f64; 8] = std::array::from_fn(|n| g.depth(i, j, k, n));
+                        let (lo, hi) = z
+                            .iter()
+                            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &z| {
+                                (a.min(z), b.max(z))
+                            });
+                        let mean = z.iter().sum::<f64>() / 8.0;
+                        (pv_grid[at([i, j, k])] * pv3, mean * f, hi - lo)
                     }
                     None => {
-                        let c = host[e];
-                        let rock = one("PORO", c) * one("NTG", c) * one("MULTPV", c);
-                        let rock = if arrays.values.contains_key("PORO") {
-                            rock
-                        } else {
-                            0.0
-                        };
-                        (
-                            net.elements[e].volume * pv3 * rock,
-                            -net.elements[e].node[2] * f,
-                        )
+                        let el = &net.elements[e];
+                        let porv = el.volume * pv3 * arrays.pore_fraction(host[e]);
+                        (porv, -el.node[2] * f, mesh.extent[e])
                     }
-                };
-                let dz = match mesh.ijk[e] {
-                    Some([i, j, k]) => {
-                        let z = (0..8).map(|n| g.depth(i, j, k, n));
-                        let (lo, hi) = z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| {
-                            (a.min(z), b.max(z))
-                        });
-                        hi - lo
-                    }
-                    None => mesh.extent[e],
                 };
                 Cell {
                     element: e,

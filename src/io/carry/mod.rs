@@ -168,6 +168,19 @@ fn records(ts: &Tokens, kw: &Kw) -> Result<Vec<Record>> {
     Ok(out)
 }
 
+/// The arrays an operation names (COPY's target is its second item).
+fn targets(ts: &Tokens, kw: &Kw) -> Result<Vec<String>> {
+    if kw.name == "BOX" || kw.name == "ENDBOX" {
+        return Ok(vec![]);
+    }
+    let at = if kw.name == "COPY" { 1 } else { 0 };
+    Ok(records(ts, kw)?
+        .iter()
+        .filter_map(|r| r.get(at).cloned().flatten())
+        .map(|t| t.text.trim().to_ascii_uppercase())
+        .collect())
+}
+
 /// What the carrying mended or changed, said in the deck's header and on
 /// standard error.
 #[derive(Debug, Default)]
@@ -275,7 +288,7 @@ pub fn carry(path: &Path, mesh: &Mesh) -> Result<(String, Vec<String>, Vec<usize
     let table = cells::Table::new(path, mesh)?;
     let mut said = Said::default();
     said.notes.extend(table.notes.iter().cloned());
-    let wells = wells::Wells::new(&ts, &kws, mesh, &table)?;
+    let wells = wells::Wells::new(&table);
     let mut body = String::new();
     let mut written = BTreeSet::new();
     let mut edit_done = false;
@@ -308,7 +321,7 @@ pub fn carry(path: &Path, mesh: &Mesh) -> Result<(String, Vec<String>, Vec<usize
                 body.push_str("PROPS\n\n");
             }
             ("PROPS" | "REGIONS" | "SOLUTION", w) if OPERATIONS.contains(&w) => {
-                for target in wells::targets(&ts, kw)? {
+                for target in targets(&ts, kw)? {
                     if written.insert(target.clone()) {
                         table.array(&mut body, &target)?;
                     }

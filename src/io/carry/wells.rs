@@ -4,7 +4,7 @@
 //! its layer range), SUMMARY's block and connection keywords on the cells
 //! that hold the original blocks.
 
-use super::cells::{num, Mesh, Table};
+use super::cells::{num, Table};
 use super::{record_text, records, verbatim, Kw, Said};
 use crate::error::Result;
 use crate::io::eclipse::{Record, Tok, Tokens};
@@ -40,32 +40,16 @@ fn index(ts: &Tokens, at: &Tok, rec: &Record, n: usize) -> Result<Option<usize>>
     }
 }
 
-/// The arrays an operation names (COPY's target is its second item).
-pub(super) fn targets(ts: &Tokens, kw: &Kw) -> Result<Vec<String>> {
-    if kw.name == "BOX" || kw.name == "ENDBOX" {
-        return Ok(vec![]);
-    }
-    let at = if kw.name == "COPY" { 1 } else { 0 };
-    Ok(records(ts, kw)?
-        .iter()
-        .filter_map(|r| item(r, at).map(|t| t.to_ascii_uppercase()))
-        .collect())
-}
-
 impl<'a> Wells<'a> {
-    pub fn new(
-        _ts: &Tokens,
-        _kws: &[Kw],
-        mesh: &'a Mesh,
-        table: &'a Table<'a>,
-    ) -> Result<Wells<'a>> {
-        let meshed = mesh
+    pub fn new(table: &'a Table<'a>) -> Wells<'a> {
+        let meshed = table
+            .mesh
             .wells
             .iter()
             .enumerate()
             .map(|(n, w)| (w.name.clone(), n))
             .collect();
-        Ok(Wells { table, meshed })
+        Wells { table, meshed }
     }
 
     /// The most connections a well has: a ring's cells in every layer.
@@ -214,7 +198,7 @@ impl<'a> Wells<'a> {
     pub fn summary(&self, ts: &Tokens, kw: &Kw, w: &str, said: &mut Said) -> Result<String> {
         let has_records = kw.end > kw.start + 1;
         let (block, conn) = (w.starts_with('B'), w.starts_with('C'));
-        if !has_records || !(block || conn) || w == "SUMMARY" {
+        if !has_records || !(block || conn) {
             return Ok(verbatim(ts, kw, said));
         }
         let at = &ts.toks[kw.start];
