@@ -41,7 +41,11 @@ def flow(deck, out):
         os.chmod(deck, 0o644)
         open(deck, "w").write(mended)
     start = time.time()
-    run = subprocess.run(["flow", deck, f"--output-dir={out}"], capture_output=True, text=True)
+    # CPR for both runs: ILU(0) alone takes ~60 linear iterations per
+    # Newton iteration on hybrid decks (docs/limitations.md)
+    run = subprocess.run(
+        ["flow", deck, f"--output-dir={out}", "--linear-solver=cpr"], capture_output=True, text=True
+    )
     if run.returncode != 0:
         sys.exit(f"simulate.py: flow failed on {deck}:\n{run.stdout[-2000:]}{run.stderr[-2000:]}")
     return os.path.join(out, os.path.splitext(os.path.basename(deck))[0].upper()), time.time() - start

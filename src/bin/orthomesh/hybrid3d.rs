@@ -129,6 +129,7 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
                 sectors: a.sectors.unwrap_or(d.sectors),
                 outer: a.outer.unwrap_or(d.outer),
                 in_column: !a.rings_over_columns,
+                first_ring: a.first_ring,
             }
         }),
         // a bar over the cavities when someone watches

@@ -229,6 +229,14 @@ struct HybridArgs {
     /// inside their well's column.
     #[arg(long = "rings-over-columns", requires = "three_d")]
     rings_over_columns: bool,
+    /// 3D, layered sections: the innermost ring's outer radius as a share
+    /// of the outer radius (between 0 and 1), the rings beyond it
+    /// geometric. For simulators: the innermost cells then hold a share of
+    /// the well's cell instead of a sliver of wellbore (Flow's steps
+    /// follow its smallest cells); the wellbore's connection factor still
+    /// runs exactly from the wellbore to the first ring's sites.
+    #[arg(long = "first-ring", requires = "three_d", value_parser = share)]
+    first_ring: Option<f64>,
     /// Also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).
     #[arg(long, value_name = "MESH")]
     tough: Option<PathBuf>,
@@ -899,5 +907,13 @@ fn ok(b: bool) -> &'static str {
         "ok"
     } else {
         "FAILED"
+    }
+}
+
+/// A share strictly between 0 and 1 (`--first-ring`).
+fn share(s: &str) -> std::result::Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x > 0.0 && x < 1.0 => Ok(x),
+        _ => Err(format!("{s:?} is not a number strictly between 0 and 1")),
     }
 }

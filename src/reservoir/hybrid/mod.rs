@@ -115,6 +115,10 @@ pub struct HybridOptions {
     /// there instead, on the outline's side through it, so that they keep
     /// the grid's own lines.
     pub inner_pillars: Vec<(usize, [f64; 2])>,
+    /// The innermost ring's outer radius as a share of the outer radius,
+    /// the rings beyond it geometric (`wells::first_ring_radii`); None:
+    /// geometric from the wellbore.
+    pub first_ring: Option<f64>,
 }
 
 impl Default for HybridOptions {
@@ -139,6 +143,7 @@ impl Default for HybridOptions {
             piece_share: 1.0,
             corner_cells: false,
             inner_pillars: vec![],
+            first_ring: None,
         }
     }
 }

@@ -144,7 +144,10 @@ pub(super) fn place(
                 placed[a].name
             )));
         }
-        placed[a].radii = ring_radii(rw, outer, opts.rings);
+        placed[a].radii = match opts.first_ring {
+            Some(f) => first_ring_radii(rw, outer, opts.rings, f),
+            None => ring_radii(rw, outer, opts.rings),
+        };
     }
     for a in 0..placed.len() {
         for b in a + 1..placed.len() {
@@ -168,13 +171,46 @@ pub(crate) fn ring_radii(rw: f64, outer: f64, rings: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Radii r_0 = wellbore, r_1 = `first` x outer, ... r_n = outer: the rings
+/// beyond the first in geometric progression, the first as wide as the
+/// wellbore leaves it. A simulator's time steps follow its smallest cells:
+/// the innermost ring's cells are then a share of the outer ring's, not
+/// (rw / outer)^(2/n) of it; the wellbore's connection factor still runs
+/// from rw to the first ring's site, exactly. Geometric (`ring_radii`)
+/// where that would not be wider.
+pub(crate) fn first_ring_radii(rw: f64, outer: f64, rings: usize, first: f64) -> Vec<f64> {
+    let r1 = first * outer;
+    if rings < 2 || r1 <= rw * (outer / rw).powf(1.0 / rings as f64) {
+        return ring_radii(rw, outer, rings);
+    }
+    let q = (outer / r1).powf(1.0 / (rings - 1) as f64);
+    std::iter::once(rw)
+        .chain((0..rings).map(|k| match k + 1 == rings {
+            true => outer,
+            false => r1 * q.powi(k as i32),
+        }))
+        .collect()
+}
+
 /// Radii of the ring sites (ring q between radii r[q] and r[q + 1]) of a
-/// radial mesh with m sectors: see the assembly in `build`.
+/// radial mesh with m sectors: see the assembly in `build`. With rings in
+/// geometric progression from the wellbore, beta r_q; where the first ring
+/// is wider (`first_ring_radii`), the rings' own ratio sets beta and the
+/// first site lies a ratio inside the second (every ring-to-ring link
+/// exact again).
 pub(crate) fn site_radii(r: &[f64], m: usize) -> Vec<f64> {
     let half = TAU / (2 * m) as f64;
-    let alpha = r[1] / r[0];
-    let beta = alpha * half.sin() * alpha.ln() / (half * (alpha - 1.0));
-    r[..r.len() - 1].iter().map(|&rq| beta * rq).collect()
+    let beta = |alpha: f64| alpha * half.sin() * alpha.ln() / (half * (alpha - 1.0));
+    let n = r.len();
+    let (a0, a1) = (r[1] / r[0], if n > 2 { r[2] / r[1] } else { r[1] / r[0] });
+    if n > 2 && a0 > a1 * (1.0 + 1e-6) {
+        let b = beta(a1);
+        let mut rho: Vec<f64> = r[1..n - 1].iter().map(|&rq| b * rq).collect();
+        rho.insert(0, rho[0] / a1);
+        return rho;
+    }
+    let beta = beta(a0);
+    r[..n - 1].iter().map(|&rq| beta * rq).collect()
 }
 
 /// The site of a radial cell: sector s's mid-angle ray at radius rho.
@@ -194,3 +230,36 @@ pub(super) fn polygon_point(c: [f64; 2], r: f64, s: usize, m: usize) -> [f64; 2]
 pub const MAX_RINGS: usize = 1000;
 /// Most sectors a radial mesh may have.
 pub const MAX_SECTORS: usize = 4096;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A wide first ring: the rings beyond it geometric, and every
+    /// ring-to-ring link between sites carries the sector's radial flow
+    /// exactly (chord transmissibility = radial one), the first included.
+    #[test]
+    fn a_wide_first_ring_keeps_ring_links_exact() {
+        let (rw, outer, m) = (0.1, 300.0, 8);
+        let r = first_ring_radii(rw, outer, 3, 0.25);
+        assert_eq!(r.len(), 4);
+        assert_eq!((r[0], r[1], r[3]), (rw, 75.0, outer));
+        assert!((r[2] / r[1] - r[3] / r[2]).abs() < 1e-12);
+        let rho = site_radii(&r, m);
+        let half = TAU / (2 * m) as f64;
+        for q in 0..rho.len() - 1 {
+            assert!(rho[q] > r[q] && rho[q] < r[q + 1], "site {q} in its ring");
+            let chord = 2.0 * r[q + 1] * half.sin() / (rho[q + 1] - rho[q]);
+            let radial = 2.0 * half / (rho[q + 1] / rho[q]).ln();
+            assert!(
+                (chord / radial - 1.0).abs() < 1e-12,
+                "link {q}: {chord} {radial}"
+            );
+        }
+        // narrower than the geometric rings' first: geometric
+        assert_eq!(
+            first_ring_radii(rw, outer, 3, 1e-3),
+            ring_radii(rw, outer, 3)
+        );
+    }
+}

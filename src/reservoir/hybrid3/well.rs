@@ -99,6 +99,10 @@ pub struct Section {
     /// cells across the cavity's ends orthogonal); else the rings reach
     /// `outer` over several columns (Thiem's check closer).
     pub in_column: bool,
+    /// The innermost ring's outer radius as a share of the outer radius
+    /// (`HybridOptions::first_ring`); None: rings geometric from the
+    /// wellbore.
+    pub first_ring: Option<f64>,
 }
 
 impl Default for Section {
@@ -108,6 +112,7 @@ impl Default for Section {
             sectors: 32,
             outer: 1.9,
             in_column: true,
+            first_ring: None,
         }
     }
 }

@@ -129,6 +129,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
             k: [k0, k1],
             at,
             in_column: section.in_column,
+            first_ring: section.first_ring,
         };
         let who = names(wells, &ws);
         let (mesh2, found) = match pick(cpg, &sec, backend, section.outer, &own, &cols, &who)? {
@@ -264,6 +265,7 @@ fn pick<B: Backend + ?Sized>(
         split,
         in_column,
         corners,
+        first_ring: sec.first_ring,
     };
     let tries: Vec<(f64, Start, Ask)> = match twisted {
         true => OWN_COLUMN
@@ -398,6 +400,7 @@ struct Sec<'a> {
     at: f64,
     /// Planes: radial meshes first tried in their own columns.
     in_column: bool,
+    first_ring: Option<f64>,
 }
 
 impl Sec<'_> {

@@ -44,6 +44,8 @@ pub(super) struct Ask {
     pub(super) in_column: bool,
     /// Convex corners of the cavities owned by one cell each.
     pub(super) corners: bool,
+    /// `HybridOptions::first_ring`.
+    pub(super) first_ring: Option<f64>,
 }
 
 /// The 2D hybrid's options for the section: the 3D hybrid's rings, sectors
@@ -81,6 +83,7 @@ fn options(
         corner_cells: ask.corners,
         piece_share: if ask.in_column { 0.5 } else { 1.0 },
         inner_pillars: cavity.map_or(vec![], |c| c.1.to_vec()),
+        first_ring: ask.first_ring,
         cavity: cavity.map(|(cols, _)| {
             let mut flags = vec![false; s.nx * s.ny];
             for &[i, j] in cols {
