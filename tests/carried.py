@@ -6,16 +6,21 @@ files against the original deck's:
   every connection between two reservoir cells (TRANX folded, NNCs) equal
   the original's within 1e-6; every cell's region numbers (SATNUM,
   EQLNUM, PVTNUM, FIPNUM) its host cell's;
-- the small regions deck runs to its end beside the original: field oil
-  and water totals within 2% of the original's, printed side by side with
-  the well's BHP and the run times (SPE9's run beside its original is
-  scripts/simulate.py's: docs/limitations.md says why).
+- the small regions deck and SPE9's benchmark (26 wells, 900 days) run to
+  their ends beside their originals (Flow's CPR solver for both): field
+  oil, gas and water totals (from the rates where the summary has no
+  totals) within 2% of the original's, printed side by side with each
+  well's BHP at a few dates and the run times. Where a well's BHP differs
+  by more than 5% of its drawdown, its line says so, with its radial
+  mesh's connection factors against the input's. Flow's time is printed
+  against the issue's 3x, not asserted (docs/limitations.md).
 
 decks.py calls `check(DIR)`.
 """
 import glob
 import json
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -92,8 +97,9 @@ def regions(name, side, hyb, orig):
 
 
 def run(deck):
-    """Runs Flow on a deck in a scratch copy of its folder (the mending of
-    flow_init); its summary vectors at the end and its time."""
+    """Runs Flow (CPR) on a deck in a scratch copy of its folder, mended
+    as flow_init mends; its summary (days, vectors), its initial pressures
+    (active cells) and its time."""
     from resdata.summary import Summary
     with tempfile.TemporaryDirectory() as tmp:
         src = os.path.dirname(deck)
@@ -101,28 +107,76 @@ def run(deck):
             if os.path.isfile(os.path.join(src, f)):
                 shutil.copy(os.path.join(src, f), tmp)
         copy = os.path.join(tmp, os.path.basename(deck))
+        text = open(copy).read()
+        text = re.sub(r"'([A-Za-z0-9_-]+) +'", r"'\1'", text)
+        text = re.sub(r"BASIC=([6-9])", "BASIC=5", text)
+        open(copy, "w").write(text)
         start = time.time()
-        p = subprocess.run(["flow", copy, f"--output-dir={tmp}/out"], capture_output=True, text=True)
+        p = subprocess.run(["flow", copy, f"--output-dir={tmp}/out", "--linear-solver=cpr"],
+                           capture_output=True, text=True)
         took = time.time() - start
         assert p.returncode == 0, f"{deck}: flow failed:\n{p.stdout[-2000:]}"
         stem = os.path.splitext(os.path.basename(deck))[0].upper()
         s = Summary(f"{tmp}/out/{stem}")
-        return {k: s.numpy_vector(k)[-1] for k in s.keys()}, took
+        days = np.array(s.days)
+        vectors = {k: s.numpy_vector(k) for k in s.keys()}
+        p0 = None
+        restart = f"{tmp}/out/{stem}.UNRST"
+        for k, v in resfo.read(restart) if os.path.exists(restart) else []:
+            if k.strip() == "PRESSURE":
+                p0 = np.array(v)
+                break
+        return days, vectors, p0, took
 
 
-def compare_runs(name, side):
-    ours, t1 = run(side["deck"])
-    theirs, t0 = run(side["original"])
-    for k in ["FOPT", "FWPT", "FGPT", "FWIT"]:
-        if k in theirs and theirs[k] > 0:
-            d = (ours[k] - theirs[k]) / theirs[k]
-            print(f"{name}: {k} hybrid {ours[k]:.6g}, original {theirs[k]:.6g} ({100 * d:+.2f}%)")
+def totals(days, v):
+    """Field oil, gas and water totals: the summary's, else its rates
+    integrated (each rate holds over the step that ends at its time)."""
+    dt = np.diff(np.concatenate([[0.0], days]))
+    out = {}
+    for total, rate, well in [("FOPT", "FOPR", "WOPR"), ("FGPT", "FGPR", "WGPR"),
+                              ("FWPT", "FWPR", "WWPR"), ("FWIT", "FWIR", "WWIR")]:
+        if total in v:
+            out[total] = v[total][-1]
+        elif rate in v:
+            out[total] = float(np.sum(v[rate] * dt))
+        elif any(k.startswith(well + ":") for k in v):
+            out[total] = float(sum(np.sum(v[k] * dt) for k in v if k.startswith(well + ":")))
+    return out
+
+
+def compare_runs(name, side, orig_init):
+    d1, ours, _, t1 = run(side["deck"])
+    d0, theirs, p0, t0 = run(side["original"])
+    mine, orig = totals(d1, ours), totals(d0, theirs)
+    checked = []
+    for k in ["FOPT", "FGPT", "FWPT", "FWIT"]:
+        if k in orig and orig[k] > 0:
+            d = (mine[k] - orig[k]) / orig[k]
+            print(f"{name}: {k} hybrid {mine[k]:.6g}, original {orig[k]:.6g} ({100 * d:+.2f}%)")
+            checked.append((k, abs(d)))
+    factors = " ".join(n for n in side.get("notes", []) if "connection factors" in n)
+    dates = sorted({t for t in (100.0, 300.0, 600.0, d0[-1]) if t <= d0[-1]})
     for k in sorted(x for x in theirs if x.startswith("WBHP")):
-        print(f"{name}: {k} at the end: hybrid {ours[k]:.2f}, original {theirs[k]:.2f}")
-    print(f"{name}: Flow ran the hybrid deck in {t1:.1f} s, the original in {t0:.1f} s ({t1 / t0:.1f}x)")
-    for k in ["FOPT", "FWPT"]:
-        d = abs(ours[k] - theirs[k]) / theirs[k]
-        assert d <= 0.02, f"{name}: {k} {100 * d:.2f}% off the original's"
+        well = k.split(":")[1]
+        at = lambda d, v: np.interp(dates, d, v)
+        b1, b0 = at(d1, ours[k]), at(d0, theirs[k])
+        head = side.get("wells", {}).get(well)
+        ref = p0[orig_init["ACTIVE"][head]] if head is not None and p0 is not None else None
+        line = ", ".join(f"day {t:.0f} {x:.0f} ({y:.0f})" for t, x, y in zip(dates, b1, b0))
+        say = f"{name}: {well} BHP hybrid (original): {line}"
+        if ref is not None:
+            worst = max(abs(x - y) / max(abs(ref - y), 1.0) for x, y in zip(b1, b0))
+            if worst > 0.05:
+                m = re.search(rf"\b{re.escape(well)} ([0-9.]+) \(([0-9.]+)\)", factors)
+                said = f"ring factors {m.group(1)} against the input's {m.group(2)}" if m else "factors not given"
+                say += f"; {100 * worst:.0f}% of its drawdown off: {said}"
+        print(say)
+    print(f"{name}: Flow ran the hybrid deck in {t1:.1f} s, the original in {t0:.1f} s "
+          f"({t1 / t0:.1f}x; the issue's goal 3x)")
+    for k, d in checked:
+        if k in ("FOPT", "FWPT", "FGPT"):
+            assert d <= 0.02, f"{name}: {k} {100 * d:.2f}% off the original's"
 
 
 def check(root):
@@ -132,5 +186,5 @@ def check(root):
         hyb, orig = dry(side["deck"]), dry(side["original"])
         far_field(name, side, hyb, orig)
         regions(name, side, hyb, orig)
-        if name == "regions":
-            compare_runs(name, side)
+        if name in ("regions", "spe9"):
+            compare_runs(name, side, orig)

@@ -8,7 +8,7 @@
 
 use orthomesh::backend::default_backend;
 use orthomesh::io::carry::{carry, Mesh};
-use orthomesh::reservoir::hybrid3::{self, Hybrid3Options, Well3};
+use orthomesh::reservoir::hybrid3::{self, Hybrid3Options, Section, Well3};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -21,18 +21,41 @@ fn out_dir() -> PathBuf {
     dir
 }
 
-/// Meshes a deck's wells in 3D (the command line's defaults: layered
-/// cavities) and writes its hybrid deck, carried whole, into
-/// `decks/carried/NAME/`, with a sidecar for decks.py: the original deck,
-/// per reservoir deck cell its grid cell, per deck cell its host.
-fn carried(name: &str, deck: &Path, radius: f64) -> (usize, Vec<String>) {
+/// Radial meshes sized for a simulator (`hybrid --3d --rings 2 --sectors 6
+/// --rings-over-columns --first-ring 0.6`): the innermost cells a fifth of
+/// their well's cell, every ring link exact.
+fn for_simulators() -> Hybrid3Options {
+    Hybrid3Options {
+        allow_sites_outside: true,
+        rings: 2,
+        sectors: 6,
+        layered: Some(Section {
+            rings: 2,
+            sectors: 6,
+            in_column: false,
+            first_ring: Some(0.6),
+            ..Default::default()
+        }),
+        ..Default::default()
+    }
+}
+
+/// Meshes a deck's wells in 3D (layered cavities) and writes its hybrid
+/// deck, carried whole, into `decks/carried/NAME/`, with a sidecar for
+/// decks.py: the original deck, per reservoir deck cell its grid cell, per
+/// deck cell its host, per well its first completed grid cell, what the
+/// deck's header says.
+fn carried(name: &str, deck: &Path, radius: f64, opts: Hybrid3Options) -> (usize, Vec<String>) {
     let g = orthomesh::io::eclipse::read_grid(deck).unwrap();
     let (found, _) = orthomesh::io::eclipse::read_wells(deck).unwrap();
+    let heads: serde_json::Map<String, serde_json::Value> = found
+        .iter()
+        .map(|w| {
+            let [i, j, k, _] = w.completions[0];
+            (w.name.clone(), json!(g.cell_index(i, j, k)))
+        })
+        .collect();
     let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(radius)).collect();
-    let opts = Hybrid3Options {
-        allow_sites_outside: true,
-        ..Default::default()
-    };
     let start = std::time::Instant::now();
     let h = hybrid3::build(&default_backend(), &g, &wells, &opts).unwrap();
     assert_eq!(h.report.sites_outside, 0, "{name}");
@@ -68,7 +91,7 @@ fn carried(name: &str, deck: &Path, radius: f64) -> (usize, Vec<String>) {
     }
     let side = json!({
         "deck": path, "original": std::fs::canonicalize(deck).unwrap(),
-        "reservoir": reservoir, "host": host,
+        "reservoir": reservoir, "host": host, "wells": heads, "notes": notes,
     });
     std::fs::write(dir.join("carried.json"), side.to_string()).unwrap();
     (position.len(), notes)
@@ -81,7 +104,7 @@ fn carried(name: &str, deck: &Path, radius: f64) -> (usize, Vec<String>) {
 #[test]
 fn spe9_carried_whole() {
     let deck = Path::new("tests/data/decks/spe9/BENCH_SPE9.DATA");
-    let (cells, notes) = carried("spe9", deck, 0.25);
+    let (cells, notes) = carried("spe9", deck, 0.25, for_simulators());
     for n in &notes {
         println!("  {n}");
     }
@@ -100,7 +123,11 @@ fn spe9_carried_whole() {
 #[test]
 fn regions_carried_whole() {
     let deck = regions_input("regions-input");
-    let (cells, notes) = carried("regions", &deck, 0.1);
+    let opts = Hybrid3Options {
+        allow_sites_outside: true,
+        ..Default::default()
+    };
+    let (cells, notes) = carried("regions", &deck, 0.1, opts);
     println!("regions: {cells} cells; {}", notes.join("; "));
 }
 

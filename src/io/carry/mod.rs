@@ -323,13 +323,13 @@ pub fn carry(path: &Path, mesh: &Mesh) -> Result<(String, Vec<String>, Vec<usize
             ("PROPS" | "REGIONS" | "SOLUTION", w) if OPERATIONS.contains(&w) => {
                 for target in targets(&ts, kw)? {
                     if written.insert(target.clone()) {
-                        table.array(&mut body, &target)?;
+                        table.section_array(&mut body, section, &target)?;
                     }
                 }
             }
             ("PROPS" | "REGIONS" | "SOLUTION", w) if table.is_array(w) => {
                 if written.insert(w.to_string()) {
-                    table.array(&mut body, w)?;
+                    table.section_array(&mut body, section, w)?;
                 }
             }
             ("SOLUTION", "EQUIL") => body.push_str(&equil(&ts, kw, &mut said)?),

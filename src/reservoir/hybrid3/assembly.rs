@@ -674,6 +674,8 @@ pub(super) fn assemble(
     let locate = |p: [f64; 3], cav: usize| cpg.locate(p, built[cav].cells.cells.iter().copied());
     let (slivers_merged, merged) = super::slivers::merge(super::slivers::Cells {
         locate: &locate,
+        // 3D transitions' cells cross no column sides: slivers stay in theirs
+        clear: &|_| false,
         mesh: &mut out,
         region: &mut region,
         ijk: &mut ijk,

@@ -23,6 +23,9 @@ pub(super) struct Cells<'a> {
     pub(super) host: &'a mut Vec<[usize; 3]>,
     /// The grid cell of a cavity (given by index) that holds a point.
     pub(super) locate: &'a dyn Fn([f64; 3], usize) -> Option<[usize; 3]>,
+    /// Whether a grid cell's side faces are clear of faults and throws (a
+    /// sliver alone in such a cell may join a cell beside it in its layer).
+    pub(super) clear: &'a dyn Fn([usize; 3]) -> bool,
     /// Per cell from `first`, its cavity.
     pub(super) cavity_of: &'a mut Vec<usize>,
     pub(super) first: usize,
@@ -64,20 +67,36 @@ fn targets(c: &Cells) -> BTreeMap<usize, usize> {
         }
         k
     };
+    // a sliver alone in its grid cell (at a reflex corner of a cavity's
+    // outline) joins a cell of a column beside it, in its layer, where no
+    // fault or throw runs between them: its rock hardly counts, and a pore
+    // volume of a barrel would set a simulator's steps
+    let beside = |a: [usize; 3], b: [usize; 3]| {
+        a[2] == b[2]
+            && a[0].abs_diff(b[0]) <= 1
+            && a[1].abs_diff(b[1]) <= 1
+            && (c.clear)(a)
+            && (c.clear)(b)
+    };
     for a in small {
-        let mut best: Option<(f64, usize)> = None;
         let at = home(a);
+        let mut best: [Option<(f64, usize)>; 2] = [None, None];
         for l in m.links.iter().filter(|l| l.cells.contains(&a)) {
             let b = root(&into, l.cells[usize::from(l.cells[0] == a)]);
-            if b != a
-                && c.region[b] == Region::Transition
-                && best.is_none_or(|(area, _)| l.area > area)
-                && home(b) == at
-            {
-                best = Some((l.area, b));
+            if b == a || c.region[b] != Region::Transition {
+                continue;
+            }
+            let hb = home(b);
+            let slot = match (hb == at, beside(at, hb)) {
+                (true, _) => 0,
+                (false, true) => 1,
+                (false, false) => continue,
+            };
+            if best[slot].is_none_or(|(area, _)| l.area > area) {
+                best[slot] = Some((l.area, b));
             }
         }
-        if let Some((_, b)) = best {
+        if let Some((_, b)) = best[0].or(best[1]) {
             into.insert(a, b);
         }
     }

@@ -139,6 +139,7 @@ pub(crate) fn assemble(
     let locate = |p: [f64; 3], cav: usize| cpg.locate(p, cavity_cells[cav - 1].iter().copied());
     let (slivers_merged, merged) = super::super::slivers::merge(super::super::slivers::Cells {
         locate: &locate,
+        clear: &|c| clear(cpg, c),
         mesh: &mut out,
         region: &mut region,
         ijk: &mut ijk,
@@ -449,4 +450,10 @@ mod tests {
         assert!(!fills(3e-2));
         assert!(!fills(f64::NAN));
     }
+}
+
+/// Whether a grid cell's side faces are clear of faults and throws.
+fn clear(cpg: &Cpg, c: Ijk) -> bool {
+    let [i, j, _] = c;
+    (0..4).all(|f| !cpg.on_fault(c, f) && !cpg.is_thrown([i, j], f))
 }
