@@ -56,6 +56,47 @@ fn pieces_near_wells(
     ((len / gap.max(len / 64.0)).ceil() as usize).clamp(1, 64)
 }
 
+/// Where a side a -> b is cut (shares of it, strictly inside) so that
+/// each piece is no longer than `share` of its own distance to the nearest
+/// well polygon: short near the wells, longer away from them (at most 64
+/// pieces). Marched from a, then scaled to end at b, so pieces only shrink.
+fn graded_cuts(placed: &[Placed], a: [f64; 2], b: [f64; 2], share: f64) -> Vec<f64> {
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let at = |t: f64| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+    // the distance to the nearest well polygon over the part [t0, t1]
+    let gap = |t0: f64, t1: f64| {
+        placed
+            .iter()
+            .map(|w| to_segment(w.centre, [at(t0), at(t1)]) - w.radii.last().unwrap())
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (mut t, mut cuts) = (0.0, vec![]);
+    while t < 1.0 && cuts.len() < 64 {
+        let mut step = (share * gap(t, t) / len).max(1.0 / 64.0);
+        for _ in 0..4 {
+            step = (share * gap(t, (t + step).min(1.0)) / len).max(1.0 / 64.0);
+        }
+        t += step;
+        cuts.push(t);
+    }
+    let total = cuts.pop().unwrap_or(1.0).max(1.0);
+    cuts.into_iter().map(|c| c / total).collect()
+}
+
+/// The side u - v cut at shares `cuts` (increasing, strictly inside).
+fn split_ends_at(cx: &mut Complex, u: u32, v: u32, cuts: &[f64]) -> Vec<(u32, u32)> {
+    let (pu, pv) = (cx.points[u as usize], cx.points[v as usize]);
+    let mut ids = vec![u];
+    for t in cuts {
+        ids.push(push_point(
+            cx,
+            [pu[0] + t * (pv[0] - pu[0]), pu[1] + t * (pv[1] - pu[1])],
+        ));
+    }
+    ids.push(v);
+    ids.windows(2).map(|w| (w[0], w[1])).collect()
+}
+
 /// A new point of the complex, its id.
 fn push_point(cx: &mut Complex, x: [f64; 2]) -> u32 {
     cx.points.push(x);
@@ -324,14 +365,16 @@ fn complex(
             false => push_point(cx, at(t)),
         };
         let (u, v) = (end(&mut cx, t0, p, own_p), end(&mut cx, t1, q, own_q));
-        let pieces = pieces_near_wells(
-            placed,
-            at(t0),
-            at(t1),
-            opts.piece_share.min(1.0),
-            f64::INFINITY,
-        );
-        for (from, to) in split(&mut cx, u, v, pieces) {
+        let share = opts.piece_share.min(1.0);
+        let cuts: Vec<f64> = match opts.layered_section && !fault && !opts.in_column {
+            // radial meshes over columns: column sides graded from them
+            true => graded_cuts(placed, at(t0), at(t1), share),
+            false => {
+                let n = pieces_near_wells(placed, at(t0), at(t1), share, f64::INFINITY);
+                (1..n).map(|k| k as f64 / n as f64).collect()
+            }
+        };
+        for (from, to) in split_ends_at(&mut cx, u, v, &cuts) {
             cx.segments.push([from, to]);
             anchors.push(None);
             owner.push(home);
