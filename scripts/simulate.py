@@ -109,16 +109,22 @@ def side_by_side(a, hybrid, original, mesh):
 
 
 def total(s, key):
-    """A field total (FOPT ...) from the summary, or its rate (FOPR ...)
-    times each step's length where the deck asks no total."""
+    """A field total (FOPT ...) from the summary, else its field rate (FOPR
+    ...) or the sum of its wells' rates (WOPR:* ...) times each step's
+    length (each rate holds over the step that ends at its time)."""
     import numpy as np
     if s.has_key(key):
         return s.numpy_vector(key)
     rate = key[:-1] + "R"
-    if not s.has_key(rate):
-        return None
+    if s.has_key(rate):
+        r = s.numpy_vector(rate)
+    else:
+        wells = s.keys("W" + rate[1:] + ":*")
+        if not wells:
+            return None
+        r = sum(s.numpy_vector(k) for k in wells)
     t = np.array([(d - s.start_time).total_seconds() / 86400 for d in s.dates])
-    return np.cumsum(s.numpy_vector(rate) * np.diff(t, prepend=0.0))
+    return np.cumsum(r * np.diff(t, prepend=0.0))
 
 
 def curves(a, hybrid, original):
