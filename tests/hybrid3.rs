@@ -525,7 +525,7 @@ fn vertical_thiem(
     h: f64,
     (depths, dip): (&[f64], f64),
     perm: &[f64],
-    layered: Option<Section>,
+    opts: Hybrid3Options,
 ) -> (f64, Hybrid3) {
     use orthomesh::reservoir::flow::solve;
     let mut g = CornerPointGrid::layered([n, n], [h, h], depths);
@@ -539,11 +539,6 @@ fn vertical_thiem(
         i: n / 2,
         j: n / 2,
         ..well(0.0)
-    };
-    let opts = Hybrid3Options {
-        allow_sites_outside: true,
-        layered,
-        ..Default::default()
     };
     let hy = build(&*compiled()[0], &g, &[w], &opts).unwrap();
     let m = &hy.mesh;
@@ -615,10 +610,26 @@ fn vertical_thiem(
     ((num - ana).abs() / ana, hy)
 }
 
+/// The Thiem checks' options: sites outside allowed (counted), the
+/// transition layered (`Some`) or in 3D.
+fn thiem_opts(layered: Option<Section>) -> Hybrid3Options {
+    Hybrid3Options {
+        allow_sites_outside: true,
+        layered,
+        ..Default::default()
+    }
+}
+
 /// Thiem's check in a homogeneous block of two layers.
 #[test]
 fn thiem_in_3d() {
-    let (err, hy) = vertical_thiem(15, 10.0, (&[0.0, 4.0, 8.0], 0.0), &[1.0, 1.0], None);
+    let (err, hy) = vertical_thiem(
+        15,
+        10.0,
+        (&[0.0, 4.0, 8.0], 0.0),
+        &[1.0, 1.0],
+        thiem_opts(None),
+    );
     println!(
         "Thiem check in 3D, 15 x 15 x 2 cells of 10 m x 4 m, rw = 0.1 m, 16 sectors, 6 rings: \
          pressure drop off by {:.3}% ({} transition cells, {} of them with the site outside; {} \
@@ -635,6 +646,52 @@ fn thiem_in_3d() {
     assert!(err < 0.005, "{err}");
 }
 
+/// Thiem's check with radial meshes sized for simulators (`first_ring`):
+/// three rings, the first out to 0.3 of the outer radius, in the 3D
+/// transition and on a layered section over columns. Every ring link stays
+/// exact, so the pressure drop stays near Thiem's.
+#[test]
+fn thiem_with_a_wide_first_ring() {
+    let wide = Hybrid3Options {
+        rings: 3,
+        first_ring: Some(0.3),
+        ..thiem_opts(None)
+    };
+    let (err, hy) = vertical_thiem(15, 10.0, (&[0.0, 4.0, 8.0], 0.0), &[1.0, 1.0], wide);
+    println!(
+        "Thiem check in 3D, 3 rings, the first to 0.3 of the outer radius: off by {:.3}% ({} well \
+         cells, {} sites outside)",
+        100.0 * err,
+        hy.report.cells[2],
+        hy.report.sites_outside
+    );
+    assert_eq!(hy.report.cells[2], 2 * 3 * 16);
+    assert!(err < 0.01, "{err}");
+    let section = Section {
+        rings: 2,
+        sectors: 6,
+        in_column: false,
+        first_ring: Some(0.6),
+        ..Default::default()
+    };
+    let (err, hy) = vertical_thiem(
+        15,
+        10.0,
+        (&LAYERED_DEPTHS, 0.0),
+        &LAYERED_PERMS,
+        thiem_opts(Some(section)),
+    );
+    println!(
+        "Thiem check on a layered section over columns, 2 rings of 6 sectors, the first to 0.6: \
+         off by {:.3}% ({} transition and {} well cells)",
+        100.0 * err,
+        hy.report.cells[1],
+        hy.report.cells[2]
+    );
+    assert_eq!(hy.report.sections.len(), 1);
+    assert!(err < 0.01, "{err}");
+}
+
 /// The layered block of the Thiem checks: layers 4, 2 and 6 m thick (their
 /// boundaries' depths) of 50, 200 and 100 mD.
 const LAYERED_DEPTHS: [f64; 4] = [0.0, 4.0, 6.0, 12.0];
@@ -644,7 +701,13 @@ const LAYERED_PERMS: [f64; 3] = [50.0, 200.0, 100.0];
 /// and 6 m.
 #[test]
 fn thiem_in_a_layered_block() {
-    let (err, hy) = vertical_thiem(15, 10.0, (&LAYERED_DEPTHS, 0.0), &LAYERED_PERMS, None);
+    let (err, hy) = vertical_thiem(
+        15,
+        10.0,
+        (&LAYERED_DEPTHS, 0.0),
+        &LAYERED_PERMS,
+        thiem_opts(None),
+    );
     println!(
         "Thiem check in a layered block (50, 200, 100 mD; 4, 2, 6 m): pressure drop off by {:.3}% \
          ({} of {} transition sites outside, {} non-orthogonal connections)",
@@ -669,7 +732,7 @@ fn thiem_on_a_layered_section() {
         10.0,
         (&LAYERED_DEPTHS, 0.0),
         &LAYERED_PERMS,
-        Some(Section::default()),
+        thiem_opts(Some(Section::default())),
     );
     println!(
         "Thiem check on layered sections (50, 200, 100 mD; 4, 2, 6 m): pressure drop off by \
@@ -914,7 +977,7 @@ fn thiem_on_a_dipping_layered_section() {
         10.0,
         (&LAYERED_DEPTHS, 10.0),
         &LAYERED_PERMS,
-        Some(Section::default()),
+        thiem_opts(Some(Section::default())),
     );
     let rt = &hy.report.by_regions["reservoir-transition"];
     println!(

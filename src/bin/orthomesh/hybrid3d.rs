@@ -120,6 +120,7 @@ pub(crate) fn run(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
         rings: a.rings.unwrap_or(6),
         sectors: a.sectors.unwrap_or(16),
         outer: a.outer.unwrap_or(1.0),
+        first_ring: a.first_ring,
         allow_sites_outside: !a.strict,
         split_facets: a.split_facets,
         layered: (!a.transition_3d).then(|| {

@@ -229,9 +229,8 @@ struct HybridArgs {
     /// inside their well's column.
     #[arg(long = "rings-over-columns", requires = "three_d")]
     rings_over_columns: bool,
-    /// 3D, layered sections: the innermost ring's outer radius as a share
-    /// of the outer radius (between 0 and 1), the rings beyond it
-    /// geometric. For simulators: the innermost cells then hold a share of
+    /// 3D: the innermost ring's outer radius as a share of the outer
+    /// radius (between 0 and 1), the rings beyond it geometric. For simulators: the innermost cells then hold a share of
     /// the well's cell instead of a sliver of wellbore (Flow's steps
     /// follow its smallest cells); the wellbore's connection factor still
     /// runs exactly from the wellbore to the first ring's sites.

@@ -13,7 +13,7 @@ mod transition;
 mod wells;
 
 pub(crate) use map::map_view;
-pub(crate) use wells::{ring_radii, site_radii};
+pub(crate) use wells::{first_ring_radii, ring_radii, site_radii};
 pub use wells::{MAX_RINGS, MAX_SECTORS};
 
 use crate::backend::Backend;

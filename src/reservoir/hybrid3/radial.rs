@@ -9,7 +9,7 @@ use super::path::Path;
 use super::well::{Hybrid3Options, Well3};
 use crate::error::{Error, Result};
 use crate::geom::{cross_f, dist_f, dot_f};
-use crate::reservoir::hybrid::ring_radii;
+use crate::reservoir::hybrid::{first_ring_radii, ring_radii};
 use std::f64::consts::TAU;
 
 /// An end of the radial mesh.
@@ -289,7 +289,10 @@ impl Radial {
             true => frame_at(az, u),
             false => frame(u),
         };
-        let r = ring_radii(well.radius, outer, rings);
+        let r = match opts.first_ring {
+            Some(f) => first_ring_radii(well.radius, outer, rings, f),
+            None => ring_radii(well.radius, outer, rings),
+        };
         let (levels, mid) = if vertical {
             // (knees are trajectories': never a vertical well's)
             let z = |e: End| match e {

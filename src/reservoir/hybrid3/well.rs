@@ -59,6 +59,10 @@ pub struct Hybrid3Options {
     /// 3.9%; as in 2D, the well polygon belongs near the cavity's sides but
     /// not at them.
     pub outer: f64,
+    /// The innermost ring's outer radius as a share of the outer radius,
+    /// the rings beyond it geometric (`Section::first_ring` for layered
+    /// sections); None: geometric from the wellbore.
+    pub first_ring: Option<f64>,
     /// Write the mesh even when some transition sites stay outside their cells.
     pub allow_sites_outside: bool,
     /// Steiner points in the top and bottom annuli where their triangles
@@ -123,6 +127,7 @@ impl Default for Hybrid3Options {
             rings: 6,
             sectors: 16,
             outer: 1.0,
+            first_ring: None,
             allow_sites_outside: false,
             split_facets: false,
             clip: true,
