@@ -230,10 +230,11 @@ struct HybridArgs {
     #[arg(long = "rings-over-columns", requires = "three_d")]
     rings_over_columns: bool,
     /// 3D: the innermost ring's outer radius as a share of the outer
-    /// radius (between 0 and 1), the rings beyond it geometric. For simulators: the innermost cells then hold a share of
-    /// the well's cell instead of a sliver of wellbore (Flow's steps
-    /// follow its smallest cells); the wellbore's connection factor still
-    /// runs exactly from the wellbore to the first ring's sites.
+    /// radius (between 0 and 1), the rings beyond it geometric. For
+    /// simulators: the innermost cells then hold a share of the well's
+    /// cell instead of a sliver of wellbore (Flow's steps follow its
+    /// smallest cells); the wellbore's connection factor still runs
+    /// exactly from the wellbore to the first ring's sites.
     #[arg(long = "first-ring", requires = "three_d", value_parser = share)]
     first_ring: Option<f64>,
     /// Also write a TOUGH2 MESH file (ELEME/CONNE; nodes at the sites).

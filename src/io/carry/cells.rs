@@ -123,15 +123,9 @@ impl<'a> Table<'a> {
                 // pore volume, depth (a grid cell's: the mean of its
                 // corners') and height
                 let (porv, depth, dz) = match mesh.ijk[e] {
-                    Some([i, j, k]) => {
-                        let z: [f64; 8] = std::array::from_fn(|n| g.depth(i, j, k, n));
-                        let (lo, hi) = z
-                            .iter()
-                            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &z| {
-                                (a.min(z), b.max(z))
-                            });
-                        let mean = z.iter().sum::<f64>() / 8.0;
-                        (pv_grid[at([i, j, k])] * pv3, mean * f, hi - lo)
+                    Some(c) => {
+                        let (mean, span) = depths(g, c);
+                        (pv_grid[at(c)] * pv3, mean * f, span)
                     }
                     None => {
                         let el = &net.elements[e];
@@ -268,8 +262,7 @@ impl<'a> Table<'a> {
             return Ok(());
         };
         let g = self.mesh.grid;
-        let depth =
-            |[i, j, k]: [usize; 3]| (0..8).map(|n| g.depth(i, j, k, n)).sum::<f64>() / 8.0 * self.f;
+        let depth = |c: [usize; 3]| depths(g, c).0 * self.f;
         let live = |c: [usize; 3]| {
             g.active(c[0], c[1], c[2]) && v[g.cell_index(c[0], c[1], c[2])].is_finite()
         };
@@ -361,4 +354,16 @@ impl<'a> Table<'a> {
             })
             .map(|e| self.position[e])
     }
+}
+
+/// A grid cell's depth (the mean of its corners', as Flow takes it) and the
+/// span of its corners' depths, in grid units.
+fn depths(g: &CornerPointGrid, [i, j, k]: [usize; 3]) -> (f64, f64) {
+    let z: [f64; 8] = std::array::from_fn(|n| g.depth(i, j, k, n));
+    let (lo, hi) = z
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &z| {
+            (a.min(z), b.max(z))
+        });
+    (z.iter().sum::<f64>() / 8.0, hi - lo)
 }

@@ -84,7 +84,7 @@ fn graded_cuts(placed: &[Placed], a: [f64; 2], b: [f64; 2], share: f64) -> Vec<f
 }
 
 /// The side u - v cut at shares `cuts` (increasing, strictly inside).
-fn split_ends_at(cx: &mut Complex, u: u32, v: u32, cuts: &[f64]) -> Vec<(u32, u32)> {
+fn split_at(cx: &mut Complex, u: u32, v: u32, cuts: &[f64]) -> Vec<(u32, u32)> {
     let (pu, pv) = (cx.points[u as usize], cx.points[v as usize]);
     let mut ids = vec![u];
     for t in cuts {
@@ -111,7 +111,6 @@ fn split(cx: &mut Complex, u: u32, v: u32, pieces: usize) -> Vec<(u32, u32)> {
 /// The side u - v with pieces of `ends` (shares of it, 0 for none) cut off
 /// at its ends, the rest cut into equal pieces.
 fn split_ends(cx: &mut Complex, u: u32, v: u32, pieces: usize, ends: [f64; 2]) -> Vec<(u32, u32)> {
-    let (pu, pv) = (cx.points[u as usize], cx.points[v as usize]);
     let (t0, t1) = (ends[0], 1.0 - ends[1]);
     // the ends exactly (t0 + (t1 - t0) can round short of t1)
     let mut ts: Vec<f64> = (0..=pieces)
@@ -122,14 +121,7 @@ fn split_ends(cx: &mut Complex, u: u32, v: u32, pieces: usize, ends: [f64; 2]) -
         })
         .collect();
     ts.retain(|&t| t > 0.0 && t < 1.0);
-    let mut ids = vec![u];
-    for t in ts {
-        cx.points
-            .push([pu[0] + t * (pv[0] - pu[0]), pu[1] + t * (pv[1] - pu[1])]);
-        ids.push(cx.points.len() as u32 - 1);
-    }
-    ids.push(v);
-    ids.windows(2).map(|w| (w[0], w[1])).collect()
+    split_at(cx, u, v, &ts)
 }
 
 /// A cavity side a -> b (pillars, their vertices and points) as segments:
@@ -374,7 +366,7 @@ fn complex(
                 (1..n).map(|k| k as f64 / n as f64).collect()
             }
         };
-        for (from, to) in split_ends_at(&mut cx, u, v, &cuts) {
+        for (from, to) in split_at(&mut cx, u, v, &cuts) {
             cx.segments.push([from, to]);
             anchors.push(None);
             owner.push(home);

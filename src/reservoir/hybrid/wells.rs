@@ -202,8 +202,9 @@ pub(crate) fn site_radii(r: &[f64], m: usize) -> Vec<f64> {
     let half = TAU / (2 * m) as f64;
     let beta = |alpha: f64| alpha * half.sin() * alpha.ln() / (half * (alpha - 1.0));
     let n = r.len();
-    let (a0, a1) = (r[1] / r[0], if n > 2 { r[2] / r[1] } else { r[1] / r[0] });
-    if n > 2 && a0 > a1 * (1.0 + 1e-6) {
+    let a0 = r[1] / r[0];
+    if n > 2 && a0 > r[2] / r[1] * (1.0 + 1e-6) {
+        let a1 = r[2] / r[1];
         let b = beta(a1);
         let mut rho: Vec<f64> = r[1..n - 1].iter().map(|&rq| b * rq).collect();
         rho.insert(0, rho[0] / a1);
