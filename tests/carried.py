@@ -120,13 +120,26 @@ def run(deck):
         s = Summary(f"{tmp}/out/{stem}")
         days = np.array(s.days)
         vectors = {k: s.numpy_vector(k) for k in s.keys()}
-        p0 = None
         restart = f"{tmp}/out/{stem}.UNRST"
+        first = {}
         for k, v in resfo.read(restart) if os.path.exists(restart) else []:
-            if k.strip() == "PRESSURE":
-                p0 = np.array(v)
-                break
-        return days, vectors, p0, took
+            first.setdefault(k.strip(), np.array(v))
+        return days, vectors, first.get("PRESSURE"), took, factors(first)
+
+
+def factors(rst):
+    """Each well's connection factors (SCON's first item) in a restart
+    step's arrays, in their order."""
+    if "ICON" not in rst:
+        return {}
+    head = rst["INTEHEAD"]
+    ncwmax, niconz, nsconz, nzwelz = head[17], head[32], head[33], head[27]
+    icon = rst["ICON"].reshape(-1, ncwmax, niconz)
+    scon = rst["SCON"].reshape(-1, ncwmax, nsconz)
+    names = [n.decode().strip() if isinstance(n, bytes) else str(n).strip()
+             for n in rst["ZWEL"].reshape(-1, nzwelz)[:, 0]]
+    return {n: [float(scon[w, c, 0]) for c in range(ncwmax) if icon[w, c, 0] > 0]
+            for w, n in enumerate(names)}
 
 
 def totals(days, v):
@@ -146,8 +159,13 @@ def totals(days, v):
 
 
 def compare_runs(name, side, orig_init):
-    d1, ours, _, t1 = run(side["deck"])
-    d0, theirs, p0, t0 = run(side["original"])
+    d1, ours, _, t1, cf1 = run(side["deck"])
+    d0, theirs, p0, t0, cf0 = run(side["original"])
+    for well in sorted(set(cf0) - set(side.get("meshed", cf0))):
+        a, b = sorted(cf1.get(well, [])), sorted(cf0[well])
+        print(f"{name}: {well} has no radial mesh: its connection factors {a} in the hybrid "
+              f"run, {b} in the original (Flow's own)")
+        assert len(a) == len(b) and all(abs(x - y) <= 1e-6 * y for x, y in zip(a, b)), well
     mine, orig = totals(d1, ours), totals(d0, theirs)
     checked = []
     for k in ["FOPT", "FGPT", "FWPT", "FWIT"]:

@@ -45,7 +45,13 @@ fn for_simulators() -> Hybrid3Options {
 /// decks.py: the original deck, per reservoir deck cell its grid cell, per
 /// deck cell its host, per well its first completed grid cell, what the
 /// deck's header says.
-fn carried(name: &str, deck: &Path, radius: f64, opts: Hybrid3Options) -> (usize, Vec<String>) {
+fn carried(
+    name: &str,
+    deck: &Path,
+    radius: f64,
+    radial: &[&str],
+    opts: Hybrid3Options,
+) -> (usize, Vec<String>) {
     let g = orthomesh::io::eclipse::read_grid(deck).unwrap();
     let (found, _) = orthomesh::io::eclipse::read_wells(deck).unwrap();
     let heads: serde_json::Map<String, serde_json::Value> = found
@@ -55,7 +61,11 @@ fn carried(name: &str, deck: &Path, radius: f64, opts: Hybrid3Options) -> (usize
             (w.name.clone(), json!(g.cell_index(i, j, k)))
         })
         .collect();
-    let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(radius)).collect();
+    let wells: Vec<Well3> = (found.into_iter())
+        .filter(|w| radial.is_empty() || radial.contains(&w.name.as_str()))
+        .map(|w| w.well3(radius))
+        .collect();
+    let meshed: Vec<&str> = wells.iter().map(|w| w.name.as_str()).collect();
     let start = std::time::Instant::now();
     let h = hybrid3::build(&default_backend(), &g, &wells, &opts).unwrap();
     assert_eq!(h.report.sites_outside, 0, "{name}");
@@ -92,6 +102,7 @@ fn carried(name: &str, deck: &Path, radius: f64, opts: Hybrid3Options) -> (usize
     let side = json!({
         "deck": path, "original": std::fs::canonicalize(deck).unwrap(),
         "reservoir": reservoir, "host": host, "wells": heads, "notes": notes,
+        "meshed": meshed,
     });
     std::fs::write(dir.join("carried.json"), side.to_string()).unwrap();
     (position.len(), notes)
@@ -104,7 +115,7 @@ fn carried(name: &str, deck: &Path, radius: f64, opts: Hybrid3Options) -> (usize
 #[test]
 fn spe9_carried_whole() {
     let deck = Path::new("tests/data/decks/spe9/BENCH_SPE9.DATA");
-    let (cells, notes) = carried("spe9", deck, 0.25, for_simulators());
+    let (cells, notes) = carried("spe9", deck, 0.25, &[], for_simulators());
     for n in &notes {
         println!("  {n}");
     }
@@ -117,9 +128,11 @@ fn spe9_carried_whole() {
 
 /// A small black-oil deck of our own on a 7 x 7 x 2 block: two saturation
 /// regions (SATNUM, split along x) and two equilibration regions (EQLNUM,
-/// split along y, different contacts), SWATINIT, one producer in the
-/// middle: carried whole onto its hybrid, each cell keeping its host's
-/// regions (decks.py checks them in Flow's INIT and compares the runs).
+/// split along y, different contacts), SWATINIT, a producer in the
+/// middle meshed, a water injector in a corner not meshed (its factor
+/// Flow's own): carried whole onto its hybrid, each cell keeping its
+/// host's regions (decks.py checks them in Flow's INIT and compares the
+/// runs and the injector's factors).
 #[test]
 fn regions_carried_whole() {
     let deck = regions_input("regions-input");
@@ -127,7 +140,9 @@ fn regions_carried_whole() {
         allow_sites_outside: true,
         ..Default::default()
     };
-    let (cells, notes) = carried("regions", &deck, 0.1, opts);
+    let (cells, notes) = carried("regions", &deck, 0.1, &["P1"], opts);
+    let said = notes.join("\n");
+    assert!(said.contains("without a radial mesh (I1)"), "{said}");
     println!("regions: {cells} cells; {}", notes.join("; "));
 }
 
@@ -148,14 +163,15 @@ fn regions_input(folder: &str) -> PathBuf {
         .collect();
     let text = format!(
         "RUNSPEC\nTITLE\nregions\nDIMENS\n 7 7 2 /\nOIL\nWATER\nMETRIC\nTABDIMS\n 2 1 20 20 /\n\
-         EQLDIMS\n 2 /\nWELLDIMS\n 1 2 1 1 /\nSTART\n 1 'JAN' 2020 /\nUNIFOUT\nGRID\nINIT\n\
+         EQLDIMS\n 2 /\nWELLDIMS\n 2 2 1 2 /\nSTART\n 1 'JAN' 2020 /\nUNIFOUT\nGRID\nINIT\n\
          INCLUDE\n 'BLOCK.GRDECL' /\nPORO\n 98*0.25 /\nPERMX\n 98*200 /\nCOPY\n 'PERMX' 'PERMY' /\n\
          'PERMX' 'PERMZ' /\n/\nMULTIPLY\n 'PERMZ' 0.1 /\n/\nPROPS\nSWOF\n 0.2 0 1 0\n 0.8 0.6 0 0 /\n\
          0.1 0 1 0\n 0.9 0.9 0 0 /\nPVTW\n 250 1.02 4.5e-5 0.4 0 /\nPVDO\n 100 1.05 2\n 300 1.03 2.2 /\n\
          DENSITY\n 850 1020 1 /\nROCK\n 250 5e-5 /\nSWATINIT\n {} /\nREGIONS\nSATNUM\n {} /\n\
-         EQLNUM\n {} /\nSOLUTION\nEQUIL\n 2 250 7.5 0 1* 1* /\n 2 250 7 0 1* 1* /\nSUMMARY\nFOPT\nFWPT\n\
-         FOPR\nWBHP\n/\nSCHEDULE\nWELSPECS\n 'P1' 'G' 4 4 1* 'OIL' /\n/\nCOMPDAT\n 'P1' 4 4 1 2 'OPEN' 1* 1* 0.2 /\n/\n\
-         WCONPROD\n 'P1' 'OPEN' 'ORAT' 5 4* 50 /\n/\nTSTEP\n 10*10 /\nEND\n",
+         EQLNUM\n {} /\nSOLUTION\nRPTRST\n 'BASIC=2' /\nEQUIL\n 2 250 7.5 0 1* 1* /\n 2 250 7 0 1* 1* /\nSUMMARY\nFOPT\nFWPT\n\
+         FOPR\nWBHP\n/\nSCHEDULE\nWELSPECS\n 'P1' 'G' 4 4 1* 'OIL' /\n 'I1' 'G' 1 1 1* 'WATER' /\n/\n\
+         COMPDAT\n 'P1' 4 4 1 2 'OPEN' 1* 1* 0.2 /\n 'I1' 2* 1 2 'OPEN' 1* 1* 0.3 /\n/\n\
+         WCONPROD\n 'P1' 'OPEN' 'ORAT' 5 4* 50 /\n/\nWCONINJE\n 'I1' 'WATER' 'OPEN' 'RATE' 1 1* 400 /\n/\nTSTEP\n 10*10 /\nEND\n",
         swatinit.join(" "),
         satnum.join(" "),
         eqlnum.join(" ")
@@ -198,14 +214,21 @@ fn the_command_line_carries_a_whole_deck() {
             text,
         )
     };
-    let (code, err, deck) = run(&[]);
+    let (code, err, deck) = run(&["--radial", "P1"]);
     assert_eq!(code, Some(0), "{err}");
     assert!(err.contains("deck: COMPDAT of the meshed wells"), "{err}");
+    assert!(err.contains("without a radial mesh (I1)"), "{err}");
+    let (code2, err2, none) = run(&["--radial", "P1,P9"]);
+    assert_eq!(code2, Some(1), "{err2}");
+    assert!(
+        err2.contains("--radial: no well P9") && none.is_empty(),
+        "{err2}"
+    );
     assert!(deck.contains("SATNUM") && deck.contains("EQLNUM") && deck.contains("COMPORD"));
-    let (code, err, deck) = run(&["--rate", "5"]);
+    let (code, err, deck) = run(&["--rate", "5", "--radial", "P1"]);
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("--single-phase") && deck.is_empty(), "{err}");
-    let (code, err, deck) = run(&["--single-phase"]);
+    let (code, err, deck) = run(&["--single-phase", "--radial", "P1"]);
     assert_eq!(code, Some(0), "{err}");
     assert!(!deck.contains("SATNUM") && deck.contains("PVTW"), "{err}");
 }

@@ -95,6 +95,60 @@ pub fn bulk_volume(g: &CornerPointGrid, i: usize, j: usize, k: usize) -> f64 {
     (v / 6.0).abs()
 }
 
+/// What a COMPDAT line gives for a connection whose factor Flow computes:
+/// the wellbore's radius and skin, and the KH product and equivalent
+/// radius where given (deck lengths).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Completion {
+    /// The wellbore's radius.
+    pub radius: f64,
+    /// The skin factor.
+    pub skin: f64,
+    /// The permeability-thickness product, where given.
+    pub kh: Option<f64>,
+    /// The pressure-equivalent radius, where given.
+    pub r0: Option<f64>,
+}
+
+/// The factor Flow gives a vertical well's connection to cell (i, j, k)
+/// where COMPDAT gives none (Peaceman): darcy 2 pi Kh / (ln(r0 / rw) + S),
+/// K = sqrt(kx ky), h the cell's thickness times `ntg`, r0 Peaceman's
+/// anisotropic equivalent radius on the cell's widths (as opm-common
+/// measures them: in map view, between the means of the corners of
+/// opposite sides; the thickness between the means of the top and bottom
+/// corners' depths). `f` turns grid lengths into the deck's. None where
+/// r0 is not above the wellbore's radius.
+pub fn peaceman_factor(
+    g: &CornerPointGrid,
+    cell: [usize; 3],
+    perm: [f64; 2],
+    ntg: f64,
+    f: f64,
+    darcy: f64,
+    w: &Completion,
+) -> Option<f64> {
+    let c = corners(g, cell);
+    let side = |a: [usize; 4], b: [usize; 4]| {
+        let (p, q) = (mean(a.iter().map(|&n| c[n])), mean(b.iter().map(|&n| c[n])));
+        f * (p[0] - q[0]).hypot(p[1] - q[1])
+    };
+    let (dx, dy) = (
+        side([0, 2, 4, 6], [1, 3, 5, 7]),
+        side([0, 1, 4, 5], [2, 3, 6, 7]),
+    );
+    let [i, j, k] = cell;
+    let z = |b: usize| (0..4).map(|n| g.depth(i, j, k, n + 4 * b)).sum::<f64>() / 4.0;
+    let dz = f * (z(1) - z(0)).abs();
+    let [kx, ky] = perm;
+    let kh = w.kh.unwrap_or((kx * ky).sqrt() * dz * ntg);
+    let r0 = w.r0.unwrap_or_else(|| {
+        let (a, b) = ((ky / kx).sqrt(), (kx / ky).sqrt());
+        0.28 * (a * dx * dx + b * dy * dy).sqrt() / (a.sqrt() + b.sqrt())
+    });
+    (r0 > w.radius)
+        .then(|| darcy * 2.0 * std::f64::consts::PI * kh / ((r0 / w.radius).ln() + w.skin))
+}
+
 /// The cells Flow keeps: active in ACTNUM and with a pore volume above
 /// `minpv` (Flow's default 1e-6 of the deck's volume unit).
 pub fn active_cells(g: &CornerPointGrid, pore_volume: &[f64], minpv: f64) -> Vec<bool> {
@@ -354,6 +408,32 @@ mod tests {
         // Flow's METRIC and FIELD constants, to the digits they print
         assert!((darcy(false) - 0.008527017).abs() < 1e-9);
         assert!((darcy(true) - 0.001127116).abs() < 1e-9);
+    }
+
+    /// Flow 2022.10 gave SPE9's PROD2 in its layer 2 (300 x 300 x 15 ft,
+    /// 40.18363 mD, NTG 0.8 added, 0.5 ft diameter, factor defaulted)
+    /// 0.62423617 in its restart file (SCON), Kh 482.20355.
+    #[test]
+    fn peaceman_as_flow_computes_it() {
+        let g = CornerPointGrid::cartesian([1, 1, 1], [300.0, 300.0, 15.0]);
+        let mut w = Completion {
+            radius: 0.25,
+            ..Default::default()
+        };
+        let cf = |w: &Completion| {
+            peaceman_factor(&g, [0; 3], [40.18363; 2], 0.8, 1.0, darcy(true), w).unwrap()
+        };
+        assert!((cf(&w) / 0.62423617 - 1.0).abs() < 1e-6, "{}", cf(&w));
+        // a skin adds to the log; a given Kh replaces the computed one
+        let plain = cf(&w);
+        w.skin = 2.0;
+        let log = (0.28 * 300.0 * 2f64.sqrt() / 2.0 / 0.25f64).ln();
+        assert!((cf(&w) - plain * log / (log + 2.0)).abs() < 1e-12);
+        w.kh = Some(2.0 * 482.20355);
+        assert!((cf(&w) - 2.0 * plain * log / (log + 2.0)).abs() < 1e-6);
+        // a wellbore as wide as the equivalent radius has no factor
+        w.radius = 60.0;
+        assert!(peaceman_factor(&g, [0; 3], [40.0; 2], 1.0, 1.0, darcy(true), &w).is_none());
     }
 
     /// A Cartesian block: T = c / (dx1 / (2 k1 A) + dx2 / (2 k2 A)).

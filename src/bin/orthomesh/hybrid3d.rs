@@ -74,7 +74,7 @@ fn well_path_spec(spec: &str) -> Result<Well3> {
 
 /// The wells: the deck's (WELSPECS head, COMPDAT layers and diameter),
 /// then --well, then --well-path (a name given again replaces the earlier
-/// well).
+/// well), those --radial names.
 fn wells(a: &HybridArgs) -> Result<Vec<Well3>> {
     let mut list: Vec<Well3> = vec![];
     list.extend(
@@ -92,6 +92,7 @@ fn wells(a: &HybridArgs) -> Result<Vec<Well3>> {
         list.retain(|x| x.name != w.name);
         list.push(w);
     }
+    crate::only_radial(a, &mut list, |w| &w.name)?;
     if list.is_empty() {
         return Err(Error::Usage(
             "--3d needs a well: --well NAME:I:J[:K1-K2][:RADIUS[:DIP:AZIMUTH]], --well-path \

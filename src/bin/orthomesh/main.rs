@@ -168,6 +168,12 @@ struct HybridArgs {
     /// constraint chains (FAULTS in the grid are used too).
     #[arg(long = "fault", value_name = "X1,Y1,X2,Y2[,...]")]
     faults: Vec<String>,
+    /// Radial meshes for these wells only (names, comma-separated); the
+    /// others are left out of the mesh, and a deck carried whole keeps
+    /// their connections on their cells (the input's factors, else Flow's
+    /// own).
+    #[arg(long, value_name = "NAME[,NAME...]", value_delimiter = ',')]
+    radial: Vec<String>,
     /// The layer whose map view is meshed (1-based).
     #[arg(long, default_value_t = 1)]
     layer: usize,
@@ -459,8 +465,29 @@ fn deck_wells(a: &HybridArgs) -> Result<Vec<io::eclipse::Well>> {
     Ok(found)
 }
 
+/// Keeps the wells --radial names (all where it names none); Err naming
+/// one it names that is no well.
+fn only_radial<T>(a: &HybridArgs, list: &mut Vec<T>, name: impl Fn(&T) -> &str) -> Result<()> {
+    if a.radial.is_empty() {
+        return Ok(());
+    }
+    if let Some(n) = a
+        .radial
+        .iter()
+        .find(|n| !list.iter().any(|w| name(w) == n.as_str()))
+    {
+        let known: Vec<&str> = list.iter().map(&name).collect();
+        return Err(Error::Usage(format!(
+            "--radial: no well {n} (the wells: {})",
+            known.join(", ")
+        )));
+    }
+    list.retain(|w| a.radial.iter().any(|n| n == name(w)));
+    Ok(())
+}
+
 /// The wells of a 2D hybrid: the deck's, then --well and --well-xy (a
-/// name given again replaces the earlier well).
+/// name given again replaces the earlier well), those --radial names.
 fn wells_2d(a: &HybridArgs) -> Result<Vec<WellInput>> {
     let mut list: Vec<WellInput> = vec![];
     for w in deck_wells(a)? {
@@ -489,6 +516,7 @@ fn wells_2d(a: &HybridArgs) -> Result<Vec<WellInput>> {
             radius: r,
         });
     }
+    only_radial(a, &mut list, |w| &w.name)?;
     Ok(list)
 }
 

@@ -81,6 +81,8 @@ pub(super) struct Table<'a> {
     pub darcy: f64,
     /// Per element, the grid index of its host.
     host: Vec<usize>,
+    /// Per reservoir cell's grid index, its element.
+    reservoir: HashMap<usize, usize>,
 }
 
 impl<'a> Table<'a> {
@@ -152,6 +154,9 @@ impl<'a> Table<'a> {
             darcy,
             host,
             arrays,
+            reservoir: (mesh.ijk.iter().enumerate())
+                .filter_map(|(e, c)| c.map(|c| (at(c), e)))
+                .collect(),
         };
         t.connect(&far);
         Ok(t)
@@ -328,6 +333,20 @@ impl<'a> Table<'a> {
         s.push_str("EDIT\n\n");
         write_array(s, "PORV", self.cells.iter().map(|c| c.porv));
         s.push_str("MULTIPLY\n 'TRANX' 0 /\n 'TRANY' 0 /\n 'TRANZ' 0 /\n/\n\n");
+    }
+
+    /// The deck cell that is grid cell c unchanged (a reservoir cell), if
+    /// any.
+    pub fn unchanged(&self, [i, j, k]: [usize; 3]) -> Option<usize> {
+        let e = self.reservoir.get(&self.mesh.grid.cell_index(i, j, k))?;
+        Some(self.position[*e])
+    }
+
+    /// Whether some cell of the mesh takes its rock from grid cell c.
+    pub fn hosts(&self, c: [usize; 3]) -> bool {
+        let [i, j, k] = c;
+        let c = self.mesh.grid.cell_index(i, j, k);
+        self.host.contains(&c)
     }
 
     /// The deck cell that holds grid cell c's centre: its own where it is

@@ -189,6 +189,10 @@ struct Said {
     /// input's (NaN where a line defaults its factor).
     factors: std::collections::BTreeMap<String, [f64; 2]>,
     rings: bool,
+    /// The wells without a radial mesh, whose connections are kept.
+    kept: BTreeSet<String>,
+    /// Connections to cells Flow leaves out (well I J K), left out.
+    skipped: BTreeSet<String>,
     blocks: bool,
     padded: bool,
     basic: bool,
@@ -207,6 +211,23 @@ impl Said {
                  log term; its state and other items kept)"
                     .into(),
             );
+        }
+        if !self.kept.is_empty() {
+            let list: Vec<&str> = self.kept.iter().map(|s| s.as_str()).collect();
+            out.push(format!(
+                "COMPDAT of the wells without a radial mesh ({}): their connections on their \
+                 cells, unchanged, a line per layer, with the input's factor or, where it gives \
+                 none, Flow's own (Peaceman's on the cell)",
+                list.join(", ")
+            ));
+        }
+        if !self.skipped.is_empty() {
+            let list: Vec<&str> = self.skipped.iter().map(|s| s.as_str()).collect();
+            out.push(format!(
+                "connections to cells Flow leaves out (inactive or without pore volume) left \
+                 out, as Flow leaves them: {}",
+                list.join(", ")
+            ));
         }
         if !self.factors.is_empty() {
             let each: Vec<String> = self
@@ -288,7 +309,7 @@ pub fn carry(path: &Path, mesh: &Mesh) -> Result<(String, Vec<String>, Vec<usize
     let table = cells::Table::new(path, mesh)?;
     let mut said = Said::default();
     said.notes.extend(table.notes.iter().cloned());
-    let wells = wells::Wells::new(&table);
+    let mut wells = wells::Wells::new(&table);
     let mut body = String::new();
     let mut written = BTreeSet::new();
     let mut edit_done = false;
@@ -371,6 +392,7 @@ pub fn carry(path: &Path, mesh: &Mesh) -> Result<(String, Vec<String>, Vec<usize
 #[cfg(test)]
 mod tests {
     use super::*;
+    use cells::num;
 
     /// A 2 x 1 x 1 grid as its own mesh (two reservoir cells, no well).
     fn refused(schedule: &str) -> String {
@@ -417,9 +439,46 @@ mod tests {
 
     #[test]
     fn what_cannot_be_carried_is_named() {
-        let e = refused("WELSPECS\n 'W1' 'G' 1 1 1* 'OIL' /\n/\n");
+        // a well without a radial mesh keeps its cells, its factor Flow's
+        let kept = refused(
+            "WELSPECS\n 'W1' 'G' 2 1 1* 'OIL' /\n/\nCOMPDAT\n 'W1' 2* 1 1 'OPEN' 1* 1* 0.2 1* 1.5 /\n\
+             'W1' 2* 1 1 'OPEN' 1* 7.5 /\n/\n",
+        );
+        let w = crate::reservoir::trans::Completion {
+            radius: 0.1,
+            skin: 1.5,
+            ..Default::default()
+        };
+        let g = crate::reservoir::CornerPointGrid::cartesian([2, 1, 1], [10.0, 10.0, 2.0]);
+        let darcy = crate::reservoir::trans::darcy(false);
+        let cf = crate::reservoir::trans::peaceman_factor(
+            &g,
+            [1, 0, 0],
+            [100.0; 2],
+            1.0,
+            1.0,
+            darcy,
+            &w,
+        );
+        let line = format!(
+            " 'W1' 2 1 1 1 'OPEN' 1* {} 0.2 1* 1.5 1* 1* 1* /",
+            num(cf.unwrap())
+        );
+        assert!(kept.contains(&line), "{line}\n{kept}");
         assert!(
-            e.contains("error") && e.contains("well W1 has no radial mesh"),
+            kept.contains(" 'W1' 2 1 1 1 'OPEN' 1* 7.5 1* 1* 1* 1* 1* 1* /"),
+            "{kept}"
+        );
+        assert!(
+            kept.contains("WELSPECS\n 'W1' 'G' 2 1 1* 'OIL' /"),
+            "{kept}"
+        );
+        let e = refused("WELSPECS\n 'W1' 'G' 3 1 1* 'OIL' /\n/\n");
+        assert!(e.contains("error") && e.contains("W1's head"), "{e}");
+        let e =
+            refused("WELSPECS\n 'W1' 'G' 1 1 1* 'OIL' /\n/\nCOMPDAT\n 'W1' 2* 1 1 'OPEN' /\n/\n");
+        assert!(
+            e.contains("neither a factor nor a wellbore diameter"),
             "{e}"
         );
         let e = refused("MULTX\n 2*0.5 /\n");
