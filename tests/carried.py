@@ -204,5 +204,5 @@ def check(root):
         hyb, orig = dry(side["deck"]), dry(side["original"])
         far_field(name, side, hyb, orig)
         regions(name, side, hyb, orig)
-        if name in ("regions", "spe9"):
+        if name in ("regions", "regions-layers", "spe9"):
             compare_runs(name, side, orig)

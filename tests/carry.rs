@@ -7,8 +7,9 @@
 //! and on the originals.
 
 use orthomesh::backend::default_backend;
-use orthomesh::io::carry::{carry, Mesh};
+use orthomesh::io::carry::{carry, extents, Mesh};
 use orthomesh::reservoir::hybrid3::{self, Hybrid3Options, Section, Well3};
+use orthomesh::reservoir::{HybridOptions, WellAt, WellInput};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -40,17 +41,15 @@ fn for_simulators() -> Hybrid3Options {
     }
 }
 
-/// Meshes a deck's wells in 3D (layered cavities) and writes its hybrid
-/// deck, carried whole, into `decks/carried/NAME/`, with a sidecar for
-/// decks.py: the original deck, per reservoir deck cell its grid cell, per
-/// deck cell its host, per well its first completed grid cell, what the
-/// deck's header says.
+/// Meshes a deck's wells in 3D (layered cavities), or in 2.5D where
+/// `opts` is None, and writes its hybrid deck, carried whole (`write`).
+/// Only the wells `radial` names are meshed, all where it names none.
 fn carried(
     name: &str,
     deck: &Path,
     radius: f64,
     radial: &[&str],
-    opts: Hybrid3Options,
+    opts: Option<Hybrid3Options>,
 ) -> (usize, Vec<String>) {
     let g = orthomesh::io::eclipse::read_grid(deck).unwrap();
     let (found, _) = orthomesh::io::eclipse::read_wells(deck).unwrap();
@@ -61,51 +60,107 @@ fn carried(
             (w.name.clone(), json!(g.cell_index(i, j, k)))
         })
         .collect();
-    let wells: Vec<Well3> = (found.into_iter())
+    let found: Vec<_> = (found.into_iter())
         .filter(|w| radial.is_empty() || radial.contains(&w.name.as_str()))
-        .map(|w| w.well3(radius))
         .collect();
-    let meshed: Vec<&str> = wells.iter().map(|w| w.name.as_str()).collect();
+    let meshed: Vec<String> = found.iter().map(|w| w.name.clone()).collect();
     let start = std::time::Instant::now();
-    let h = hybrid3::build(&default_backend(), &g, &wells, &opts).unwrap();
-    assert_eq!(h.report.sites_outside, 0, "{name}");
-    assert_eq!(h.report.sections.len().min(1), 1, "{name}: layered");
-    let net = h.mesh.network();
-    let extent = orthomesh::io::carry::extents(&h.mesh);
-    let mesh = Mesh {
-        grid: &g,
-        network: &net,
-        host: &h.host,
-        ijk: &h.ijk,
-        wells: &h.wellbore,
-        extent: &extent,
+    let b = default_backend();
+    let (position, notes) = match opts {
+        Some(opts) => {
+            let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(radius)).collect();
+            let h = hybrid3::build(&b, &g, &wells, &opts).unwrap();
+            assert_eq!(h.report.sites_outside, 0, "{name}");
+            assert_eq!(h.report.sections.len().min(1), 1, "{name}: layered");
+            let net = h.mesh.network();
+            let extent = orthomesh::io::carry::extents(&h.mesh.points, &h.mesh.cells);
+            let mesh = Mesh {
+                grid: &g,
+                network: &net,
+                host: &h.host,
+                ijk: &h.ijk,
+                wells: &h.wellbore,
+                extent: &extent,
+            };
+            write(
+                name,
+                deck,
+                &mesh,
+                json!({ "wells": heads, "meshed": meshed }),
+            )
+        }
+        None => {
+            let wells: Vec<WellInput> = (found.into_iter())
+                .map(|w| WellInput {
+                    name: w.name,
+                    at: WellAt::Column(w.i, w.j),
+                    radius,
+                })
+                .collect();
+            let opts = HybridOptions::default();
+            let h = orthomesh::reservoir::hybrid::build(&b, &g, &wells, &opts).unwrap();
+            let l = orthomesh::reservoir::extrude(&h, &g).unwrap();
+            let (host, ijk) = l.hosts(&h);
+            let net = l.network(&h);
+            let (links, extent) = (l.well_links(&h, &[]), extents(&l.points, &l.cells));
+            let mesh = Mesh {
+                grid: &g,
+                network: &net,
+                host: &host,
+                ijk: &ijk,
+                wells: &links,
+                extent: &extent,
+            };
+            write(
+                name,
+                deck,
+                &mesh,
+                json!({ "wells": heads, "meshed": meshed }),
+            )
+        }
     };
-    let (text, notes, position) = carry(deck, &mesh).unwrap();
     println!(
         "{name}: {} cells, meshed and carried in {:.1} s",
         position.len(),
         start.elapsed().as_secs_f64()
     );
+    (position.len(), notes)
+}
+
+/// Writes a mesh's deck, carried whole, into `decks/carried/NAME/`, with a
+/// sidecar for decks.py: the original deck, per reservoir deck cell its
+/// grid cell, per deck cell its host, what the deck's header says, and
+/// `more` (per well its first completed grid cell, the meshed wells).
+fn write(
+    name: &str,
+    deck: &Path,
+    mesh: &Mesh,
+    more: serde_json::Value,
+) -> (Vec<usize>, Vec<String>) {
+    let (text, notes, position) = carry(deck, mesh).unwrap();
     let dir = out_dir().join("carried").join(name);
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{}.DATA", name.to_uppercase()));
     std::fs::write(&path, &text).unwrap();
+    let g = mesh.grid;
     let at = |[i, j, k]: [usize; 3]| g.cell_index(i, j, k);
     let mut reservoir = vec![];
     let mut host = vec![0; position.len()];
     for (e, &p) in position.iter().enumerate() {
-        host[p] = at(h.host[e]);
-        if let Some(c) = h.ijk[e] {
+        host[p] = at(mesh.host[e]);
+        if let Some(c) = mesh.ijk[e] {
             reservoir.push([p, at(c)]);
         }
     }
-    let side = json!({
+    let mut side = json!({
         "deck": path, "original": std::fs::canonicalize(deck).unwrap(),
-        "reservoir": reservoir, "host": host, "wells": heads, "notes": notes,
-        "meshed": meshed,
+        "reservoir": reservoir, "host": host, "notes": notes,
     });
+    for (k, v) in more.as_object().unwrap() {
+        side[k] = v.clone();
+    }
     std::fs::write(dir.join("carried.json"), side.to_string()).unwrap();
-    (position.len(), notes)
+    (position, notes)
 }
 
 /// SPE9's black-oil benchmark deck (three phases, dissolved gas, 26 wells,
@@ -115,7 +170,7 @@ fn carried(
 #[test]
 fn spe9_carried_whole() {
     let deck = Path::new("tests/data/decks/spe9/BENCH_SPE9.DATA");
-    let (cells, notes) = carried("spe9", deck, 0.25, &[], for_simulators());
+    let (cells, notes) = carried("spe9", deck, 0.25, &[], Some(for_simulators()));
     for n in &notes {
         println!("  {n}");
     }
@@ -140,10 +195,24 @@ fn regions_carried_whole() {
         allow_sites_outside: true,
         ..Default::default()
     };
-    let (cells, notes) = carried("regions", &deck, 0.1, &["P1"], opts);
+    let (cells, notes) = carried("regions", &deck, 0.1, &["P1"], Some(opts));
     let said = notes.join("\n");
     assert!(said.contains("without a radial mesh (I1)"), "{said}");
     println!("regions: {cells} cells; {}", notes.join("; "));
+}
+
+/// The regions deck in 2.5D (`hybrid --layers`): the same writer carries
+/// it onto the 2D hybrid mapped onto both layers (its default 12 rings of
+/// 32 sectors),
+/// its producer meshed, its injector not (decks.py checks it as the 3D
+/// one).
+#[test]
+fn regions_carried_whole_in_2_5d() {
+    let deck = regions_input("regions-layers-input");
+    let (cells, notes) = carried("regions-layers", &deck, 0.1, &["P1"], None);
+    let said = notes.join("\n");
+    assert!(said.contains("without a radial mesh (I1)"), "{said}");
+    println!("regions in 2.5D: {cells} cells");
 }
 
 /// The regions deck and its grid, written to `decks/carried/FOLDER`.

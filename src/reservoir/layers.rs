@@ -251,6 +251,18 @@ impl Layered {
         }
     }
 
+    /// Per cell, the grid cell whose rock it takes (its 2D cell's host
+    /// column in its layer), and the grid cell it is if it is one (a
+    /// reservoir cell).
+    pub fn hosts(&self, h: &Hybrid) -> (Vec<[usize; 3]>, Vec<Option<[usize; 3]>>) {
+        (self.origin.iter())
+            .map(|&(c, k)| {
+                let [i, j, _] = h.host[c as usize];
+                ([i, j, k], h.ijk[c as usize].map(|[i, j, _]| [i, j, k]))
+            })
+            .unzip()
+    }
+
     /// The elements over the 2D mesh's outer cells (`Hybrid::outer_cells`),
     /// in every layer.
     pub fn outer_cells(&self, h: &Hybrid) -> Vec<usize> {

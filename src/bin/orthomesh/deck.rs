@@ -31,7 +31,7 @@ pub(crate) struct DeckArgs {
     /// schedule of the input deck).
     #[arg(long)]
     days: Option<f64>,
-    /// Deck, `hybrid --3d` with a whole --deck: write today's single-phase
+    /// Deck, `hybrid` with a whole --deck: write the single-phase
     /// water model of the mesh instead of carrying the deck whole (for the
     /// Thiem checks).
     #[arg(long)]

@@ -258,7 +258,7 @@ fn deck_of(
 ) -> Result<DeckOut> {
     Ok(match (network, &a.deck) {
         (Some(network), Some(input)) if carries => {
-            let extent = io::carry::extents(&h.mesh);
+            let extent = io::carry::extents(&h.mesh.points, &h.mesh.cells);
             let mesh = io::carry::Mesh {
                 grid: g,
                 network,

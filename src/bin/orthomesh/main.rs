@@ -3,16 +3,17 @@
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use orthomesh::reservoir::deck::DeckChoices;
-use orthomesh::reservoir::{self as hybrid, HybridOptions, WellAt, WellInput};
+use orthomesh::reservoir::{self as hybrid};
 use orthomesh::Keep;
 use orthomesh::Progress;
 use orthomesh::{io, Backend, CellArray, Complex, Complex3, Mesher, Options};
 use orthomesh::{Error, Result};
 use orthomesh::{Outcome, D2, D3};
 mod deck;
+mod hybrid2d;
 mod hybrid3d;
 
-use deck::{grid_unit, DeckArgs, DeckOut, FromInput};
+use deck::{DeckArgs, DeckOut};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -342,7 +343,7 @@ fn run(cli: Cli) -> Result<()> {
             io::Input::Space(cx) => conform3(backend, &cx, a),
         },
         Command::Hybrid(a) if a.three_d => hybrid3d::run(backend, a),
-        Command::Hybrid(a) => hybrid_2d(backend, a),
+        Command::Hybrid(a) => hybrid2d::run(backend, a),
         Command::Generate(a) => generate(a),
         Command::Demo(a) => demo(backend, a),
     }
@@ -486,158 +487,6 @@ fn only_radial<T>(a: &HybridArgs, list: &mut Vec<T>, name: impl Fn(&T) -> &str) 
     Ok(())
 }
 
-/// The wells of a 2D hybrid: the deck's, then --well and --well-xy (a
-/// name given again replaces the earlier well), those --radial names.
-fn wells_2d(a: &HybridArgs) -> Result<Vec<WellInput>> {
-    let mut list: Vec<WellInput> = vec![];
-    for w in deck_wells(a)? {
-        list.push(WellInput {
-            name: w.name,
-            at: WellAt::Column(w.i, w.j),
-            radius: w.radius.unwrap_or(DEFAULT_WELL_RADIUS),
-        });
-    }
-    for spec in &a.wells {
-        let (name, x, y, r) = well_spec(spec)?;
-        let (i, j) = (one_based(x, spec)?, one_based(y, spec)?);
-        list.retain(|w| w.name != name);
-        list.push(WellInput {
-            name,
-            at: WellAt::Column(i, j),
-            radius: r,
-        });
-    }
-    for spec in &a.wells_xy {
-        let (name, x, y, r) = well_spec(spec)?;
-        list.retain(|w| w.name != name);
-        list.push(WellInput {
-            name,
-            at: WellAt::Xy([x, y]),
-            radius: r,
-        });
-    }
-    only_radial(a, &mut list, |w| &w.name)?;
-    Ok(list)
-}
-
-/// `hybrid` in 2D (one layer in map view) or 2.5D (`--layers`).
-fn hybrid_2d(backend: &dyn Backend, a: HybridArgs) -> Result<()> {
-    let g = io::eclipse::read_grid(&a.grid)?;
-    let list = wells_2d(&a)?;
-    if a.layer == 0 {
-        return Err(Error::Usage("--layer is 1-based".into()));
-    }
-    a.simulator.check(true)?;
-    let watched = list.len() >= MANY_WELLS && std::io::stderr().is_terminal();
-    let opts = HybridOptions {
-        layer: a.layer - 1,
-        rings: a.rings.unwrap_or(12),
-        sectors: a.sectors.unwrap_or(32),
-        outer: a.outer.unwrap_or(1.9),
-        margin: a.margin,
-        fault_lines: a
-            .faults
-            .iter()
-            .map(|f| polyline(f))
-            .collect::<Result<_>>()?,
-        allow_sites_outside: !a.strict,
-        // a progress bar when there are many wells and someone watches
-        progress: watched.then_some(bar as Progress),
-        ..Default::default()
-    };
-    let mut h = hybrid::build(backend, &g, &list, &opts)?;
-    finish_bar();
-    if a.out.reproducible {
-        h.report.transition.timing = None;
-    }
-    let layered = if a.layers {
-        let l = orthomesh::reservoir::extrude(&h, &g)?;
-        eprintln!(
-            "2.5D: {} polyhedra over {} layers ({} top faces split where the horizon warps)",
-            l.cells.len(),
-            g.nz,
-            l.split_faces
-        );
-        Some(l)
-    } else {
-        None
-    };
-    let cells = match &layered {
-        Some(l) => l.cells(&h),
-        None => h.cells(),
-    };
-    // The network only where a file needs it.
-    let network = (a.tough.is_some() || a.simulator.wanted()).then(|| match &layered {
-        Some(l) => l.network(&h),
-        None => h.network(),
-    });
-    let deck = match &network {
-        Some(network) if a.simulator.wanted() => {
-            // Wells, host grid cells and title of the 2D mesh or its layers.
-            let (links, hosts, title) = match &layered {
-                Some(l) => {
-                    let hosts: Vec<[usize; 3]> = l
-                        .origin
-                        .iter()
-                        .map(|&(c, k)| {
-                            let [i, j, _] = h.host[c as usize];
-                            [i, j, k]
-                        })
-                        .collect();
-                    // COMPDAT's layers: a well given again by --well is
-                    // open over the whole grid
-                    let completed: Vec<(String, [usize; 2])> = deck_wells(&a)?
-                        .into_iter()
-                        .filter(|w| !a.wells.iter().any(|s| s.split(':').next() == Some(&w.name)))
-                        .filter_map(|w| Some((w.name, w.k?)))
-                        .collect();
-                    (
-                        l.well_links(&h, &completed),
-                        hosts,
-                        format!("{} (2.5D)", a.grid.display()),
-                    )
-                }
-                None => {
-                    let title = format!("{}, layer {}", a.grid.display(), a.layer);
-                    (h.well_links(), h.host.clone(), title)
-                }
-            };
-            let outer = || match &layered {
-                Some(l) => l.outer_cells(&h),
-                None => h.outer_cells(),
-            };
-            let input = || {
-                Ok(FromInput {
-                    length: grid_unit(&a)?,
-                    deck: a.deck.as_deref(),
-                    rock: Some(deck::grid_rock(&a, &g, &hosts)?),
-                })
-            };
-            a.simulator.text(&title, network, &links, outer, input)?
-        }
-        _ => DeckOut::default(),
-    };
-    let deck = deck.tough(a.tough.as_deref(), network.as_ref())?;
-    let mut texts = vec![(a.out.output.clone(), deck.vtu(cells))];
-    texts.extend(deck.files);
-    if let Some(p) = a.out.svg {
-        let inside = vec![true; h.mesh.cells.len()];
-        texts.push((p, io::svg::to_string(&h.mesh, &inside, &h.constraints)));
-    }
-    if let Some(p) = a.out.report {
-        let text =
-            serde_json::to_string_pretty(&h.report).map_err(|e| Error::Usage(e.to_string()))?;
-        texts.push((p, text + "\n"));
-    }
-    let layer = a.layer;
-    write_texts(&texts, || {
-        summarise(&format!("{}, layer {layer}", a.grid.display()), &h);
-        for (pair, d) in &h.report.orthogonality_defect {
-            eprintln!("orthogonality defect {pair}: {d:.2e}");
-        }
-    })
-}
-
 /// `generate`: a synthetic input as a .poly file.
 fn generate(a: GenerateArgs) -> Result<()> {
     let n = usize::from(a.n);
@@ -705,31 +554,8 @@ fn demo(backend: &dyn Backend, a: DemoArgs) -> Result<()> {
     ];
     texts.extend(sim.files);
     write_texts(&texts, || {
-        summarise("built-in grid (15 x 15 cells, a fault)", &h);
+        hybrid2d::summarise("built-in grid (15 x 15 cells, a fault)", &h);
     })
-}
-
-/// What the hybrid mesh came to, on standard error.
-fn summarise(what: &str, h: &hybrid::Hybrid) {
-    let r = &h.report;
-    let c = &r.transition.certificate;
-    eprintln!(
-        "{what}: {} wells -> {} reservoir, {} transition, {} well cells; {} cavities ({} columns); {} fault segments in cavities",
-        r.wells.len(), r.cells[0], r.cells[1], r.cells[2], r.cavities, r.cavity_cells, r.fault_segments
-    );
-    eprintln!(
-        "transition certificate: vertices {} segments {} tiling {} sites-inside {}; faces without a twin: {}; negative transmissibilities {}, non-orthogonal connections {}",
-        ok(c.vertices_are_mesh_vertices),
-        ok(c.segments_are_single_edges),
-        ok(c.cells_tile_domain),
-        ok(c.sites_inside_cells),
-        r.unmatched_faces,
-        r.transmissibility.negative,
-        r.transmissibility.non_orthogonal
-    );
-    for n in &r.notes {
-        eprintln!("note: {n}");
-    }
 }
 
 /// Writes every output whole (temporary file, then rename), then a summary.

@@ -35,12 +35,13 @@ pub struct Mesh<'a> {
     pub extent: &'a [f64],
 }
 
-/// Each cell's vertical extent: the span of its points' heights.
-pub fn extents(m: &crate::mesh::Mesh3) -> Vec<f64> {
-    m.cells
+/// Each cell's vertical extent: the span of its points' heights (cells as
+/// faces of point ids).
+pub fn extents(points: &[[f64; 3]], cells: &[Vec<Vec<u32>>]) -> Vec<f64> {
+    cells
         .iter()
         .map(|faces| {
-            let z = faces.iter().flatten().map(|&p| m.points[p as usize][2]);
+            let z = faces.iter().flatten().map(|&p| points[p as usize][2]);
             let (lo, hi) = z.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| {
                 (a.min(z), b.max(z))
             });
@@ -351,7 +352,7 @@ impl<'a> Table<'a> {
 
     /// The deck cell that holds grid cell c's centre: its own where it is
     /// a reservoir cell, else the cell hosted there whose node is nearest
-    /// the centre.
+    /// the centre (any cell's where none is hosted there).
     pub fn block(&self, [i, j, k]: [usize; 3]) -> Option<usize> {
         let g = self.mesh.grid;
         let c = g.cell_index(i, j, k);
@@ -365,8 +366,11 @@ impl<'a> Table<'a> {
             let q = [n[0], n[1], -n[2]];
             (0..3).map(|a| (q[a] - centre[a]).powi(2)).sum::<f64>()
         };
+        // where no cell takes its rock from the block (a 2.5D column
+        // covered by its neighbours' transition cells), the nearest node
+        let hosted = (0..net.elements.len()).any(|e| self.host[e] == c);
         (0..net.elements.len())
-            .filter(|&e| self.host[e] == c)
+            .filter(|&e| self.host[e] == c || !hosted)
             .min_by(|&a, &b| {
                 let own = |e: usize| self.mesh.ijk[e].is_none();
                 own(a).cmp(&own(b)).then(d2(a).total_cmp(&d2(b)))
