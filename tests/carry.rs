@@ -7,7 +7,7 @@
 //! and on the originals.
 
 use orthomesh::backend::default_backend;
-use orthomesh::io::carry::{carry, extents, Mesh};
+use orthomesh::io::carry::{carry, extents, Mesh, MERGE_STIFF};
 use orthomesh::reservoir::hybrid3::{self, Hybrid3Options, Section, Well3};
 use orthomesh::reservoir::{HybridOptions, WellAt, WellInput};
 use serde_json::json;
@@ -50,6 +50,7 @@ fn carried(
     radius: f64,
     radial: &[&str],
     opts: Option<Hybrid3Options>,
+    merge: Option<f64>,
 ) -> (usize, Vec<String>) {
     let g = orthomesh::io::eclipse::read_grid(deck).unwrap();
     let (found, _) = orthomesh::io::eclipse::read_wells(deck).unwrap();
@@ -80,12 +81,14 @@ fn carried(
                 host: &h.host,
                 ijk: &h.ijk,
                 wells: &h.wellbore,
+                region: &h.region,
                 extent: &extent,
             };
             write(
                 name,
                 deck,
                 &mesh,
+                merge,
                 json!({ "wells": heads, "meshed": meshed }),
             )
         }
@@ -103,18 +106,25 @@ fn carried(
             let (host, ijk) = l.hosts(&h);
             let net = l.network(&h);
             let (links, extent) = (l.well_links(&h, &[]), extents(&l.points, &l.cells));
+            let region: Vec<_> = l
+                .origin
+                .iter()
+                .map(|&(c, _)| h.region[c as usize])
+                .collect();
             let mesh = Mesh {
                 grid: &g,
                 network: &net,
                 host: &host,
                 ijk: &ijk,
                 wells: &links,
+                region: &region,
                 extent: &extent,
             };
             write(
                 name,
                 deck,
                 &mesh,
+                merge,
                 json!({ "wells": heads, "meshed": meshed }),
             )
         }
@@ -129,15 +139,17 @@ fn carried(
 
 /// Writes a mesh's deck, carried whole, into `decks/carried/NAME/`, with a
 /// sidecar for decks.py: the original deck, per reservoir deck cell its
-/// grid cell, per deck cell its host, what the deck's header says, and
+/// grid cell, per deck cell the host its rock comes from, what the deck's header says, and
 /// `more` (per well its first completed grid cell, the meshed wells).
 fn write(
     name: &str,
     deck: &Path,
     mesh: &Mesh,
+    merge: Option<f64>,
     more: serde_json::Value,
 ) -> (Vec<usize>, Vec<String>) {
-    let (text, notes, position) = carry(deck, mesh).unwrap();
+    let c = carry(deck, mesh, merge).unwrap();
+    let (text, notes, position) = (c.text, c.notes, c.position);
     let dir = out_dir().join("carried").join(name);
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{}.DATA", name.to_uppercase()));
@@ -145,9 +157,8 @@ fn write(
     let g = mesh.grid;
     let at = |[i, j, k]: [usize; 3]| g.cell_index(i, j, k);
     let mut reservoir = vec![];
-    let mut host = vec![0; position.len()];
+    let host: Vec<usize> = c.rock.iter().map(|&e| at(mesh.host[e])).collect();
     for (e, &p) in position.iter().enumerate() {
-        host[p] = at(mesh.host[e]);
         if let Some(c) = mesh.ijk[e] {
             reservoir.push([p, at(c)]);
         }
@@ -170,13 +181,27 @@ fn write(
 #[test]
 fn spe9_carried_whole() {
     let deck = Path::new("tests/data/decks/spe9/BENCH_SPE9.DATA");
-    let (cells, notes) = carried("spe9", deck, 0.25, &[], Some(for_simulators()));
+    let (cells, notes) = carried(
+        "spe9",
+        deck,
+        0.25,
+        &[],
+        Some(for_simulators()),
+        Some(MERGE_STIFF),
+    );
     for n in &notes {
         println!("  {n}");
     }
     assert!(cells > 9000);
     let said = notes.join("\n");
-    for what in ["padded", "BASIC", "NONNC", "WELLDIMS", "COMPDAT"] {
+    for what in [
+        "padded",
+        "BASIC",
+        "NONNC",
+        "WELLDIMS",
+        "COMPDAT",
+        "--merge-stiff",
+    ] {
         assert!(said.contains(what), "{what}: {said}");
     }
 }
@@ -195,7 +220,7 @@ fn regions_carried_whole() {
         allow_sites_outside: true,
         ..Default::default()
     };
-    let (cells, notes) = carried("regions", &deck, 0.1, &["P1"], Some(opts));
+    let (cells, notes) = carried("regions", &deck, 0.1, &["P1"], Some(opts), None);
     let said = notes.join("\n");
     assert!(said.contains("without a radial mesh (I1)"), "{said}");
     println!("regions: {cells} cells; {}", notes.join("; "));
@@ -209,7 +234,7 @@ fn regions_carried_whole() {
 #[test]
 fn regions_carried_whole_in_2_5d() {
     let deck = regions_input("regions-layers-input");
-    let (cells, notes) = carried("regions-layers", &deck, 0.1, &["P1"], None);
+    let (cells, notes) = carried("regions-layers", &deck, 0.1, &["P1"], None, None);
     let said = notes.join("\n");
     assert!(said.contains("without a radial mesh (I1)"), "{said}");
     println!("regions in 2.5D: {cells} cells");
@@ -300,6 +325,18 @@ fn the_command_line_carries_a_whole_deck() {
     let (code, err, deck) = run(&["--single-phase", "--radial", "P1"]);
     assert_eq!(code, Some(0), "{err}");
     assert!(!deck.contains("SATNUM") && deck.contains("PVTW"), "{err}");
+    // merging the stiff cells: said; refused for the water model or at 0
+    let (code, err, _) = run(&["--radial", "P1", "--merge-stiff", "1"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("--merge-stiff 1: "), "{err}");
+    for bad in [
+        &["--merge-stiff", "0"][..],
+        &["--merge-stiff", "1", "--single-phase"],
+    ] {
+        let (code, err, deck) = run(&[&["--radial", "P1"][..], bad].concat());
+        assert_eq!(code, Some(1), "{err}");
+        assert!(err.contains("--merge-stiff") && deck.is_empty(), "{err}");
+    }
 }
 
 /// SPE9's full black-oil deck: its grid's own transmissibilities as Flow

@@ -36,6 +36,13 @@ pub(crate) struct DeckArgs {
     /// Thiem checks).
     #[arg(long)]
     single_phase: bool,
+    /// Deck, a whole --deck carried: merge the cavities' cells whose
+    /// transmissibilities over their pore volume exceed SHARE of the
+    /// original grid's stiffest cell (an innermost ring's sectors into an
+    /// annulus per layer), for Flow's speed; 0.25 on SPE9
+    /// (docs/simulators.md).
+    #[arg(long = "merge-stiff", value_name = "SHARE")]
+    merge_stiff: Option<f64>,
 }
 
 impl DeckArgs {
@@ -59,8 +66,8 @@ impl DeckArgs {
         let Some(path) = &self.eclipse else {
             return Ok(DeckOut::default());
         };
-        let (text, notes, position) = io::carry::carry(deck, mesh)?;
-        Ok(DeckOut::written(path, text, &notes, &position))
+        let c = io::carry::carry(deck, mesh, self.merge_stiff)?;
+        Ok(DeckOut::written(path, c.text, &c.notes, &c.position))
     }
 
     /// Checks the deck's options before any meshing: those that need
@@ -74,6 +81,17 @@ impl DeckArgs {
         }
         if self.single_phase && !self.wanted() {
             return Err(Error::Usage("--single-phase is for --eclipse".into()));
+        }
+        if let Some(m) = self.merge_stiff {
+            if !(self.wanted() && !self.single_phase) {
+                return Err(Error::Usage(
+                    "--merge-stiff is for a deck carried whole (--eclipse with a whole --deck)"
+                        .into(),
+                ));
+            }
+            if !(m.is_finite() && m > 0.0) {
+                return Err(Error::Usage(format!("--merge-stiff {m}: a share above 0")));
+            }
         }
         if self.aquifer && !hybrid {
             return Err(Error::Usage("--aquifer is for `hybrid`".into()));

@@ -178,12 +178,18 @@ fn deck_of(
             l.well_links(h, &[]),
             io::carry::extents(&l.points, &l.cells),
         );
+        let region: Vec<_> = l
+            .origin
+            .iter()
+            .map(|&(c, _)| h.region[c as usize])
+            .collect();
         let mesh = io::carry::Mesh {
             grid: g,
             network,
             host: &hosts,
             ijk: &ijk,
             wells: &links,
+            region: &region,
             extent: &extent,
         };
         return a.simulator.carried(input, &mesh);

@@ -265,6 +265,7 @@ fn deck_of(
                 host: &h.host,
                 ijk: &h.ijk,
                 wells: &h.wellbore,
+                region: &h.region,
                 extent: &extent,
             };
             a.simulator.carried(input, &mesh)?

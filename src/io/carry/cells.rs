@@ -31,6 +31,8 @@ pub struct Mesh<'a> {
     pub ijk: &'a [Option<[usize; 3]>],
     /// The radially meshed wells' links to their innermost rings.
     pub wells: &'a [WellLinks],
+    /// Per element, which part of the hybrid mesh it belongs to.
+    pub region: &'a [crate::reservoir::Region],
     /// Per element, its vertical extent (grid units; `extents`).
     pub extent: &'a [f64],
 }
@@ -232,6 +234,11 @@ impl<'a> Table<'a> {
             ));
         }
         self.nnc = nnc;
+    }
+
+    /// The grid index of deck cell c's host.
+    pub fn host_of(&self, c: usize) -> usize {
+        self.host[self.cells[c].element]
     }
 
     /// Whether a keyword is a per-cell array the deck sets.

@@ -12,11 +12,13 @@
 //! (`wells`). What OPM Flow 2022.10 refuses is mended and said.
 
 mod cells;
+mod merge;
 mod wells;
 
 use super::eclipse::{is_keyword, record, Record, Tok, Tokens};
 use crate::error::{Error, Result};
 pub use cells::{extents, Mesh};
+pub use merge::SUGGESTED as MERGE_STIFF;
 use std::collections::BTreeSet;
 use std::fmt::Write;
 use std::path::Path;
@@ -300,13 +302,35 @@ pub fn has_section(path: &Path, name: &str) -> Result<bool> {
     Ok(keywords(&ts).iter().any(|k| k.name == name))
 }
 
+/// A deck carried whole onto a hybrid mesh.
+#[derive(Debug, Clone)]
+pub struct Carried {
+    /// The deck's text.
+    pub text: String,
+    /// What it mended or assumed.
+    pub notes: Vec<String>,
+    /// Per mesh cell, its deck cell (0-based; merged cells share one).
+    pub position: Vec<usize>,
+    /// Per deck cell, the mesh cell whose host gives its rock and regions.
+    pub rock: Vec<usize>,
+}
+
 /// The deck of a hybrid mesh that carries the input deck `path` whole;
-/// its text, what it mended or assumed, and each mesh cell's deck cell
-/// (0-based). Err naming a keyword it cannot carry.
-pub fn carry(path: &Path, mesh: &Mesh) -> Result<(String, Vec<String>, Vec<usize>)> {
+/// with `merge`, its cavities' cells stiffer than that share of the
+/// original grid's stiffest cell merged (`merge`). Err naming a keyword it
+/// cannot carry.
+pub fn carry(path: &Path, mesh: &Mesh, merge: Option<f64>) -> Result<Carried> {
     let ts = Tokens::read(path, false)?;
     let kws = keywords(&ts);
-    let table = cells::Table::new(path, mesh)?;
+    let mut table = cells::Table::new(path, mesh)?;
+    if let Some(share) = merge {
+        let gone = table.merge_stiff(share);
+        table.notes.push(format!(
+            "--merge-stiff {share}: {gone} cells of the cavities merged with a neighbour (an \
+             innermost ring's sectors into an annulus per layer), their transmissibilities over \
+             their pore volume above {share} of the original grid's stiffest cell's"
+        ));
+    }
     let mut said = Said::default();
     said.notes.extend(table.notes.iter().cloned());
     let mut wells = wells::Wells::new(&table);
@@ -386,13 +410,52 @@ pub fn carry(path: &Path, mesh: &Mesh) -> Result<(String, Vec<String>, Vec<usize
     }
     s.push('\n');
     s.push_str(&body);
-    Ok((s, notes, table.position.clone()))
+    Ok(Carried {
+        text: s,
+        notes,
+        position: table.position.clone(),
+        rock: table.cells.iter().map(|c| c.element).collect(),
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use cells::num;
+
+    /// A mesh without wells on a row of grid cells, 2 units tall.
+    pub(super) fn row<'a>(
+        g: &'a crate::reservoir::CornerPointGrid,
+        network: &'a crate::mesh::Network,
+        host: &'a [[usize; 3]],
+        ijk: &'a [Option<[usize; 3]>],
+        region: &'a [crate::reservoir::Region],
+    ) -> Mesh<'a> {
+        Mesh {
+            grid: g,
+            network,
+            host,
+            ijk,
+            wells: &[],
+            region,
+            extent: &[2.0; 8][..host.len()],
+        }
+    }
+
+    /// A deck of an n x 1 x 1 grid of 10 x 10 x 2 cells, `tail` after its
+    /// GRID, written as STEM.DATA in a scratch folder.
+    pub(super) fn row_deck(stem: &str, n: usize, tail: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("orthomesh-carry-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(format!("{stem}.DATA"));
+        let deck = format!(
+            "RUNSPEC\nDIMENS\n {n} 1 1 /\nOIL\nWATER\nMETRIC\nGRID\nDX\n {n}*10 /\nDY\n {n}*10 /\n\
+             DZ\n {n}*2 /\nTOPS\n {n}*0 /\nPORO\n {n}*0.2 /\nPERMX\n {n}*100 /\nPERMY\n {n}*100 /\n\
+             PERMZ\n {n}*10 /\n{tail}END\n"
+        );
+        std::fs::write(&p, deck).unwrap();
+        p
+    }
 
     /// A 2 x 1 x 1 grid as its own mesh (two reservoir cells, no well).
     fn refused(schedule: &str) -> String {
@@ -414,25 +477,15 @@ mod tests {
         };
         let host = [[0, 0, 0], [1, 0, 0]];
         let ijk = host.map(Some);
-        let mesh = Mesh {
-            grid: &g,
-            network: &network,
-            host: &host,
-            ijk: &ijk,
-            wells: &[],
-            extent: &[2.0, 2.0],
-        };
-        let dir = std::env::temp_dir().join(format!("orthomesh-carry-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(format!("R{}.DATA", schedule.len()));
-        let deck = format!(
-            "RUNSPEC\nDIMENS\n 2 1 1 /\nOIL\nWATER\nMETRIC\nGRID\nDX\n 2*10 /\nDY\n 2*10 /\nDZ\n 2*2 /\n\
-             TOPS\n 2*0 /\nPORO\n 2*0.2 /\nPERMX\n 2*100 /\nPERMY\n 2*100 /\nPERMZ\n 2*10 /\n\
-             PROPS\nSOLUTION\nSCHEDULE\n{schedule}END\n"
+        let region = [crate::reservoir::Region::Reservoir; 2];
+        let mesh = row(&g, &network, &host, &ijk, &region);
+        let p = row_deck(
+            &format!("R{}", schedule.len()),
+            2,
+            &format!("PROPS\nSOLUTION\nSCHEDULE\n{schedule}"),
         );
-        std::fs::write(&p, deck).unwrap();
-        match carry(&p, &mesh) {
-            Ok((text, _, _)) => text,
+        match carry(&p, &mesh, None) {
+            Ok(c) => c.text,
             Err(e) => format!("error: {e}"),
         }
     }

@@ -205,6 +205,9 @@ impl<'a> Wells<'a> {
         // the input's own factor for the line, where it gives one
         let sums = said.factors.entry(name.clone()).or_insert([0.0, 0.0]);
         sums[1] += number(rec, 7).unwrap_or(f64::NAN);
+        // per deck cell its factor: the ring's sectors an annulus where
+        // the deck merged them (carry::merge), their factors added
+        let mut cells: Vec<(usize, f64)> = vec![];
         for &(e, g) in &well.links {
             let k = t.mesh.host[e][2];
             if !(k1..=k2).contains(&k) {
@@ -215,11 +218,17 @@ impl<'a> Wells<'a> {
             if let Some(sums) = said.factors.get_mut(&name) {
                 sums[0] += factor;
             }
+            match cells.iter_mut().find(|c| c.0 == t.position[e]) {
+                Some(c) => c.1 += factor,
+                None => cells.push((t.position[e], factor)),
+            }
+        }
+        for (cell, factor) in cells {
             // KH defaulted and skin 0: both are in the factor
             let _ = writeln!(
                 s,
                 " '{name}' {} 1 1 1 {} {} {} {} 1* 0 {} {} /",
-                t.position[e] + 1,
+                cell + 1,
                 text(rec, 5),
                 text(rec, 6),
                 num(factor),
