@@ -345,7 +345,7 @@ fn the_command_line_carries_a_whole_deck() {
 /// tests/decks.py to compare with the INIT file Flow writes for the deck
 /// (the far field a hybridized deck must keep; issue 51); and again for a
 /// copy with face multipliers of our own (EQUALS in boxes, an array in a
-/// BOX over part of one).
+/// BOX over part of one, MULTREGT between three MULTNUM regions).
 #[test]
 fn spe9_far_field_transmissibilities() {
     let src = Path::new("tests/data/decks/spe9");
@@ -359,7 +359,9 @@ fn spe9_far_field_transmissibilities() {
     }
     let text = std::fs::read_to_string(src.join("BENCH_SPE9.DATA")).unwrap();
     let mults = "EQUALS\n 'MULTX' 0.5 1 12 1 25 1 15 /\n 'MULTY' 0.1 1 24 10 12 1 15 /\n \
-                 'MULTZ' 0.01 1 24 1 25 5 5 /\n/\nBOX\n 1 24 20 25 1 15 /\nMULTZ\n 2160*0.5 /\nENDBOX\n\n";
+                 'MULTZ' 0.01 1 24 1 25 5 5 /\n 'MULTNUM' 1 /\n 'MULTNUM' 2 1 12 1 25 1 15 /\n \
+                 'MULTNUM' 3 1 24 1 25 8 15 /\n/\nMULTREGT\n 1 2 0.1 XYZ 1* M /\n 2 3 0.5 Z ALL M /\n \
+                 3 1 0.2 XY NNC /\n/\nBOX\n 1 24 20 25 1 15 /\nMULTZ\n 2160*0.5 /\nENDBOX\n\n";
     let at = text.find("\nPROPS").expect("a PROPS section");
     let deck = dir.join("BENCH_SPE9.DATA");
     std::fs::write(&deck, format!("{}\n{mults}{}", &text[..at], &text[at..])).unwrap();
@@ -369,7 +371,9 @@ fn spe9_far_field_transmissibilities() {
 /// Emerald (leaning pillars, throws, an inactive hole, PORO 0 in most
 /// cells) in a small deck of our own, with face multipliers, faults on
 /// the +y faces of two rows and the -x faces of a column, across throws,
-/// MULTFLT given twice for one of them (the last holds): its transmissibilities across the throws
+/// MULTFLT given twice for one of them (the last holds), MULTREGT on the
+/// NNCs between two MULTNUM regions (its region set defaulted: MULTNUM as
+/// GRIDOPTS counts them): its transmissibilities across the throws
 /// too, for tests/decks.py to compare with Flow's INIT and NNCs. The
 /// grid's FACIES array, which Flow 2022.10 refuses, is left out of the copy.
 #[test]
@@ -385,11 +389,13 @@ fn emerald_far_field_transmissibilities() {
     )
     .unwrap();
     let deck = "RUNSPEC\nDIMENS\n 21 41 18 /\nOIL\nWATER\nMETRIC\nTABDIMS\n/\nWELLDIMS\n 0 0 0 0 /\n\
+        GRIDOPTS\n 'NO' 2 /\n\
         START\n 1 'JAN' 2000 /\nGRID\nINIT\nINCLUDE\n 'EME.GRDECL' /\nPERMX\n 15498*100 /\n\
         COPY\n 'PERMX' 'PERMY' /\n 'PERMX' 'PERMZ' /\n/\nMULTIPLY\n 'PERMZ' 0.1 /\n 'PERMY' 2 1 21 20 41 1 18 /\n/\n\
         EQUALS\n 'MULTX' 0.5 1 10 1 41 1 18 /\n 'MULTZ' 0.2 1 21 1 41 5 9 /\n 'NTG' 0.8 1 21 1 20 1 18 /\n/\n\
         FAULTS\n 'FA' 1 21 39 39 1 18 'Y' /\n 'FA' 1 21 40 40 1 18 'Y' /\n 'FB' 13 13 1 41 1 18 'X-' /\n/\n\
         MULTFLT\n 'FA' 0.1 /\n 'FB' 0.3 /\n/\nMULTFLT\n 'FA' 0.5 /\n/\n\
+        EQUALS\n 'MULTNUM' 1 /\n 'MULTNUM' 2 1 21 1 41 10 18 /\n/\nMULTREGT\n 1 2 0.25 XYZ NNC /\n/\n\
         PROPS\nSWOF\n 0 0 1 0\n 1 1 0 0 /\nPVTW\n 200 1 4e-5 0.5 0 /\nPVDO\n 100 1.0 1.0\n 300 0.99 1.1 /\n\
         DENSITY\n 800 1000 1 /\nROCK\n 200 1e-5 /\nSOLUTION\nEQUIL\n 2000 200 3000 0 0 0 1 1 0 /\n\
         SCHEDULE\nTSTEP\n 1 /\nEND\n";

@@ -26,7 +26,7 @@ const ARRAYS: &[&str] = &[
 /// pore volumes, that this reader does not evaluate.
 const UNSUPPORTED: &[&str] = &[
     "OPERATE", "OPERATER", "MULTREGP", "ADDREG", "MULTIREG", "EQUALREG", "COPYREG", "COPYBOX",
-    "PINCH", "MULTREGT", "MINPVV", "MINPORV", "EDITNNC", "NNC", "MULTNUM",
+    "PINCH", "MINPVV", "MINPORV", "EDITNNC", "NNC", "MULTNUM",
 ];
 
 /// The value an array holds where the deck sets none: 1 for NTG, the
@@ -50,6 +50,8 @@ pub struct Arrays {
     pub values: BTreeMap<String, Vec<f64>>,
     /// MULTFLT's records (fault name or stem with `*`, multiplier) in order.
     pub multflt: Vec<(String, f64)>,
+    /// MULTREGT's records in order.
+    pub multregt: Vec<trans::RegionMultiplier>,
     /// MINPV, where given.
     pub minpv: Option<f64>,
     /// The deck they come from.
@@ -90,7 +92,7 @@ impl Arrays {
     /// The transmissibilities between the cells of the original grid as
     /// Flow computes them (`reservoir::trans`): the cells it keeps
     /// (ACTNUM, pore volume above MINPV), PERMX/Y/Z, NTG, the face
-    /// multipliers with MULTFLT folded in. `darcy` is the deck's units'
+    /// multipliers with MULTFLT folded in, MULTREGT. `darcy` is the deck's units'
     /// constant.
     pub fn transmissibilities(
         &self,
@@ -119,7 +121,19 @@ impl Arrays {
             ntg: &ntg,
             mult: std::array::from_fn(|m| Some(&mult[m][..])),
         };
-        Ok(trans::transmissibilities(g, &props, darcy))
+        let mut out = trans::transmissibilities(g, &props, darcy);
+        let sets = (self.multregt.iter())
+            .map(|r| {
+                let cells = v.get(&r.set).ok_or_else(|| Error::Parse {
+                    path: self.path.clone(),
+                    line: 0,
+                    message: format!("MULTREGT names {}, which the deck does not set", r.set),
+                })?;
+                Ok((r.set.clone(), cells.iter().map(|&x| x as i64).collect()))
+            })
+            .collect::<Result<_>>()?;
+        trans::apply_multregt(g, &self.multregt, &sets, &mut out);
+        Ok(out)
     }
 }
 
@@ -187,6 +201,8 @@ pub fn read_arrays(path: &Path, d: [usize; 3]) -> Result<Arrays> {
         ..Arrays::default()
     };
     let mut k = 0;
+    // MULTREGT's default region set: MULTNUM where GRIDOPTS counts them
+    let mut multnum = false;
     while let Some(kw) = next_keyword(&ts, &mut k) {
         let word = kw.text.as_str();
         if UNSUPPORTED.contains(&word) {
@@ -207,6 +223,24 @@ pub fn read_arrays(path: &Path, d: [usize; 3]) -> Result<Arrays> {
                     let fault = name(&ts, &kw, rec.first().unwrap_or(&None))?;
                     let m = number(&ts, rec.get(1).unwrap_or(&None), &kw, "MULTFLT value")?;
                     a.multflt.push((fault, m));
+                    Ok(())
+                })?;
+            }
+            "GRIDOPTS" => {
+                let (rec, next) = record(&ts, k, &kw)?;
+                let nrmult = rec.get(1).cloned().flatten();
+                multnum = nrmult.is_some_and(|t| t.text.parse::<i64>().is_ok_and(|n| n > 0));
+                k = next;
+            }
+            "MULTREGT" => {
+                k = each_record(&ts, k, &kw, |rec| {
+                    let set = match a.multregt.last() {
+                        Some(p) => p.set.as_str(),
+                        None if multnum => "MULTNUM",
+                        None => "FLUXNUM",
+                    };
+                    let r = region_multiplier(&ts, &kw, &rec, set)?;
+                    a.multregt.push(r);
                     Ok(())
                 })?;
             }
@@ -237,6 +271,65 @@ pub fn read_arrays(path: &Path, d: [usize; 3]) -> Result<Arrays> {
         }
     }
     Ok(a)
+}
+
+/// A MULTREGT record: regions (defaulted or negative: all), multiplier,
+/// directions (default XYZ), NNC behaviour (default ALL), region set (M,
+/// F or O; `default` where not given: as Flow 2022.10, the previous
+/// record's, else MULTNUM where GRIDOPTS counts MULTNUM regions, else
+/// FLUXNUM).
+fn region_multiplier(
+    ts: &Tokens,
+    kw: &Tok,
+    rec: &Record,
+    default: &str,
+) -> Result<trans::RegionMultiplier> {
+    let item = |n: usize| rec.get(n).cloned().flatten();
+    let region = |n: usize| -> Result<Option<i64>> {
+        match item(n) {
+            None => Ok(None),
+            t => Ok(Some(number::<i64>(ts, &t, kw, "MULTREGT region")?).filter(|&r| r >= 0)),
+        }
+    };
+    let word = |n: usize, default: &str| {
+        item(n).map_or(default.to_string(), |t| t.text.trim().to_ascii_uppercase())
+    };
+    let dirs = word(3, "XYZ");
+    let axes = ["X", "Y", "Z"].map(|a| dirs.contains(a));
+    let nnc = match word(4, "ALL").as_str() {
+        "ALL" => None,
+        "NNC" => Some(true),
+        "NONNC" => Some(false),
+        other => {
+            return Err(ts.error(
+                kw,
+                format!("MULTREGT: NNC item '{other}' (ALL, NNC or NONNC)"),
+            ))
+        }
+    };
+    let set = match item(5).map(|t| t.text.trim().to_ascii_uppercase()) {
+        None => default.to_string(),
+        Some(s) => match s.as_str() {
+            "M" => "MULTNUM".into(),
+            "F" => "FLUXNUM".into(),
+            "O" => "OPERNUM".into(),
+            _ => return Err(ts.error(kw, format!("MULTREGT: region set '{s}' (M, F or O)"))),
+        },
+    };
+    let regions = [region(0)?, region(1)?];
+    if regions[0].is_some() && regions[0] == regions[1] {
+        return Err(ts.error(
+            kw,
+            "MULTREGT inside one region is not evaluated (as in Flow)".to_string(),
+        ));
+    }
+    Ok(trans::RegionMultiplier {
+        regions,
+        value: number(ts, &item(2), kw, "MULTREGT multiplier")?,
+        axes,
+        nnc,
+        set,
+    })
 }
 
 /// One record of EQUALS, ADD, MULTIPLY, MINVALUE, MAXVALUE or COPY.

@@ -13,8 +13,8 @@
 //! Cells of neighbouring columns connect where their side faces overlap
 //! (across a fault's throw too: Flow's non-neighbour connections), through
 //! the vector area of the overlap as opm-grid builds it. Face multipliers
-//! MULTX ... MULTZ- and MULTFLT as Flow applies them without PINCH. Not
-//! here: MULTREGT and PINCH.
+//! MULTX ... MULTZ-, MULTFLT and MULTREGT as Flow applies them without
+//! PINCH. Not here: PINCH.
 
 use super::grid::FACES;
 use super::CornerPointGrid;
@@ -369,6 +369,82 @@ fn across_columns(
     }
 }
 
+/// A MULTREGT record: connections between cells of regions `regions` (in
+/// either order) of region array `set` along `axes` are multiplied by
+/// `value`; `nnc` says which: Some(true) across non-neighbours only,
+/// Some(false) between Cartesian neighbours only, None all.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegionMultiplier {
+    /// The two regions, None for every region of the set.
+    pub regions: [Option<i64>; 2],
+    /// The multiplier.
+    pub value: f64,
+    /// Along x, y, z.
+    pub axes: [bool; 3],
+    /// Non-neighbours only, neighbours only, or all.
+    pub nnc: Option<bool>,
+    /// The region array (MULTNUM, FLUXNUM, OPERNUM).
+    pub set: String,
+}
+
+/// Applies MULTREGT as Flow 2022.10 does: a record names a pair of
+/// different regions of its set (a defaulted region: each of the set's),
+/// a later record for the same pair (of any set) replaces an earlier one,
+/// and a
+/// connection takes the multiplier of the first set (by name) with a
+/// record for its cells' pair along its axis. `sets` holds each set's
+/// region per cell.
+pub fn apply_multregt(
+    g: &CornerPointGrid,
+    records: &[RegionMultiplier],
+    sets: &std::collections::BTreeMap<String, Vec<i64>>,
+    out: &mut [Transmissibility],
+) {
+    use std::collections::{BTreeMap, BTreeSet, HashMap};
+    // the latest record per pair of regions, whatever its set
+    let mut latest: HashMap<(i64, i64), usize> = HashMap::new();
+    for (n, r) in records.iter().enumerate() {
+        let Some(cells) = sets.get(&r.set) else {
+            continue;
+        };
+        let all: BTreeSet<i64> = cells.iter().copied().collect();
+        let each = |x: Option<i64>| x.map_or(all.iter().copied().collect(), |x| vec![x]);
+        for a in each(r.regions[0]) {
+            for b in each(r.regions[1]) {
+                if a != b {
+                    latest.insert((a, b), n);
+                    latest.insert((b, a), n);
+                }
+            }
+        }
+    }
+    let mut search: BTreeMap<&str, HashMap<(i64, i64), usize>> = BTreeMap::new();
+    for (pair, n) in latest {
+        search.entry(&records[n].set).or_default().insert(pair, n);
+    }
+    if search.is_empty() {
+        return;
+    }
+    // Flow 2022.10's neighbours for NNC and NONNC: one step in i or in
+    // its j, which it takes modulo nz; vertical neighbours are not
+    let ij = |c: usize| [c % g.nx, (c / g.nx) % g.nz];
+    for t in out.iter_mut() {
+        let (p, q) = (ij(t.cells[0]), ij(t.cells[1]));
+        let adjacent = p[0].abs_diff(q[0]) + p[1].abs_diff(q[1]) == 1;
+        for (set, map) in &search {
+            let region = &sets[*set];
+            let pair = (region[t.cells[0]], region[t.cells[1]]);
+            let Some(&n) = map.get(&pair).filter(|&&n| records[n].axes[t.axis]) else {
+                continue;
+            };
+            if records[n].nnc.is_none_or(|only| only != adjacent) {
+                t.value *= records[n].value;
+                break;
+            }
+        }
+    }
+}
+
 /// Folds MULTFLT into the face multipliers: each fault's value (the last
 /// MULTFLT naming it, as Flow takes it; a name ending in `*` names every
 /// fault it starts) times the multiplier of every face the fault lists.
@@ -434,6 +510,38 @@ mod tests {
         // a wellbore as wide as the equivalent radius has no factor
         w.radius = 60.0;
         assert!(peaceman_factor(&g, [0; 3], [40.0; 2], 1.0, 1.0, darcy(true), &w).is_none());
+    }
+
+    /// MULTREGT: the pair's record along its axes, neighbours or not as
+    /// it says; a later record for the pair replaces an earlier one.
+    #[test]
+    fn region_multipliers() {
+        let g = CornerPointGrid::cartesian([2, 2, 2], [10.0, 10.0, 5.0]);
+        let t = |cells: [usize; 2], axis: usize| Transmissibility {
+            cells,
+            axis,
+            value: 1.0,
+        };
+        let record = |value: f64, axes: [bool; 3], nnc: Option<bool>| RegionMultiplier {
+            regions: [Some(2), None],
+            value,
+            axes,
+            nnc,
+            set: "MULTNUM".into(),
+        };
+        // region 1 in the first cell, 2 elsewhere; (0, 3) is a diagonal,
+        // not neighbours; along y only the first record would apply, which
+        // the second replaced; vertical neighbours are not neighbours to
+        // Flow
+        let sets = [("MULTNUM".to_string(), vec![1, 2, 2, 2, 2, 2, 2, 2])].into();
+        let mut out = [t([0, 1], 0), t([0, 2], 1), t([0, 3], 0), t([0, 4], 2)];
+        let records = [
+            record(0.1, [true; 3], None),
+            record(0.5, [true, false, true], Some(false)),
+        ];
+        apply_multregt(&g, &records, &sets, &mut out);
+        let v: Vec<f64> = out.iter().map(|t| t.value).collect();
+        assert_eq!(v, [0.5, 1.0, 1.0, 1.0]);
     }
 
     /// A Cartesian block: T = c / (dx1 / (2 k1 A) + dx2 / (2 k2 A)).
