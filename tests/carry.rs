@@ -67,29 +67,22 @@ fn carried(
     let meshed: Vec<String> = found.iter().map(|w| w.name.clone()).collect();
     let start = std::time::Instant::now();
     let b = default_backend();
-    let (position, notes) = match opts {
+    // the mesh's parts: network, hosts, reservoir cells, wells' links,
+    // regions, vertical extents
+    let (net, host, ijk, links, region, extent) = match opts {
         Some(opts) => {
             let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(radius)).collect();
             let h = hybrid3::build(&b, &g, &wells, &opts).unwrap();
             assert_eq!(h.report.sites_outside, 0, "{name}");
             assert_eq!(h.report.sections.len().min(1), 1, "{name}: layered");
-            let net = h.mesh.network();
-            let extent = orthomesh::io::carry::extents(&h.mesh.points, &h.mesh.cells);
-            let mesh = Mesh {
-                grid: &g,
-                network: &net,
-                host: &h.host,
-                ijk: &h.ijk,
-                wells: &h.wellbore,
-                region: &h.region,
-                extent: &extent,
-            };
-            write(
-                name,
-                deck,
-                &mesh,
-                merge,
-                json!({ "wells": heads, "meshed": meshed }),
+            let extent = extents(&h.mesh.points, &h.mesh.cells);
+            (
+                h.mesh.network(),
+                h.host,
+                h.ijk,
+                h.wellbore,
+                h.region,
+                extent,
             )
         }
         None => {
@@ -104,31 +97,28 @@ fn carried(
             let h = orthomesh::reservoir::hybrid::build(&b, &g, &wells, &opts).unwrap();
             let l = orthomesh::reservoir::extrude(&h, &g).unwrap();
             let (host, ijk) = l.hosts(&h);
-            let net = l.network(&h);
-            let (links, extent) = (l.well_links(&h, &[]), extents(&l.points, &l.cells));
-            let region: Vec<_> = l
-                .origin
-                .iter()
-                .map(|&(c, _)| h.region[c as usize])
-                .collect();
-            let mesh = Mesh {
-                grid: &g,
-                network: &net,
-                host: &host,
-                ijk: &ijk,
-                wells: &links,
-                region: &region,
-                extent: &extent,
-            };
-            write(
-                name,
-                deck,
-                &mesh,
-                merge,
-                json!({ "wells": heads, "meshed": meshed }),
+            let extent = extents(&l.points, &l.cells);
+            (
+                l.network(&h),
+                host,
+                ijk,
+                l.well_links(&h, &[]),
+                l.regions(&h),
+                extent,
             )
         }
     };
+    let mesh = Mesh {
+        grid: &g,
+        network: &net,
+        host: &host,
+        ijk: &ijk,
+        wells: &links,
+        region: &region,
+        extent: &extent,
+    };
+    let more = json!({ "wells": heads, "meshed": meshed });
+    let (position, notes) = write(name, deck, &mesh, merge, more);
     println!(
         "{name}: {} cells, meshed and carried in {:.1} s",
         position.len(),

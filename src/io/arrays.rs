@@ -79,7 +79,7 @@ impl Arrays {
     }
 
     /// Array `name`'s value in cell c, its default where the deck sets none.
-    fn value(&self, name: &str, c: usize) -> f64 {
+    pub fn value(&self, name: &str, c: usize) -> f64 {
         self.values.get(name).map_or(default(name), |a| a[c])
     }
 

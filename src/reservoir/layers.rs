@@ -263,6 +263,14 @@ impl Layered {
             .unzip()
     }
 
+    /// Per cell, the part of the hybrid mesh its 2D cell belongs to.
+    pub fn regions(&self, h: &Hybrid) -> Vec<crate::reservoir::hybrid::Region> {
+        self.origin
+            .iter()
+            .map(|&(c, _)| h.region[c as usize])
+            .collect()
+    }
+
     /// The elements over the 2D mesh's outer cells (`Hybrid::outer_cells`),
     /// in every layer.
     pub fn outer_cells(&self, h: &Hybrid) -> Vec<usize> {

@@ -178,11 +178,7 @@ fn deck_of(
             l.well_links(h, &[]),
             io::carry::extents(&l.points, &l.cells),
         );
-        let region: Vec<_> = l
-            .origin
-            .iter()
-            .map(|&(c, _)| h.region[c as usize])
-            .collect();
+        let region = l.regions(h);
         let mesh = io::carry::Mesh {
             grid: g,
             network,

@@ -181,16 +181,14 @@ impl<'a> Table<'a> {
     /// mesh's two-point ones elsewhere; none to a cell Flow leaves out.
     fn connect(&mut self, far: &[trans::Transmissibility]) {
         let net = self.mesh.network;
-        let g = self.mesh.grid;
-        let element_of: HashMap<usize, usize> = (0..net.elements.len())
-            .filter_map(|e| self.mesh.ijk[e].map(|[i, j, k]| (g.cell_index(i, j, k), e)))
-            .collect();
         let alive = |e: usize| self.cells[self.position[e]].active;
         let mut pairs = HashSet::new();
         let mut nnc = vec![];
         for t in far {
-            let (Some(&a), Some(&b)) = (element_of.get(&t.cells[0]), element_of.get(&t.cells[1]))
-            else {
+            let (Some(&a), Some(&b)) = (
+                self.reservoir.get(&t.cells[0]),
+                self.reservoir.get(&t.cells[1]),
+            ) else {
                 continue;
             };
             if t.value > 0.0 && alive(a) && alive(b) {

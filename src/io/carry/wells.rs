@@ -334,18 +334,17 @@ impl<'a> Wells<'a> {
             kh: number(rec, 9),
             r0: number(rec, 13),
         };
-        let g = t.mesh.grid;
-        let v = &t.arrays.values;
+        let (g, a) = (t.mesh.grid, &t.arrays);
         let at_c = g.cell_index(i, j, k);
-        let value = |n: &str, d: f64| v.get(n).map_or(d, |a| a[at_c]);
-        let perm = [value("PERMX", 0.0), value("PERMY", 0.0)];
-        let ntg = value("NTG", 1.0);
-        trans::peaceman_factor(g, c, perm, ntg, t.f, t.darcy, &w).ok_or_else(|| {
-            ts.error(
-                at,
-                format!("{cell}: the wellbore is as wide as the cell's equivalent radius"),
-            )
-        })
+        let perm = [a.value("PERMX", at_c), a.value("PERMY", at_c)];
+        trans::peaceman_factor(g, c, perm, a.value("NTG", at_c), t.f, t.darcy, &w).ok_or_else(
+            || {
+                ts.error(
+                    at,
+                    format!("{cell}: the wellbore is as wide as the cell's equivalent radius"),
+                )
+            },
+        )
     }
 
     /// A SUMMARY keyword: block ones (I J K) on the cells that hold the
