@@ -86,6 +86,10 @@ pub(super) struct Table<'a> {
     host: Vec<usize>,
     /// Per reservoir cell's grid index, its element.
     reservoir: HashMap<usize, usize>,
+    /// Per element of a well's innermost ring whose deck cell took in the
+    /// rings beyond it (`merge_stiff`), the resistance (1 / T) from its
+    /// site out to theirs: its well's factor runs on in series.
+    pub outward: HashMap<usize, f64>,
 }
 
 impl<'a> Table<'a> {
@@ -160,6 +164,7 @@ impl<'a> Table<'a> {
             reservoir: (mesh.ijk.iter().enumerate())
                 .filter_map(|(e, c)| c.map(|c| (at(c), e)))
                 .collect(),
+            outward: HashMap::new(),
         };
         t.connect(&far);
         Ok(t)

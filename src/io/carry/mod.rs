@@ -242,8 +242,9 @@ impl Said {
                 .collect();
             out.push(format!(
                 "the meshed wells' connection factors added up, from the wellbore to the \
-                 innermost ring's sites, with the input's in brackets where its COMPDAT gives \
-                 them (those reach the grid block's equivalent radius, so they are smaller): {}",
+                 sites of the ring their deck cells stand for (the innermost, or the outer one \
+                 --merge-stiff merged it into), with the input's in brackets where its COMPDAT \
+                 gives them (to the grid block's equivalent radius): {}",
                 each.join(", ")
             ));
         }
@@ -327,8 +328,9 @@ pub fn carry(path: &Path, mesh: &Mesh, merge: Option<f64>) -> Result<Carried> {
         let gone = table.merge_stiff(share);
         table.notes.push(format!(
             "--merge-stiff {share}: {gone} cells of the cavities merged with a neighbour (an \
-             innermost ring's sectors into an annulus per layer), their transmissibilities over \
-             their pore volume above {share} of the original grid's stiffest cell's"
+             innermost ring's sectors into an annulus per layer, with the next ring where the \
+             annulus stays stiff), their transmissibilities over their pore volume above \
+             {share} of the original grid's stiffest cell's"
         ));
     }
     let mut said = Said::default();

@@ -214,7 +214,11 @@ impl<'a> Wells<'a> {
                 continue;
             }
             let perm = (t.perm(e, 0) * t.perm(e, 1)).sqrt();
-            let factor = t.darcy * perm * g * t.f * well.log / (well.log + skin);
+            let mut factor = t.darcy * perm * g * t.f * well.log / (well.log + skin);
+            // on through the rings merged into its cell, in series
+            if let Some(r) = t.outward.get(&e) {
+                factor = 1.0 / (1.0 / factor + r);
+            }
             if let Some(sums) = said.factors.get_mut(&name) {
                 sums[0] += factor;
             }
