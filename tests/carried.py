@@ -35,14 +35,18 @@ from decks import flow_init
 def pairs(init, active_of):
     """Flow's connections between cells of a dry run: TRANX/Y/Z between
     Cartesian neighbours, and the NNCs, by pair of global cells."""
-    nx, ny, _ = init["DIMS"]
+    nx, ny, nz = init["DIMS"]
     out = {}
     for ax, name in enumerate(["TRANX", "TRANY", "TRANZ"]):
         step = [1, nx, nx * ny][ax]
         t = init[name]
         for c, a in active_of.items():
             if t[a] > 0:
-                out[(c, c + step)] = out.get((c, c + step), 0.0) + float(t[a])
+                d = c + step
+                # TRANZ reaches the next active cell down (PINCH)
+                while ax == 2 and d not in active_of and d < nx * ny * nz:
+                    d += step
+                out[(c, d)] = out.get((c, d), 0.0) + float(t[a])
     none = np.zeros(0, int)
     for a, b, t in zip(init.get("NNC1", none) - 1, init.get("NNC2", none) - 1, init.get("TRANNNC", [])):
         key = (int(min(a, b)), int(max(a, b)))

@@ -399,6 +399,89 @@ fn emerald_far_field_transmissibilities() {
     );
 }
 
+/// A 4 x 3 x 4 block with PINCH: its second layer collapsed to a plane
+/// in the first two columns along x (the third layer raised to meet the
+/// first there), its third layer inactive but 5 m thick in the last row;
+/// MULTZ and MULTZ- on the cells the collapse joins, MULTREGT between
+/// MULTNUM regions (an array of its own) across them. As Flow 2022.10
+/// does, the collapsed cells' neighbours above and below connect (in
+/// TRANZ of the upper one), the thick inactive ones' do not.
+#[test]
+fn pinched_out_layers_connect_as_in_flow() {
+    let dir = out_dir().join("trans").join("pinch");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (nx, ny, nz) = (4, 3, 4);
+    let mut coord = String::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let (x, y) = (10.0 * i as f64, 10.0 * j as f64);
+            coord += &format!(" {x} {y} 1000 {x} {y} 1020\n");
+        }
+    }
+    // depth of layer k's top (b = 0) or bottom (b = 1) in column i
+    let depth = |i: usize, k: usize, b: usize| {
+        let level = k + b;
+        match (i < 2, level) {
+            (true, 1) | (true, 2) => 1005.0,
+            _ => 1000.0 + 5.0 * level as f64,
+        }
+    };
+    let mut zcorn = vec![];
+    for k in 0..nz {
+        for b in 0..2 {
+            for _j in 0..2 * ny {
+                for i in 0..2 * nx {
+                    zcorn.push(format!("{}", depth(i / 2, k, b)));
+                }
+            }
+        }
+    }
+    let mut actnum = vec!["1"; nx * ny * nz];
+    for i in 0..nx {
+        actnum[i + nx * (2 + ny * 2)] = "0";
+    }
+    let grid = format!(
+        "SPECGRID\n {nx} {ny} {nz} 1 F /\nCOORD\n{coord}/\nZCORN\n{} /\nACTNUM\n{} /\n",
+        zcorn.join(" "),
+        actnum.join(" ")
+    );
+    std::fs::write(dir.join("PINCH.GRDECL"), grid).unwrap();
+    let perm: Vec<String> = (0..nx * ny * nz)
+        .map(|c| format!("{}", 50 + 7 * c))
+        .collect();
+    let deck = format!(
+        "RUNSPEC\nDIMENS\n {nx} {ny} {nz} /\nOIL\nWATER\nMETRIC\nTABDIMS\n/\n\
+         GRIDOPTS\n 'NO' 2 /\nSTART\n 1 'JAN' 2000 /\nGRID\nINIT\nPINCH\n 0.001 GAP 1* TOPBOT TOP /\n\
+         INCLUDE\n 'PINCH.GRDECL' /\nPORO\n 48*0.2 /\nPERMX\n {} /\nCOPY\n 'PERMX' 'PERMY' /\n\
+         'PERMX' 'PERMZ' /\n/\nMULTIPLY\n 'PERMZ' 0.1 /\n/\nEQUALS\n 'MULTZ' 0.5 1 1 1 3 1 1 /\n\
+         'MULTZ-' 0.25 2 2 1 3 3 3 /\n/\nMULTNUM\n 24*1 24*2 /\nMULTREGT\n 1 2 0.5 XYZ ALL M /\n/\nPROPS\nSWOF\n 0 0 1 0\n 1 1 0 0 /\nPVTW\n 200 1 4e-5 0.5 0 /\n\
+         PVDO\n 100 1.0 1.0\n 300 0.99 1.1 /\nDENSITY\n 800 1000 1 /\nROCK\n 200 1e-5 /\nSOLUTION\n\
+         EQUIL\n 1010 200 3000 0 0 0 1 1 0 /\nSCHEDULE\nTSTEP\n 1 /\nEND\n",
+        perm.join(" ")
+    );
+    let path = dir.join("PINCH.DATA");
+    std::fs::write(&path, deck).unwrap();
+    let (n, _) = far_field("pinch", &path);
+    // four pinch connections (two columns in two rows), none past the
+    // thick inactive row
+    let g = orthomesh::io::eclipse::read_grid(&path).unwrap();
+    let a = orthomesh::io::arrays::read_arrays(&path, [nx, ny, nz]).unwrap();
+    let t = a.transmissibilities(&g, 1.0).unwrap();
+    let at = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
+    let pinched: Vec<_> = t
+        .iter()
+        .filter(|c| c.cells[1] - c.cells[0] == 2 * nx * ny)
+        .collect();
+    assert_eq!(pinched.len(), 4, "{pinched:?}");
+    assert!(pinched
+        .iter()
+        .all(|c| c.cells[0] % (nx * ny) < 2 * nx && c.cells[0] % nx < 2));
+    assert!(pinched
+        .iter()
+        .any(|c| c.cells == [at(0, 0, 0), at(0, 0, 2)]));
+    assert!(n > 0);
+}
+
 /// Writes a deck's far-field transmissibilities (the pair, the axis, the
 /// value) and a sidecar naming the deck for tests/decks.py; returns how
 /// many there are and how many join cells of different layers (across a

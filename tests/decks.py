@@ -115,7 +115,8 @@ def far_field(side_path):
     theirs, across = [], 0
     for a, b, ax, _ in ours:
         a, b, ax = int(a), int(b), int(ax)
-        if b - a == step[ax]:
+        if b - a == step[ax] or (ax == 2 and (b - a) % step[2] == 0):
+            # a column's cells, across collapsed ones with PINCH: TRANZ
             theirs.append(init[names[ax]][active[a]])
         else:
             across += 1

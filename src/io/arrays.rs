@@ -26,7 +26,7 @@ const ARRAYS: &[&str] = &[
 /// pore volumes, that this reader does not evaluate.
 const UNSUPPORTED: &[&str] = &[
     "OPERATE", "OPERATER", "MULTREGP", "ADDREG", "MULTIREG", "EQUALREG", "COPYREG", "COPYBOX",
-    "PINCH", "MINPVV", "MINPORV", "EDITNNC", "NNC", "MULTNUM",
+    "MINPVV", "MINPORV", "EDITNNC", "NNC",
 ];
 
 /// The value an array holds where the deck sets none: 1 for NTG, the
@@ -54,6 +54,8 @@ pub struct Arrays {
     pub multregt: Vec<trans::RegionMultiplier>,
     /// MINPV, where given.
     pub minpv: Option<f64>,
+    /// Whether the deck has PINCH (its default options: `pinch`).
+    pub pinch: bool,
     /// The deck they come from.
     pub path: std::path::PathBuf,
 }
@@ -116,6 +118,7 @@ impl Arrays {
         trans::apply_multflt(g, &self.multflt, &mut mult);
         let active = trans::active_cells(g, &self.pore_volumes(g), self.minpv.unwrap_or(1e-6));
         let props = trans::CellProps {
+            pinch: self.pinch,
             active: &active,
             perm: &perm,
             ntg: &ntg,
@@ -244,6 +247,12 @@ pub fn read_arrays(path: &Path, d: [usize; 3]) -> Result<Arrays> {
                     Ok(())
                 })?;
             }
+            "PINCH" => {
+                let (rec, next) = record(&ts, k, &kw)?;
+                pinch(&ts, &kw, &rec)?;
+                a.pinch = true;
+                k = next;
+            }
             "MINPV" => {
                 let (rec, next) = record(&ts, k, &kw)?;
                 a.minpv = Some(number(&ts, rec.first().unwrap_or(&None), &kw, "MINPV")?);
@@ -271,6 +280,30 @@ pub fn read_arrays(path: &Path, d: [usize; 3]) -> Result<Arrays> {
         }
     }
     Ok(a)
+}
+
+/// PINCH's options as far as they are evaluated: the threshold and the
+/// largest gap are read, and have no effect in Flow 2022.10 (measured: a
+/// 0.5 ft layer under a 1 ft threshold, inactive layers of any thickness
+/// and emerald's zero-porosity cells connect as without PINCH); GAP,
+/// TOPBOT and TOP only (NOGAP and ALL refused by name).
+fn pinch(ts: &Tokens, kw: &Tok, rec: &[Option<Tok>]) -> Result<()> {
+    let word = |i: usize| {
+        let t = rec.get(i).cloned().flatten();
+        t.map(|t| t.text.trim_matches('\'').to_uppercase())
+    };
+    for (i, kept) in [(1, "GAP"), (3, "TOPBOT"), (4, "TOP")] {
+        if let Some(w) = word(i).filter(|w| w != kept) {
+            let what = format!("PINCH item {} '{w}' is not evaluated (only {kept})", i + 1);
+            return Err(ts.error(kw, what));
+        }
+    }
+    for i in [0, 2] {
+        if let Some(t @ Some(_)) = rec.get(i) {
+            number::<f64>(ts, t, kw, "PINCH")?;
+        }
+    }
+    Ok(())
 }
 
 /// A MULTREGT record: regions (defaulted or negative: all), multiplier,
@@ -433,5 +466,17 @@ mod tests {
         assert!(e.to_string().contains("PERMX, which is not set"), "{e}");
         let e = read_arrays(&deck("GRID\nPORO\n 0.1 0.2 /\n"), [1, 1, 1]).unwrap_err();
         assert!(e.to_string().contains("PORO has 2 values"), "{e}");
+        // PINCH with its default options is evaluated, the others named
+        let a = read_arrays(&deck("GRID\nPINCH\n 0.5 GAP 1* TOPBOT /\n"), [1, 1, 1]).unwrap();
+        assert!(a.pinch);
+        for (options, item) in [
+            ("1* NOGAP", "2 'NOGAP'"),
+            ("3* ALL", "4 'ALL'"),
+            ("4* ALL", "5 'ALL'"),
+        ] {
+            let text = format!("GRID\nPINCH\n {options} /\n");
+            let e = read_arrays(&deck(&text), [1, 1, 1]).unwrap_err();
+            assert!(e.to_string().contains(&format!("PINCH item {item}")), "{e}");
+        }
     }
 }

@@ -13,8 +13,10 @@
 //! Cells of neighbouring columns connect where their side faces overlap
 //! (across a fault's throw too: Flow's non-neighbour connections), through
 //! the vector area of the overlap as opm-grid builds it. Face multipliers
-//! MULTX ... MULTZ-, MULTFLT and MULTREGT as Flow applies them without
-//! PINCH. Not here: PINCH.
+//! MULTX ... MULTZ-, MULTFLT and MULTREGT as Flow applies them. With
+//! PINCH, as Flow 2022.10 does (measured against its INIT), a cell also
+//! connects down across inactive cells collapsed to its bottom face (its
+//! TRANZ in Flow's INIT), and nowhere else.
 
 use super::grid::FACES;
 use super::CornerPointGrid;
@@ -64,6 +66,9 @@ fn mean(p: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
 /// neighbour, the - one on the other's), MULTFLT already applied to them.
 #[derive(Debug, Clone, Copy)]
 pub struct CellProps<'a> {
+    /// PINCH: a cell connects down to the next active cell past inactive
+    /// ones where its bottom face is that cell's top (they collapsed).
+    pub pinch: bool,
     /// Per cell: ACTNUM and a pore volume above MINPV (`active_cells`).
     pub active: &'a [bool],
     /// PERMX, PERMY, PERMZ per cell.
@@ -288,10 +293,15 @@ fn below(
     a: [usize; 3],
     out: &mut Vec<Transmissibility>,
 ) {
-    let b = [a[0], a[1], a[2] + 1];
-    if b[2] >= g.nz || !props.active[g.cell_index(b[0], b[1], b[2])] {
+    let active = |k: usize| props.active[g.cell_index(a[0], a[1], k)];
+    let mut k = a[2] + 1;
+    while props.pinch && k < g.nz && !active(k) {
+        k += 1;
+    }
+    if k >= g.nz || !active(k) {
         return;
     }
+    let b = [a[0], a[1], k];
     let (ca, cb) = (corners(g, a), corners(g, b));
     let (fa, fb) = (FACES[5], FACES[5].map(|c| c ^ 4));
     if (0..4).all(|m| ca[fa[m]] == cb[fb[m]]) {
@@ -558,6 +568,7 @@ mod tests {
         let multx = [1.0, 1.0, 0.5, 1.0];
         let multz_minus = [1.0, 1.0, 0.25, 1.0];
         let props = CellProps {
+            pinch: false,
             active: &[true; 4],
             perm: &perm,
             ntg: &ntg,
@@ -605,6 +616,7 @@ mod tests {
             *z += 0.2 * x;
         }
         let props = CellProps {
+            pinch: false,
             active: &[true; 2],
             perm: &[[1.0; 3]; 2],
             ntg: &[1.0; 2],
@@ -630,6 +642,7 @@ mod tests {
             }
         }
         let props = CellProps {
+            pinch: false,
             active: &[true; 4],
             perm: &[[1.0; 3]; 4],
             ntg: &[1.0; 4],
