@@ -470,7 +470,7 @@ fn pinched_out_layers_connect_as_in_flow() {
     let at = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
     let pinched: Vec<_> = t
         .iter()
-        .filter(|c| c.cells[1] - c.cells[0] == 2 * nx * ny)
+        .filter(|c| c.axis == 2 && c.cells[0].abs_diff(c.cells[1]) == 2 * nx * ny)
         .collect();
     assert_eq!(pinched.len(), 4, "{pinched:?}");
     assert!(pinched

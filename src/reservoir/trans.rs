@@ -26,7 +26,8 @@ use crate::geom::{cross_f, dot_f};
 /// their shared face along axis `axis` (0 x, 1 y, 2 z).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Transmissibility {
-    /// The two cells, the lower index first.
+    /// The two cells, the one on the face's lower side (along `axis`)
+    /// first: across a throw it may lie in a deeper layer.
     pub cells: [usize; 2],
     /// The axis the second cell lies along from the first.
     pub axis: usize,
