@@ -3,8 +3,8 @@
 
 use super::proof::{Duals, RowRef};
 use super::{
-    finite, Family, Row, System, WeightsReport, ANCHOR_COST, BIG_MODEL, ELASTIC_ROW_MARGIN,
-    LAZY_SLACK, LP_BUDGET,
+    finite, Family, Row, System, WeightsReport, ANCHOR_COST, ELASTIC_ROW_MARGIN, LAZY_SLACK,
+    LP_BUDGET,
 };
 use crate::error::{Error, Result};
 use highs::{HighsModelStatus, RowProblem, Sense};
@@ -464,7 +464,7 @@ impl Lp {
             })
             .collect();
         let aux: Vec<_> = (0..sys.aux).map(|_| pb.add_column(0.0, free)).collect();
-        let big = sys.eqs.len() + sys.rows.len() > BIG_MODEL;
+        let big = super::is_big(sys);
         let floor = match mode {
             Mode::Margin => margin_floor(sys, with3, big),
             Mode::Elastic { .. } => Bound::Unbounded,
@@ -564,7 +564,7 @@ impl Lp {
     /// finite).
     #[allow(unsafe_code)]
     pub(crate) fn restate(&mut self, was: &System, sys: &System, with3: bool) -> Result<bool> {
-        let big = sys.eqs.len() + sys.rows.len() > BIG_MODEL;
+        let big = super::is_big(sys);
         if sys.aux == 0 || big || !self.slack.is_empty() || was.rows.len() != sys.rows.len() {
             return Ok(false);
         }
