@@ -5,7 +5,8 @@
 //! weights: target <= 5), and the LP case's time at 10^3 and 10^4 segments
 //! (target: seconds); then the pure engine's 3D regular triangulation
 //! against CGAL's (target: at most 1.5x); then the 3D pipeline against the
-//! raw 3D triangulation, with memory per triangle.
+//! raw 3D triangulation, with memory per triangle; last, issue 52's goals,
+//! each beside what the run measured.
 
 use criterion::{criterion_group, BenchmarkId, Criterion, Throughput};
 use orthomesh::backend::{default_backend, Backend};
@@ -39,6 +40,54 @@ fn allow() -> Options {
     }
 }
 
+/// Issue 52's goals, each with what this run measured (NaN: not run).
+static GOALS: std::sync::Mutex<Vec<(String, f64, f64, &str)>> = std::sync::Mutex::new(vec![]);
+
+fn goal(what: &str, measured: f64, target: f64, unit: &'static str) {
+    let mut g = GOALS.lock().unwrap();
+    g.push((what.to_string(), measured, target, unit));
+}
+
+/// The largest ratio among the rows whose name holds every one of `parts`
+/// and whose size lies in `sizes` (NaN where none does).
+fn worst(
+    rows: &[(String, usize, f64)],
+    parts: &[&str],
+    sizes: std::ops::RangeInclusive<usize>,
+) -> f64 {
+    rows.iter()
+        .filter(|(n, s, _)| parts.iter().all(|p| n.contains(p)) && sizes.contains(s))
+        .map(|r| r.2)
+        .fold(f64::NAN, f64::max)
+}
+
+/// Each goal beside its measurement, after the tables.
+fn print_goals() {
+    eprintln!(
+        "\n{:<58} {:>8} {:>10}  met",
+        "goal (issue 52)", "target", "measured"
+    );
+    for (what, measured, target, unit) in GOALS.lock().unwrap().iter() {
+        let met = match measured.is_nan() {
+            true => "not measured",
+            false if measured <= target => "yes",
+            false => "no",
+        };
+        eprintln!(
+            "{what:<58} {:>7}{unit} {:>9.2}{unit}  {met}",
+            target, measured
+        );
+    }
+    eprintln!(
+        "{:<58} {:>8} {:>10}  scripts/bench_triangle.py",
+        "generate mixed 20 and 55 against Triangle", "8x (5x)", "-"
+    );
+    eprintln!(
+        "{:<58} {:>8} {:>10}  not measured: no 100-well generate case yet",
+        "a field of 100 wells, linear in the wells", "linear", "-"
+    );
+}
+
 /// The ratios, printed once. Each time is the best of repeated runs
 /// (pipeline and raw triangulation interleaved, so both see the same
 /// machine), up to about a second per case.
@@ -48,6 +97,7 @@ fn ratios() {
         "\n{:<34} {:>9} {:>12} {:>10} {:>8}",
         "case", "segments", "pipeline ms", "raw RT ms", "ratio"
     );
+    let seen = std::cell::RefCell::new(vec![]);
     let row = |name: String, cx: &Complex| {
         let (mut ms, mut raw, mut spent) = (f64::INFINITY, f64::INFINITY, 0.0);
         let mut out = None;
@@ -88,6 +138,7 @@ fn ratios() {
             cx.segments.len(),
             ms / raw
         );
+        seen.borrow_mut().push((name, cx.segments.len(), ms / raw));
         ms
     };
     for (nx, ny) in [(2, 2), (6, 6), (12, 12), (20, 20), (40, 40)] {
@@ -111,6 +162,24 @@ fn ratios() {
             &orthomesh::generate::field(n, n, 2, 7),
         );
     }
+    let rows = seen.borrow().clone();
+    let zero = ["(zero weights)"];
+    goal(
+        "2D zero weights, lattice of cavities, 10^4-10^6 segments",
+        worst(
+            &rows,
+            &[&["cavities"][..], &zero].concat(),
+            10_000..=1_100_000,
+        ),
+        5.0,
+        "x",
+    );
+    goal(
+        "2D zero weights, fields (wells, free ends), 10^4-10^6 seg.",
+        worst(&rows, &[&["field"][..], &zero].concat(), 10_000..=1_100_000),
+        5.0,
+        "x",
+    );
     // Wells at r = 24.5 nearly touch the cavity sides: the LP (local form).
     // Sizes grow until one takes over a minute.
     for (nx, ny) in [(2, 2), (6, 6), (12, 12), (20, 20)] {
@@ -206,6 +275,7 @@ fn pipeline_ratios_3d() {
         "\n{:<34} {:>9} {:>12} {:>10} {:>8} {:>9}",
         "3D case", "triangles", "pipeline ms", "raw RT ms", "ratio", "KB/tri"
     );
+    let seen = std::cell::RefCell::new(vec![]);
     let row = |name: String, cx: &orthomesh::Complex3| {
         let zero = vec![0.0; cx.points.len()];
         let tris = cx.triangulate(&b).map_or(0, |sc| sc.triangles.len());
@@ -245,6 +315,7 @@ fn pipeline_ratios_3d() {
             }
             Err(e) => eprintln!("{name:<34} error: {e}"),
         }
+        seen.borrow_mut().push((name, tris, ms / raw));
         ms
     };
     let example =
@@ -267,6 +338,92 @@ fn pipeline_ratios_3d() {
         if ms > 60e3 {
             break;
         }
+    }
+    let rows = seen.borrow().clone();
+    let all = 0..=usize::MAX;
+    goal(
+        "3D fields (field3, uneven lattices)",
+        worst(&rows, &["field3"], all.clone()),
+        50.0,
+        "x",
+    );
+    goal(
+        "3D stacked boxes (1,001 rectangles)",
+        worst(&rows, &["boxes 200"], all),
+        50.0,
+        "x",
+    );
+    goal(
+        "pure backend's 3D pipeline / CGAL's (field3 8x8x4)",
+        pure_over_cgal_3d(),
+        1.5,
+        "x",
+    );
+}
+
+/// The pure backend's whole 3D pipeline against CGAL's on field3 8 x 8 x 4,
+/// best of two interleaved runs each (NaN unless both are compiled in).
+fn pure_over_cgal_3d() -> f64 {
+    let all = orthomesh::backend::compiled();
+    let by = |name: &str| all.iter().find(|b| b.name() == name);
+    let (Some(cgal), Some(pure)) = (by("cgal"), by("pure")) else {
+        return f64::NAN;
+    };
+    let cx = orthomesh::generate::field3(8, 4);
+    let time = |b: &dyn Backend| {
+        let t = Instant::now();
+        Mesher::new(b).options(allow()).conform(&cx).unwrap();
+        t.elapsed().as_secs_f64()
+    };
+    let (mut c, mut p) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..2 {
+        c = c.min(time(cgal.as_ref()));
+        p = p.min(time(pure.as_ref()));
+    }
+    p / c
+}
+
+/// SPE9's grid, its 26 wells in 3D (0.25 ft wellbores), and the options
+/// for layered cavities and for the transition meshed in 3D.
+fn spe9_3d() -> (
+    orthomesh::reservoir::CornerPointGrid,
+    Vec<orthomesh::reservoir::hybrid3::Well3>,
+    orthomesh::reservoir::hybrid3::Hybrid3Options,
+    orthomesh::reservoir::hybrid3::Hybrid3Options,
+) {
+    use orthomesh::reservoir::hybrid3::{Hybrid3Options, Well3};
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
+    let grid = read_grid(&dir.join("SPE9.GRDECL")).unwrap();
+    let (found, _) = read_wells(&dir.join("SPE9_CP.DATA")).unwrap();
+    let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(0.25)).collect();
+    let layered = Hybrid3Options {
+        allow_sites_outside: true,
+        ..Default::default()
+    };
+    let in_3d = Hybrid3Options {
+        layered: None,
+        ..layered.clone()
+    };
+    (grid, wells, layered, in_3d)
+}
+
+/// SPE9 in 3D with its 26 wells: one build with the defaults (layered
+/// cavities) and one with the transition meshed in 3D, in seconds.
+fn spe9_3d_goals() {
+    use orthomesh::reservoir::hybrid3;
+    let (grid, wells, layered, in_3d) = spe9_3d();
+    let b = default_backend();
+    for (what, opts) in [
+        (
+            "SPE9 in 3D, 26 wells (layered cavities, the default)",
+            &layered,
+        ),
+        ("SPE9 in 3D, 26 wells, the transition meshed in 3D", &in_3d),
+    ] {
+        let t = Instant::now();
+        let ok = hybrid3::build(&b, &grid, &wells, opts).is_ok();
+        let s = t.elapsed().as_secs_f64();
+        goal(what, if ok { s } else { f64::NAN }, 10.0, " s");
     }
 }
 
@@ -435,22 +592,11 @@ fn hybrid_pipeline(c: &mut Criterion) {
 /// under `cargo bench`: one build takes tens of seconds, and
 /// tests/decks.rs builds it in the test suite.
 fn hybrid3_pipeline(c: &mut Criterion) {
-    use orthomesh::reservoir::hybrid3::{self, Hybrid3Options, Well3};
+    use orthomesh::reservoir::hybrid3::{self, Well3};
     if !std::env::args().any(|a| a == "--bench") {
         return;
     }
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
-    let grid = read_grid(&dir.join("SPE9.GRDECL")).unwrap();
-    let (found, _) = read_wells(&dir.join("SPE9_CP.DATA")).unwrap();
-    let wells: Vec<Well3> = found.into_iter().map(|w| w.well3(0.25)).collect();
-    let layered = Hybrid3Options {
-        allow_sites_outside: true,
-        ..Default::default()
-    };
-    let in_3d = Hybrid3Options {
-        layered: None,
-        ..layered.clone()
-    };
+    let (grid, wells, layered, in_3d) = spe9_3d();
     let mut g = c.benchmark_group("hybrid3");
     g.sample_size(10).measurement_time(Duration::from_secs(60));
     for b in backends() {
@@ -463,6 +609,7 @@ fn hybrid3_pipeline(c: &mut Criterion) {
             });
         }
         // a well down emerald's leaning column (19, 18): twisted layers
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/grids");
         let eme = read_grid(&dir.join("eme_small_w_hole.grdecl")).unwrap();
         let w = Well3 {
             name: "W".into(),
@@ -498,14 +645,25 @@ fn main() {
     // filtered to some groups (`cargo bench -- conform3`).
     let filtered = std::env::args().skip(1).any(|a| !a.starts_with('-'));
     // ORTHOMESH_BENCH_TABLE=3d: the 3D pipeline table alone (docs/performance.md)
-    if std::env::var("ORTHOMESH_BENCH_TABLE").is_ok_and(|t| t == "3d") {
+    // ORTHOMESH_BENCH_TABLE=tables: every table and the goals, without
+    // the criterion groups
+    let table = std::env::var("ORTHOMESH_BENCH_TABLE").unwrap_or_default();
+    if table == "3d" {
         pipeline_ratios_3d();
+        spe9_3d_goals();
+        print_goals();
         return;
     }
-    if std::env::args().any(|a| a == "--bench") && !filtered {
+    let tables = table == "tables";
+    if std::env::args().any(|a| a == "--bench") && !filtered || tables {
         ratios();
         engine_ratios_3d();
         pipeline_ratios_3d();
+        spe9_3d_goals();
+        print_goals();
+        if tables {
+            return;
+        }
     }
     benches();
     Criterion::default().configure_from_args().final_summary();

@@ -42,7 +42,7 @@ pub use proof::Proof;
 pub(crate) use proof::{prove, Certificate, Duals};
 pub(crate) use rows::{plane_rows, rel, sys3_rows, Family, Origin, Row, System, Units};
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use serde::Serialize;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -102,8 +102,8 @@ pub(crate) const BIG_MODEL: usize = 5_000;
 /// there interior point spent 60% of the time forming its normal
 /// equations. The simplex, with its lazy rows, took a cavity's weights
 /// from 2.3 s to 0.86 s at the same margin (SPE9's 26 cavities: 32 s to
-/// 13.5 s). Where the simplex fails on one, the global form solves it
-/// again by interior point (`weights::d3`).
+/// 13.5 s). Where the simplex fails on one, interior point solves it
+/// (`solve_tall`).
 pub(crate) const BIG_MODEL_3D: usize = 50_000;
 
 /// Whether interior point solves `sys`'s models (`BIG_MODEL`).
@@ -504,6 +504,21 @@ fn merge(report: &mut WeightsReport, part: &WeightsReport) {
     if part.lp_solves > 0 {
         report.lp_status = part.lp_status.clone();
     }
+}
+
+/// `solve_rows` (elastic) for the 3D global form; where the simplex fails
+/// on a tall model (`BIG_MODEL_3D`; a well at 85 degrees' dip in SPE9),
+/// again by interior point on all its rows.
+pub(crate) fn solve_tall(sys: &System, report: &mut WeightsReport) -> Result<Answer> {
+    let answer = solve_rows(sys, true, report);
+    if !matches!(answer, Err(Error::SolverLimit(_))) || sys.rows.len() <= BIG_MODEL {
+        return answer;
+    }
+    let all = System {
+        lazy_aux: false,
+        ..sys.clone()
+    };
+    solve_rows(&all, true, report)
 }
 
 /// The LP on one row system: system 1 + 3; else system 1 with system 3

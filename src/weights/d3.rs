@@ -29,8 +29,8 @@ use crate::backend::{Backend, Tetrahedralisation};
 use crate::error::{Error, Result};
 use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
 use crate::lp::{
-    carried, destroy_finished, prove, solve_rows, Answer, Certificate, Duals, Units, WeightsReport,
-    BIG_MODEL, GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
+    carried, destroy_finished, prove, solve_tall, Answer, Certificate, Duals, Units, WeightsReport,
+    GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
 };
 use crate::{
     complex::Complex3,
@@ -384,13 +384,7 @@ fn global<B: Backend + ?Sized>(
         let mut sys = super::rows3::system(p, &faces, &sets, &units, free.clone());
         relations.substitute(&mut sys.rows);
         relations.substitute(&mut sys.eqs);
-        let mut answer = solve_rows(&sys, true, &mut report);
-        if matches!(answer, Err(Error::SolverLimit(_))) && sys.rows.len() > BIG_MODEL {
-            // The simplex failed on a tall model (`BIG_MODEL_3D`; a well at
-            // 85 degrees' dip in SPE9): interior point, on all its rows.
-            sys.lazy_aux = false;
-            answer = solve_rows(&sys, true, &mut report);
-        }
+        let answer = solve_tall(&sys, &mut report);
         let exact = |duals: &Duals| {
             let sub = |t| relations.substitute_exact(t);
             prove(&sys, duals, &lp_points, &sub)
