@@ -488,8 +488,6 @@ impl Lp {
             pb.add_row(r.rhs..=r.rhs, terms(r));
             refs.push(RowRef::Eq(at));
         }
-        let elastic3 =
-            |r: &Row| matches!((r.family, mode), (Family::Sys3(_), Mode::Elastic { .. }));
         let lazy_ok = !big && ((matches!(mode, Mode::Margin) && sys.aux == 0) || sys.lazy_aux);
         let mut lazy = vec![];
         for (at, r) in sys.rows.iter().enumerate().filter(|(_, r)| finite(r)) {
@@ -499,14 +497,19 @@ impl Lp {
                 _ if !margin_row(r, with3) => continue,
                 // A margin row; its slack at zero weights and margin is -rhs.
                 // (an elastic model's system 3 rows have their slacks)
-                _ if lazy_ok && -r.rhs > LAZY_SLACK && !elastic3(r) => lazy.push(at),
                 (Family::Sys3(s), Mode::Elastic { costs, .. }) => {
                     // sum(terms) + slack_s >= rhs + small positive margin
+                    // (the slack column exists even while its rows are lazy)
                     let cost = costs.get(&s).copied().unwrap_or(1.0);
                     let sl = *slack.entry(s).or_insert_with(|| pb.add_column(cost, 0.0..));
+                    if lazy_ok && -r.rhs > LAZY_SLACK {
+                        lazy.push(at);
+                        continue;
+                    }
                     pb.add_row((r.rhs + ELASTIC_ROW_MARGIN).., terms(r).chain([(sl, 1.0)]));
                     refs.push(RowRef::Row(at));
                 }
+                _ if lazy_ok && -r.rhs > LAZY_SLACK => lazy.push(at),
                 _ => {
                     pb.add_row(r.rhs.., terms(r).chain([(delta, -r.share)]));
                     refs.push(RowRef::Row(at));
@@ -614,16 +617,25 @@ impl Lp {
     #[allow(unsafe_code)]
     pub(crate) fn enter_violated(&mut self, sys: &System, cols: &[f64]) -> Result<bool> {
         let n = self.w.len();
+        // An elastic model's system 3 row has its segment's slack instead
+        // of the margin, and its small margin.
+        let elastic = |r: &Row| match r.family {
+            Family::Sys3(s) => self.slack.get(&s).copied(),
+            _ => None,
+        };
         let value = |r: &Row| {
-            r.terms
+            let terms = r
+                .terms
                 .iter()
                 .filter_map(|&(c, v)| match c.checked_sub(n) {
                     Some(a) => Some(v * cols[self.aux[a].index()]),
                     None => self.w[c].map(|(p, q)| v * (cols[p.index()] - cols[q.index()])),
                 })
-                .sum::<f64>()
-                - r.share * cols[self.delta.index()]
-                - r.rhs
+                .sum::<f64>();
+            match elastic(r) {
+                Some(sl) => terms + cols[sl.index()] - r.rhs - ELASTIC_ROW_MARGIN,
+                None => terms - r.share * cols[self.delta.index()] - r.rhs,
+            }
         };
         let (enter, keep): (Vec<usize>, Vec<usize>) = self
             .lazy
@@ -635,11 +647,15 @@ impl Lp {
         for &at in &enter {
             let r = &sys.rows[at];
             starts.push(index.len() as highs_sys::HighsInt);
-            for (c, v) in model_terms(r, n, &self.w, &self.aux).chain([(self.delta, -r.share)]) {
+            let (extra, low) = match elastic(r) {
+                Some(sl) => ((sl, 1.0), r.rhs + ELASTIC_ROW_MARGIN),
+                None => ((self.delta, -r.share), r.rhs),
+            };
+            for (c, v) in model_terms(r, n, &self.w, &self.aux).chain([extra]) {
                 index.push(c.index() as highs_sys::HighsInt);
                 values.push(v);
             }
-            lower.push(r.rhs);
+            lower.push(low);
             self.refs.push(RowRef::Row(at));
         }
         if !enter.is_empty() {

@@ -91,7 +91,11 @@ pub(crate) const ANCHOR_COST: f64 = 1e3;
 /// violates it (measured on the
 /// local form's pieces: 80% of the rows, of which 1 in 200 ever enters;
 /// HiGHS' cost per iteration grows with the rows). The optimum is the same:
-/// a solution of fewer rows that meets all rows is optimal for all.
+/// a solution of fewer rows that meets all rows is optimal for all. In the
+/// 3D global form's elastic models system 3's rows are lazy too, their
+/// slack columns there from the start (SPE9's transitions in 3D: 10,065
+/// rows -> 5,600 in a cavity's first elastic solve, 26 cavities 8.9 s ->
+/// 7.5 s).
 pub(crate) const LAZY_SLACK: f64 = 0.2;
 
 /// Rows of a model above which interior point replaces the simplex.
