@@ -82,10 +82,29 @@ fn print_goals() {
         "{:<58} {:>8} {:>10}  scripts/bench_triangle.py",
         "generate mixed 20 and 55 against Triangle", "8x (5x)", "-"
     );
-    eprintln!(
-        "{:<58} {:>8} {:>10}  not measured: no 100-well generate case yet",
-        "a field of 100 wells, linear in the wells", "linear", "-"
-    );
+}
+
+/// `generate wells` at 5 x 5 and 10 x 10 wells, built in 3D with the
+/// defaults: seconds, and the time per well at 100 over that at 25 (1:
+/// linear).
+fn well_field_goals() {
+    use orthomesh::reservoir::hybrid3::{self, Hybrid3Options};
+    let b = default_backend();
+    let opts = Hybrid3Options {
+        allow_sites_outside: true,
+        ..Default::default()
+    };
+    let mut per_well = vec![];
+    for n in [5, 10] {
+        let (grid, wells) = orthomesh::reservoir::synthetic::well_field(n);
+        let t = Instant::now();
+        let ok = hybrid3::build(&b, &grid, &wells, &opts).is_ok();
+        let s = t.elapsed().as_secs_f64();
+        eprintln!("generate wells {n}: {} wells in {s:.2} s", n * n);
+        per_well.push(if ok { s / (n * n) as f64 } else { f64::NAN });
+    }
+    let what = "a field of 100 wells: time per well over 25 wells'";
+    goal(what, per_well[1] / per_well[0], 1.25, "x");
 }
 
 /// The ratios, printed once. Each time is the best of repeated runs
@@ -651,6 +670,7 @@ fn main() {
     if table == "3d" {
         pipeline_ratios_3d();
         spe9_3d_goals();
+        well_field_goals();
         print_goals();
         return;
     }
@@ -660,6 +680,7 @@ fn main() {
         engine_ratios_3d();
         pipeline_ratios_3d();
         spe9_3d_goals();
+        well_field_goals();
         print_goals();
         if tables {
             return;

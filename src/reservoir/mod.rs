@@ -11,6 +11,7 @@ mod grid;
 pub mod hybrid;
 pub mod hybrid3;
 pub mod layers;
+pub mod synthetic;
 pub mod trans;
 
 pub use grid::{CornerPointGrid, Fault, FaultFace};

@@ -77,7 +77,8 @@ enum Command {
     /// scale tests): `mixed N` is N x N separate cavities with wells,
     /// faults and non-Gabriel chains (about 33 N^2 segments, all needing
     /// the LP); `cavities N` is N x N cavities sharing sides, wells at
-    /// radius 14 (zero weights).
+    /// radius 14 (zero weights); `wells N` is a corner-point grid with
+    /// N x N wells (GRDECL and a .DATA beside it).
     Generate(GenerateArgs),
     /// Mesh built-in data (a cavity around a well) and write mesh, picture
     /// and report into a directory.
@@ -266,6 +267,10 @@ enum Kind {
     /// 3D: an N x N grid of unit columns, each a stack of `--layers` boxes
     /// with an octagonal prism well through it (a TetGen .poly; zero weights).
     Field3,
+    /// 3D reservoir: N x N vertical wells six columns apart on a dipping
+    /// layer cake of (6 N + 1)^2 columns and 6 layers (the output is its
+    /// GRDECL; the wells go to a .DATA beside it, for `hybrid --3d`).
+    Wells,
 }
 
 #[derive(Args)]
@@ -282,6 +287,7 @@ struct GenerateArgs {
     /// `field3`: layers.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u16).range(1..=1000))]
     layers: u16,
+    /// (.poly; `field3` a TetGen .poly; `wells` a .grdecl)
     #[arg(short, long, value_name = "FILE.poly")]
     output: PathBuf,
 }
@@ -499,6 +505,23 @@ fn generate(a: GenerateArgs) -> Result<()> {
             eprintln!(
                 "wrote {}: {v} vertices, {f} facets, {polygons} polygons",
                 a.output.display()
+            );
+            return Ok(());
+        }
+        Kind::Wells => {
+            let (g, wells) = orthomesh::reservoir::synthetic::well_field(n);
+            let deck = a.output.with_extension("DATA");
+            let written = io::eclipse::wells_deck(&wells);
+            io::write_atomic(&a.output, io::eclipse::grdecl(&g).as_bytes())?;
+            io::write_atomic(&deck, written.as_bytes())?;
+            eprintln!(
+                "wrote {} ({} x {} x {} cells) and {} ({} wells)",
+                a.output.display(),
+                g.nx,
+                g.ny,
+                g.nz,
+                deck.display(),
+                wells.len()
             );
             return Ok(());
         }
