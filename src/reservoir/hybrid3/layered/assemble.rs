@@ -54,6 +54,8 @@ pub(crate) fn assemble(
         let mut id: HashMap<(usize, usize), usize> = HashMap::new();
         let mut span: HashMap<(usize, usize), f64> = HashMap::new();
         let mut reports = vec![];
+        // (once per section: per cavity, quadratic in a field's wells)
+        let owner = g.section.mesh.edge_owners();
         for (cav, cut, cells) in &g.cavities {
             let at = |p: u32| g.frame.from(cut.points[p as usize]);
             let cells: Vec<_> = cells.iter().filter(|c| !c.faces.is_empty()).collect();
@@ -104,7 +106,7 @@ pub(crate) fn assemble(
                 volume_gap: 0.0,
             });
             let height = hole_height(g, &cells);
-            grid_volumes.push(to_fill(cpg, g, cav, &grid_cells, height));
+            grid_volumes.push(to_fill(cpg, (g, &owner), cav, &grid_cells, height));
             cavity_cells.push(grid_cells);
         }
         for (n, &w) in g.wells.iter().enumerate() {
@@ -390,10 +392,15 @@ fn hole_height(g: &Group, cells: &[&super::Cell]) -> f64 {
 /// wellbores (the holes its radial cells leave, prisms through all its
 /// layers: their polygons' area in the section, from the radial cells'
 /// edges with no cell across taken backwards, times their height).
-fn to_fill(cpg: &Cpg, g: &Group, cav: &Cavity, grid_cells: &[Ijk], height: f64) -> f64 {
+fn to_fill(
+    cpg: &Cpg,
+    (g, owner): (&Group, &crate::FastMap<(u32, u32), u32>),
+    cav: &Cavity,
+    grid_cells: &[Ijk],
+    height: f64,
+) -> f64 {
     let grid: f64 = grid_cells.iter().map(|&c| grid_volume(cpg, c)).sum();
     let m = &g.section.mesh;
-    let owner = m.edge_owners();
     let mut area = 0.0;
     for &c in cav
         .cells

@@ -32,8 +32,9 @@ pub(super) struct Cones {
     pub(super) inner: HashSet<u32>,
     pub(super) cells: HashMap<Ijk, Vec<Pyramid>>,
     /// Section points the apexes keep away from (the wells: where every
-    /// pyramid's sides meet, a ring cell would be cut to slivers).
-    pub(super) avoid: Vec<[f64; 2]>,
+    /// pyramid's sides meet, a ring cell would be cut to slivers), one tree
+    /// for the section's cavities.
+    pub(super) avoid: std::sync::Arc<rstar::RTree<[f64; 2]>>,
 }
 
 /// The plane through a, b, c (normal (b - a) x (c - a)).
@@ -86,9 +87,8 @@ impl Cones {
         };
         let clear = |x: [f64; 3]| {
             self.avoid
-                .iter()
-                .map(|w| (x[0] - w[0]).hypot(x[1] - w[1]))
-                .fold(f64::INFINITY, f64::min)
+                .nearest_neighbor(&[x[0], x[1]])
+                .map_or(f64::INFINITY, |w| (x[0] - w[0]).hypot(x[1] - w[1]))
         };
         let size = f.size;
         // the face's parts: whole or two triangles, or cut where the cells

@@ -144,8 +144,10 @@ pub(crate) fn build<B: Backend + ?Sized>(
             }
         }
         let mut built = vec![];
+        let shared = cells::Shared::new(&mesh2.mesh, &mesh2.region);
         for c in found {
-            match cells::cells(cpg, &frame, &mesh2.mesh, &mesh2.region, &c) {
+            let section = (&mesh2.mesh, mesh2.region.as_slice());
+            match cells::cells(cpg, &frame, section, &shared, &c) {
                 Ok((cut, cells)) => built.push((c, cut, cells)),
                 Err(why) => return Ok(Err(format!("around wells {}: {why}", names(wells, &ws)))),
             }

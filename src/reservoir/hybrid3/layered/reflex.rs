@@ -11,7 +11,7 @@
 
 use crate::mesh::Mesh;
 use crate::reservoir::hybrid::Region;
-use std::collections::{BTreeSet, HashMap};
+use std::collections::BTreeSet;
 
 /// One corner: the points P' and X (section point ids) and the cell g on
 /// the piece P' -> X.
@@ -34,7 +34,7 @@ pub(super) fn corners(
     m: &Mesh,
     region: &[Region],
     cells: &[usize],
-    owner: &HashMap<(u32, u32), u32>,
+    owner: &crate::FastMap<(u32, u32), u32>,
     pairs: &[[[f64; 2]; 2]],
 ) -> Vec<Corner> {
     let mine: BTreeSet<usize> = cells
@@ -134,7 +134,7 @@ mod tests {
     #[test]
     fn a_corner_is_found_by_its_piece() {
         let m = corner();
-        let owner: HashMap<(u32, u32), u32> = m.edge_owners().into_iter().collect();
+        let owner = m.edge_owners();
         let region = vec![Region::Transition; 3];
         let pairs = [[[-1.0, 0.0], [0.0, 0.0]]];
         let found = corners(&m, &region, &[0, 1, 2], &owner, &pairs);
