@@ -36,8 +36,7 @@ pub(crate) fn assemble(
     let [unmatched, thrown] = a.reservoir_links(cpg)?;
     let first_t = a.out.cells.len();
     let mut wellbore: Vec<Option<WellLinks>> = vec![None; wells.len()];
-    let mut host: Vec<Ijk> = vec![];
-    let mut cavity_of = vec![];
+    let (mut host, mut cavity_of): (Vec<Ijk>, Vec<usize>) = (vec![], vec![]);
     let mut sections = vec![];
     // faces toward a grid cell that is in a cavity: they have no cell
     // across (0: sections keep their cavities apart)
@@ -54,8 +53,7 @@ pub(crate) fn assemble(
         let mut id: HashMap<(usize, usize), usize> = HashMap::new();
         let mut span: HashMap<(usize, usize), f64> = HashMap::new();
         let mut reports = vec![];
-        // (once per section: per cavity, quadratic in a field's wells)
-        let owner = g.section.mesh.edge_owners();
+        let owner = g.section.mesh.edge_owners(); // (per cavity: quadratic)
         for (cav, cut, cells) in &g.cavities {
             let at = |p: u32| g.frame.from(cut.points[p as usize]);
             let cells: Vec<_> = cells.iter().filter(|c| !c.faces.is_empty()).collect();
@@ -105,8 +103,8 @@ pub(crate) fn assemble(
                 sites_inside: cells.iter().filter(|c| c.inside).count(),
                 volume_gap: 0.0,
             });
-            let height = hole_height(g, &cells);
-            grid_volumes.push(to_fill(cpg, (g, &owner), cav, &grid_cells, height));
+            let fill = to_fill(cpg, (g, &owner), cav, &grid_cells, hole_height(g, &cells));
+            grid_volumes.push(fill);
             cavity_cells.push(grid_cells);
         }
         for (n, &w) in g.wells.iter().enumerate() {
