@@ -537,12 +537,13 @@ impl Lp {
             model.set_option("simplex_strategy", if dual { 1 } else { 4 });
             model.set_option("simplex_dual_edge_weight_strategy", 1);
             // Measured: on the local form's small pieces presolve costs as
-            // much as the solve (and it would discard the warm start). On
-            // the 3D global form's cold margin solves it saved 10% of
-            // SPE9's transitions in 3D before their elastic rows were lazy,
-            // nothing after, and made emerald's wells (tests/fields3.rs)
-            // 4x slower.
-            model.set_option("presolve", "off");
+            // much as the solve (and it would discard the warm start). The
+            // 3D global form's margin models start cold on thousands of
+            // rows, where it pays (SPE9's transitions in 3D: 26 cavities
+            // 10.6 s -> 9.5 s; warm solves skip it). Not its elastic ones:
+            // on SPE9's well at 85 degrees one such solve took 78 s.
+            let presolve = sys.lazy_aux && matches!(mode, Mode::Margin);
+            model.set_option("presolve", if presolve { "on" } else { "off" });
             // Measured: HiGHS' accuracy test before a rebuild (a solve with
             // fresh work vectors each time) was 7% of the pieces' time; their
             // few updates keep the factors accurate, and the weights are
