@@ -258,8 +258,13 @@ impl Mesh {
 
     /// Directed cell edge (a, b) -> the cell it bounds (on its left).
     pub(crate) fn edge_owners(&self) -> FastMap<(u32, u32), u32> {
+        self.edge_owners_from(0)
+    }
+
+    /// `edge_owners` of the cells from `first` on.
+    pub(crate) fn edge_owners_from(&self, first: usize) -> FastMap<(u32, u32), u32> {
         let mut owner = FastMap::default();
-        for (c, cell) in self.cells.iter().enumerate() {
+        for (c, cell) in self.cells.iter().enumerate().skip(first) {
             for e in 0..cell.len() {
                 owner.insert((cell[e], cell[(e + 1) % cell.len()]), c as u32);
             }

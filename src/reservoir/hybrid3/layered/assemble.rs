@@ -53,7 +53,6 @@ pub(crate) fn assemble(
         let mut id: HashMap<(usize, usize), usize> = HashMap::new();
         let mut span: HashMap<(usize, usize), f64> = HashMap::new();
         let mut reports = vec![];
-        let owner = g.section.mesh.edge_owners(); // (per cavity: quadratic)
         for (cav, cut, cells) in &g.cavities {
             let at = |p: u32| g.frame.from(cut.points[p as usize]);
             let cells: Vec<_> = cells.iter().filter(|c| !c.faces.is_empty()).collect();
@@ -103,7 +102,7 @@ pub(crate) fn assemble(
                 sites_inside: cells.iter().filter(|c| c.inside).count(),
                 volume_gap: 0.0,
             });
-            let fill = to_fill(cpg, (g, &owner), cav, &grid_cells, hole_height(g, &cells));
+            let fill = to_fill(cpg, g, cav, &grid_cells, hole_height(g, &cells));
             grid_volumes.push(fill);
             cavity_cells.push(grid_cells);
         }
@@ -390,15 +389,9 @@ fn hole_height(g: &Group, cells: &[&super::Cell]) -> f64 {
 /// wellbores (the holes its radial cells leave, prisms through all its
 /// layers: their polygons' area in the section, from the radial cells'
 /// edges with no cell across taken backwards, times their height).
-fn to_fill(
-    cpg: &Cpg,
-    (g, owner): (&Group, &crate::FastMap<(u32, u32), u32>),
-    cav: &Cavity,
-    grid_cells: &[Ijk],
-    height: f64,
-) -> f64 {
+fn to_fill(cpg: &Cpg, g: &Group, cav: &Cavity, grid_cells: &[Ijk], height: f64) -> f64 {
     let grid: f64 = grid_cells.iter().map(|&c| grid_volume(cpg, c)).sum();
-    let m = &g.section.mesh;
+    let (m, owner) = (&g.section.mesh, &g.shared.owner);
     let mut area = 0.0;
     for &c in cav
         .cells

@@ -643,7 +643,7 @@ type Outline = (Vec<u32>, Vec<u32>, Vec<Edge>);
 /// of 100 wells quadratic: 11% of its time in `edge_owners`).
 pub(crate) struct Shared {
     /// Each section edge's cell (`Mesh::edge_owners`).
-    owner: FastMap<(u32, u32), u32>,
+    pub(super) owner: FastMap<(u32, u32), u32>,
     /// The wells' sites (`Cones::avoid`).
     wells: std::sync::Arc<rstar::RTree<[f64; 2]>>,
 }
@@ -720,12 +720,7 @@ pub(crate) fn cells(
     b.slabs = slabs(&mut b, cav);
     // the mirror cells' edges over the section's (as `edge_owners` of the
     // mesh with them would give)
-    let mut mirrors = FastMap::default();
-    for (c, cell) in m.cells.iter().enumerate().skip(n0) {
-        for e in 0..cell.len() {
-            mirrors.insert((cell[e], cell[(e + 1) % cell.len()]), c as u32);
-        }
-    }
+    let mirrors = m.edge_owners_from(n0);
     let owner = Owners {
         base: &shared.owner,
         over: &mirrors,

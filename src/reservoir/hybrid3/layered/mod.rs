@@ -39,6 +39,8 @@ pub(crate) struct Group {
     /// Per cavity: its columns, layers and section cells; its points and
     /// cells.
     pub(crate) cavities: Vec<(Cavity, Cutter, Vec<Cell>)>,
+    /// What the section's cavities share.
+    pub(crate) shared: cells::Shared,
 }
 
 /// The layered cavities of all the wells, or why they cannot be layered
@@ -157,6 +159,7 @@ pub(crate) fn build<B: Backend + ?Sized>(
             section: mesh2,
             wells: ws,
             cavities: built,
+            shared,
         });
     }
     Ok(Ok(out))
