@@ -267,6 +267,30 @@ fn the_same_input_gives_byte_identical_mesh_and_report() {
     let (code, err) = orthomesh(&["generate", "field3", "1", "--layers", "1", "-o", out]);
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("32 vertices, 20 facets, 22 polygons"), "{err}");
+    // a corner-point field of wells: its grid and deck, or a clear refusal
+    // that writes nothing
+    let grid = dir.join("wells.grdecl");
+    let out = grid.to_str().unwrap();
+    let (code, err) = orthomesh(&["generate", "wells", "1", "-o", out]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("7 x 7 x 6 cells") && err.contains("(1 wells)"),
+        "{err}"
+    );
+    assert!(dir.join("wells.DATA").exists());
+    for (n, name) in [("101", "big.grdecl"), ("1", "deck.DATA")] {
+        let out = dir.join(name);
+        let (code, err) = orthomesh(&["generate", "wells", n, "-o", out.to_str().unwrap()]);
+        assert_ne!(code, 0, "{err}");
+        assert!(
+            err.contains("N is at most 100") && err.contains(name),
+            "{err}"
+        );
+        assert!(
+            !out.exists() && !out.with_extension("DATA").exists(),
+            "{name}"
+        );
+    }
     let inputs = [
         mixed.display().to_string(),
         data("la.poly"),

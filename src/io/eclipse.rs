@@ -598,8 +598,8 @@ pub fn grdecl(g: &CornerPointGrid) -> String {
 
 /// Wells as a metric deck's WELSPECS and COMPDAT (1-based columns and
 /// layers, COMPDAT's diameter from the wellbore radius): each completed
-/// cell of `cells`, else its column's layers `k` (the first where None).
-pub fn wells_deck(wells: &[crate::reservoir::Well3]) -> String {
+/// cell of `cells`, else its column's layers `k` (all `nz` where None).
+pub fn wells_deck(wells: &[crate::reservoir::Well3], nz: usize) -> String {
     use std::fmt::Write;
     let mut out = String::from("RUNSPEC\nMETRIC\n\nSCHEDULE\n\nWELSPECS\n");
     for w in wells {
@@ -608,7 +608,7 @@ pub fn wells_deck(wells: &[crate::reservoir::Well3]) -> String {
     out.push_str("/\n\nCOMPDAT\n");
     for w in wells {
         let cells: Vec<[usize; 3]> = if w.cells.is_empty() {
-            let [a, b] = w.k.unwrap_or([0, 0]);
+            let [a, b] = w.k.unwrap_or([0, nz.saturating_sub(1)]);
             (a..=b).map(|k| [w.i, w.j, k]).collect()
         } else {
             w.cells.clone()
@@ -855,7 +855,7 @@ ACTNUM 1 /
         let dir = std::env::temp_dir().join(format!("om-wells-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("f.grdecl"), grdecl(&g)).unwrap();
-        std::fs::write(dir.join("f.DATA"), wells_deck(&wells)).unwrap();
+        std::fs::write(dir.join("f.DATA"), wells_deck(&wells, g.nz)).unwrap();
         let back = read_grid(&dir.join("f.grdecl")).unwrap();
         assert_eq!((back.coord, back.zcorn), (g.coord, g.zcorn));
         let (read, missing) = read_wells(&dir.join("f.DATA")).unwrap();
