@@ -329,10 +329,9 @@ unsafe extern "C" fn interrupt(
 
 /// Runs HiGHS on the model in place: its status, and its columns when
 /// optimal. Where HiGHS fails (a singular basis in a badly scaled warm
-/// start, say), it runs again from scratch closer to its own defaults
-/// (the dual simplex where interior point failed too, its refactorisation
-/// checks), with presolve and then without; a third failure is an error
-/// that says so.
+/// start, say), it runs from scratch closer to its defaults (the dual
+/// simplex, its refactorisation checks), with presolve and then without;
+/// a third failure is an error that says so.
 #[allow(unsafe_code)]
 fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f64>>)> {
     let ptr = model.as_mut_ptr();
@@ -350,8 +349,25 @@ fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f
             highs_sys::Highs_startCallback(ptr, highs_sys::kHighsCallbackSimplexInterrupt);
         }
     }
+    let rows = i32::try_from(model.num_rows()).unwrap_or(i32::MAX);
+    let guard = STALL[0].saturating_add(STALL[1].saturating_mul(rows));
+    model.set_option("simplex_iteration_limit", guard);
     // SAFETY: `ptr` is the model's live HiGHS instance.
     let mut ran = unsafe { highs_sys::Highs_run(ptr) };
+    model.set_option("simplex_iteration_limit", i32::MAX);
+    if ran != highs_sys::STATUS_ERROR
+        && status_of(model)? == HighsModelStatus::ReachedIterationLimit
+    {
+        // Stalled: from scratch, with presolve (measured: a warm dual solve
+        // of 12,121 rows on the pure backend's SPE9 well at 85 degrees ran
+        // over 5 minutes; it stops after 25 s, and presolved takes 2.3 s).
+        // SAFETY: as above; clearing the solver keeps the model.
+        unsafe { highs_sys::Highs_clearSolver(ptr) };
+        model.set_option("presolve", "on");
+        // SAFETY: as above.
+        ran = unsafe { highs_sys::Highs_run(ptr) };
+        model.set_option("presolve", "off");
+    }
     if !stop.is_empty() {
         // SAFETY: as above; the callback's data dies with this frame.
         unsafe {
@@ -389,15 +405,24 @@ fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f
             model.num_cols()
         )));
     }
-    // SAFETY: as above.
-    let code = unsafe { highs_sys::Highs_getModelStatus(model.as_mut_ptr()) };
-    let status = HighsModelStatus::try_from(code as std::os::raw::c_int).map_err(|_| {
-        Error::SolverLimit(format!("HiGHS returned an unknown model status {code}"))
-    })?;
+    let status = status_of(model)?;
     if status != HighsModelStatus::Optimal {
         return Ok((status, None));
     }
     Ok((status, Some(columns(model))))
+}
+
+/// A simplex run stalls after this many iterations plus so many per row
+/// (measured: at most 1.8 per row on the 3D global forms of tests/fields3,
+/// hybrid3 and layered3, 18,381 on 10,090 rows).
+const STALL: [i32; 2] = [5_000, 2];
+
+#[allow(unsafe_code)]
+fn status_of(model: &mut highs::Model) -> Result<HighsModelStatus> {
+    // SAFETY: `model` is a live HiGHS instance.
+    let code = unsafe { highs_sys::Highs_getModelStatus(model.as_mut_ptr()) };
+    HighsModelStatus::try_from(code as std::os::raw::c_int)
+        .map_err(|_| Error::SolverLimit(format!("HiGHS returned an unknown model status {code}")))
 }
 
 /// The column values of a model's last solution.
@@ -537,13 +562,12 @@ impl Lp {
             model.set_option("simplex_strategy", if dual { 1 } else { 4 });
             model.set_option("simplex_dual_edge_weight_strategy", 1);
             // Measured: on the local form's small pieces presolve costs as
-            // much as the solve (and it would discard the warm start). The
-            // 3D global form's margin models start cold on thousands of
-            // rows, where it pays (SPE9's transitions in 3D: 26 cavities
-            // 10.6 s -> 9.5 s; warm solves skip it). Not its elastic ones:
-            // on SPE9's well at 85 degrees one such solve took 78 s.
-            let presolve = sys.lazy_aux && matches!(mode, Mode::Margin);
-            model.set_option("presolve", if presolve { "on" } else { "off" });
+            // much as the solve (and it would discard the warm start); on
+            // the 3D global form's cold margin solves it saved nothing once
+            // their elastic rows were lazy, and made emerald's wells
+            // (tests/fields3.rs) 4x slower. Where the simplex stalls
+            // without it, `run_model` falls back to it.
+            model.set_option("presolve", "off");
             // Measured: HiGHS' accuracy test before a rebuild (a solve with
             // fresh work vectors each time) was 7% of the pieces' time; their
             // few updates keep the factors accurate, and the weights are
