@@ -331,9 +331,10 @@ unsafe extern "C" fn interrupt(
 /// optimal. Where HiGHS fails (a singular basis in a badly scaled warm
 /// start, say), it runs from scratch closer to its defaults (the dual
 /// simplex, its refactorisation checks), with presolve and then without;
-/// a third failure is an error that says so.
+/// a third failure is an error that says so. A simplex run past `stall`
+/// iterations is stalled: it runs again from scratch with presolve.
 #[allow(unsafe_code)]
-fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f64>>)> {
+fn run_model(model: &mut highs::Model, stall: i32) -> Result<(HighsModelStatus, Option<Vec<f64>>)> {
     let ptr = model.as_mut_ptr();
     let stop = CANCEL.with_borrow(|c| c.clone());
     let raised = || stop.iter().any(|s| s.load(Ordering::Relaxed));
@@ -349,9 +350,7 @@ fn run_model(model: &mut highs::Model) -> Result<(HighsModelStatus, Option<Vec<f
             highs_sys::Highs_startCallback(ptr, highs_sys::kHighsCallbackSimplexInterrupt);
         }
     }
-    let rows = i32::try_from(model.num_rows()).unwrap_or(i32::MAX);
-    let guard = STALL[0].saturating_add(STALL[1].saturating_mul(rows));
-    model.set_option("simplex_iteration_limit", guard);
+    model.set_option("simplex_iteration_limit", stall);
     // SAFETY: `ptr` is the model's live HiGHS instance.
     let mut ran = unsafe { highs_sys::Highs_run(ptr) };
     model.set_option("simplex_iteration_limit", i32::MAX);
@@ -916,7 +915,11 @@ impl Lp {
         model.set_option("objective_bound", bound);
         let ran = {
             let _running = HIGHS.read().unwrap_or_else(|e| e.into_inner());
-            run_model(model)
+            let rows = i32::try_from(model.num_rows()).unwrap_or(i32::MAX);
+            run_model(
+                model,
+                STALL[0].saturating_add(STALL[1].saturating_mul(rows)),
+            )
         };
         let (status, cols) = ran?;
         report.lp_status = format!("{status:?}");
@@ -966,34 +969,4 @@ impl Lp {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::lp::{plane_rows, sys3_rows};
-
-    /// A raised flag stops a run before it starts (the error is the one
-    /// callers discard); a lowered one changes nothing.
-    #[test]
-    fn a_raised_flag_cancels_runs() {
-        let p = [[0.0, 0.0], [1.0, 0.0], [0.5, 0.9], [0.4, -0.8], [2.0, 0.1]];
-        let mut sys = System {
-            n: 5,
-            free: vec![true; 5],
-            verdict: true,
-            unit2: 1.0,
-            l2: vec![1.0; 5],
-            ..Default::default()
-        };
-        plane_rows(&mut sys, &p, 0, 0, &[1], &[2, 3, 4], 1.0);
-        sys.rows.extend(sys3_rows(&p, 0, 0, 1, &[2, 3, 4]));
-        let run = |sys: &System| {
-            let mut report = WeightsReport::started("test");
-            Lp::build(sys, true, None, &Mode::Margin)?.solve(sys, &mut report, f64::NEG_INFINITY)
-        };
-        let free = run(&sys).unwrap().delta;
-        let lowered = Arc::new(AtomicBool::new(false));
-        assert_eq!(cancellable(&lowered, || run(&sys)).unwrap().delta, free);
-        let raised = Arc::new(AtomicBool::new(true));
-        let err = cancellable(&raised, || run(&sys)).err().expect("cancelled");
-        assert!(matches!(err, Error::Internal(m) if m.contains("cancelled")));
-    }
-}
+mod tests;
