@@ -110,7 +110,9 @@ fn well_field_goals() {
 /// The ratios, printed once. Each time is the best of repeated runs
 /// (pipeline and raw triangulation interleaved, so both see the same
 /// machine), up to about a second per case.
-fn ratios() {
+/// The 2D tables; with `full` false only the fields' rows (lattices of
+/// cavities, fields) and the zero-weight goals (`ORTHOMESH_BENCH_TABLE=2d`).
+fn ratios(full: bool) {
     let b = default_backend();
     eprintln!(
         "\n{:<34} {:>9} {:>12} {:>10} {:>8}",
@@ -199,6 +201,9 @@ fn ratios() {
         5.0,
         "x",
     );
+    if !full {
+        return;
+    }
     // Wells at r = 24.5 nearly touch the cavity sides: the LP (local form).
     // Sizes grow until one takes over a minute.
     for (nx, ny) in [(2, 2), (6, 6), (12, 12), (20, 20)] {
@@ -664,6 +669,7 @@ fn main() {
     // filtered to some groups (`cargo bench -- conform3`).
     let filtered = std::env::args().skip(1).any(|a| !a.starts_with('-'));
     // ORTHOMESH_BENCH_TABLE=3d: the 3D pipeline table alone (docs/performance.md)
+    // ORTHOMESH_BENCH_TABLE=2d: the 2D fields' rows and the zero-weight goals
     // ORTHOMESH_BENCH_TABLE=tables: every table and the goals, without
     // the criterion groups
     let table = std::env::var("ORTHOMESH_BENCH_TABLE").unwrap_or_default();
@@ -674,9 +680,14 @@ fn main() {
         print_goals();
         return;
     }
+    if table == "2d" {
+        ratios(false);
+        print_goals();
+        return;
+    }
     let tables = table == "tables";
     if std::env::args().any(|a| a == "--bench") && !filtered || tables {
-        ratios();
+        ratios(true);
         engine_ratios_3d();
         pipeline_ratios_3d();
         spe9_3d_goals();
