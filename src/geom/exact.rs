@@ -25,7 +25,24 @@ pub fn qp(p: [f64; 2]) -> QPoint {
 /// Nearest double (ties to even); out of range gives an infinity.
 pub fn f(x: &Q) -> f64 {
     use malachite_base::num::conversion::traits::RoundingFrom;
+    if let Some(v) = small_quotient(x) {
+        return v;
+    }
     f64::rounding_from(x, malachite_base::rounding_modes::RoundingMode::Nearest).0
+}
+
+/// `f` without big-number arithmetic where numerator and denominator are
+/// both doubles exactly: IEEE division then rounds the quotient once, to
+/// nearest with ties to even, as `f` does.
+fn small_quotient(x: &Q) -> Option<f64> {
+    const EXACT: u64 = 1 << 53;
+    let n = u64::try_from(x.numerator_ref()).ok()?;
+    let d = u64::try_from(x.denominator_ref()).ok()?;
+    if n > EXACT || !(d <= EXACT || d.is_power_of_two()) {
+        return None;
+    }
+    let v = n as f64 / d as f64;
+    Some(if x.sign() == Ordering::Less { -v } else { v })
 }
 
 /// Whether x > 0.
@@ -361,6 +378,35 @@ pub fn det4_q(r: &[[Q; 4]; 4]) -> Q {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    fn by_malachite(x: &Q) -> f64 {
+        use malachite_base::num::conversion::traits::RoundingFrom;
+        f64::rounding_from(x, malachite_base::rounding_modes::RoundingMode::Nearest).0
+    }
+
+    proptest! {
+        /// The quotient of two doubles rounds as the rational does, ties
+        /// to even included (odd numerators over powers of two beyond the
+        /// mantissa make ties).
+        #[test]
+        fn small_quotients_round_to_nearest(
+            n in 0u64..(1 << 54),
+            d in 1u64..(1 << 54),
+            k in 0u32..64,
+            neg in any::<bool>(),
+        ) {
+            for den in [d, 1u64 << k, (d >> 10).max(1)] {
+                let x = Q::from_integers(n.into(), den.into());
+                let x = if neg { -x } else { x };
+                let expected = by_malachite(&x);
+                prop_assert_eq!(f(&x).to_bits(), expected.to_bits(), "{}/{}", n, den);
+                if let Some(v) = small_quotient(&x) {
+                    prop_assert_eq!(v.to_bits(), expected.to_bits());
+                }
+            }
+        }
+    }
 
     #[test]
     fn intervals_hold_the_exact_value() {
