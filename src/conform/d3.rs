@@ -286,17 +286,21 @@ fn steiner_points(
     clips: &[Clip],
 ) -> Vec<(usize, [f64; 3])> {
     let mut add: Vec<(usize, [f64; 3])> = vec![];
-    for face in wt.sys3_failed.iter().map(|&f| &wt.faces[f as usize]) {
+    for (fi, face) in wt
+        .sys3_failed
+        .iter()
+        .map(|&f| (f as usize, &wt.faces[f as usize]))
+    {
         let (Some(f), 3) = (face.facet, face.vertices.len()) else {
             continue;
         };
         if sites::clip_of(clips, face.facet).is_some() {
             continue;
         }
-        let Some((c, _)) = weights::face_centre(cx, &wt.w, &face.vertices) else {
+        let Some((c, _)) = wt.centres.of(cx, &wt.w, &wt.faces, fi) else {
             continue;
         };
-        let c = c.map(|x| crate::geom::f(&x));
+        let c = c.each_ref().map(crate::geom::f);
         let g: [f64; 3] = std::array::from_fn(|k| {
             face.vertices
                 .iter()
@@ -499,9 +503,11 @@ fn obtuse(
     let centres = centres.get_or_insert_with(|| {
         wt.faces
             .par_iter()
-            .map(|f| {
+            .enumerate()
+            .map(|(fi, f)| {
                 let (c, _) = (f.dim() == 2 && !f.cut)
-                    .then(|| weights::face_centre(cx, &wt.w, &f.vertices))??;
+                    .then(|| wt.centres.of(cx, &wt.w, &wt.faces, fi))??
+                    .clone();
                 let rounded = c.each_ref().map(crate::geom::f);
                 Some((c, rounded))
             })

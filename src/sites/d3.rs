@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::geom::{
     along, cross, cross_f, det3, det3_f, dot, dot_f, f, is_pos, norm2, q, sub, Iv, Q,
 };
-use crate::weights::{face_centre, fan, sorted3, Weights3};
+use crate::weights::{face_centre, fan, sorted3, Centre, Weights3};
 use crate::FastMap;
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -96,9 +96,9 @@ struct Dual {
 
 impl Dual {
     /// The dual of face `vs` (3 or more coplanar vertices) with the RT
-    /// vertices across its triangles.
-    fn of(cx: &Complex3, w: &[Q], vs: &[u32], apexes: &[u32]) -> Option<Dual> {
-        let (c, power) = face_centre(cx, w, vs)?;
+    /// vertices across its triangles, from the face's centre.
+    fn of(cx: &Complex3, w: &[Q], (vs, centre): (&[u32], &Centre), apexes: &[u32]) -> Option<Dual> {
+        let (c, power) = centre.clone();
         let p = |v: u32| cx.points[v as usize].map(q);
         let p0 = p(vs[0]);
         let n = cross(&sub(&p(vs[1]), &p0), &sub(&p(vs[2]), &p0));
@@ -256,7 +256,7 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
         .enumerate()
         .filter(|(_, f)| f.dim() == 2)
         .collect();
-    let duals = face_duals(cx, w, &tris, &faces)?;
+    let duals = face_duals(cx, wt, &tris, &faces)?;
     for ((fi, face), (dual, [a, b])) in faces.into_iter().zip(duals) {
         let vs = &face.vertices;
         s.of_face[fi] = Some([add(&mut s, &dual, &a, vs), add(&mut s, &dual, &b, vs)]);
@@ -268,7 +268,7 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
             return None;
         }
         *extra.entry(t).or_insert_with(|| {
-            let dual = Dual::of(cx, w, &t, &tris[&t])?;
+            let dual = Dual::of(cx, w, (&t, &face_centre(cx, w, &t)?), &tris[&t])?;
             let scale = dual.scale(cx, &t);
             let tt = dual.one(&scale);
             let x = add(s, &dual, &tt, &t);
@@ -368,14 +368,14 @@ pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
 /// sites are then added in face order).
 fn face_duals(
     cx: &Complex3,
-    w: &[Q],
+    wt: &Weights3,
     tris: &FastMap<[u32; 3], Vec<u32>>,
     faces: &[(usize, &crate::weights::Face)],
 ) -> Result<Vec<(Dual, [Q; 2])>> {
     faces
         .par_iter()
-        .map(|&(_, face)| {
-            let vs = &face.vertices;
+        .map(|&(fi, face)| {
+            let (w, vs) = (&wt.w[..], &face.vertices);
             let apexes: Vec<u32> = if vs.len() == 3 {
                 tris.get(&sorted3(vs)).cloned().unwrap_or_default()
             } else {
@@ -385,12 +385,15 @@ fn face_duals(
                     .filter(|a| !vs.contains(a))
                     .collect()
             };
-            let dual = Dual::of(cx, w, vs, &apexes).ok_or_else(|| {
-                Error::Certificate(format!(
-                    "the dual edge of a face of facet {} is empty",
-                    face.facet.map_or(0, |f| f as i64 + 1)
-                ))
-            })?;
+            let centre = wt.centres.of(cx, w, &wt.faces, fi);
+            let dual = centre
+                .and_then(|c| Dual::of(cx, w, (vs, c), &apexes))
+                .ok_or_else(|| {
+                    Error::Certificate(format!(
+                        "the dual edge of a face of facet {} is empty",
+                        face.facet.map_or(0, |f| f as i64 + 1)
+                    ))
+                })?;
             let two = dual.two(&dual.scale(cx, vs));
             Ok((dual, two))
         })

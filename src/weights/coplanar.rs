@@ -2,7 +2,8 @@
 //! weights of each polygon's vertices beyond three fixed by the others, so
 //! that their lifts are exactly coplanar; the LP sees only free weights.
 
-use super::d3::{ties, Face};
+use super::d3::ties;
+use super::face::Face;
 use crate::complex::Complex3;
 use crate::geom::{drop_axis, plane_axis, q, Q};
 use crate::lp::Row;

@@ -23,11 +23,13 @@
 //! centred on it, as the hybrid's walls need). When whole polygons leave no
 //! solution, fewer are kept and the LP tried again.
 
+use super::centres::{sys3_failures, Centres};
 use super::coplanar::Relations;
+use super::face::{fan, sorted3, Face};
 use super::Keep;
 use crate::backend::{Backend, Tetrahedralisation};
 use crate::error::{Error, Result};
-use crate::geom::{along, dot, is_pos, norm2, q, sub, Q};
+use crate::geom::{is_pos, q, Q};
 use crate::lp::{
     carried, destroy_finished, prove, solve_tall, Answer, Certificate, Duals, Units, WeightsReport,
     GLOBAL_ROUNDS, MAX_GLOBAL_ROWS,
@@ -42,28 +44,6 @@ use std::collections::{BTreeSet, HashSet};
 /// Polygons with more vertices than this are triangulated (the exact check
 /// of a whole polygon looks at every triple of its vertices).
 const MAX_WHOLE: usize = 12;
-
-/// A maximal face of the complex: it must be a face of the regular
-/// triangulation, and of the power diagram of the sites.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Face {
-    /// One vertex (an isolated point), two (a dangling segment), three (a
-    /// triangle), or more (a convex polygon kept whole, in cycle order).
-    pub vertices: Vec<u32>,
-    /// Its facet (index into `Complex3::facets`); None for a point on no
-    /// facet.
-    pub facet: Option<u32>,
-    /// On a facet the mesh is cut at (a clip facet): it need not cross its
-    /// dual, so it has no system 3 rows.
-    pub cut: bool,
-}
-
-impl Face {
-    /// 0, 1 or 2.
-    pub fn dim(&self) -> usize {
-        self.vertices.len().min(3) - 1
-    }
-}
 
 /// Verified weights, their regular triangulation and the faces it has.
 #[derive(Debug, Clone)]
@@ -80,6 +60,8 @@ pub struct Weights3 {
     /// Faces (indices into `faces`) of dimension 1 or 2 that do not cross
     /// their dual (exact check).
     pub sys3_failed: Vec<u32>,
+    /// The faces' centres under `w` (`Centres::of`).
+    pub centres: Centres,
 }
 
 /// Finds weights for a validated, triangulated 3D complex, whole polygons
@@ -426,7 +408,8 @@ fn global<B: Backend + ?Sized>(
             bad.extend(faces.iter().position(|f| f.vertices.contains(h)));
         }
         if bad.is_empty() {
-            let sys3_failed = sys3_failures(cx, &faces, &w, &rt);
+            let centres = Centres::new(faces.len());
+            let sys3_failed = sys3_failures(cx, &faces, (&w, &centres), &rt);
             if sys3_failed.is_empty() || !lp_sys3 {
                 return Ok(finish(
                     w,
@@ -434,7 +417,7 @@ fn global<B: Backend + ?Sized>(
                     faces,
                     report,
                     (whole_polygons, keep),
-                    sys3_failed,
+                    (sys3_failed, centres),
                 ));
             }
             bad.extend(sys3_failed.iter().map(|&f| f as usize));
@@ -444,7 +427,7 @@ fn global<B: Backend + ?Sized>(
                 faces.clone(),
                 report.clone(),
                 (whole_polygons, keep),
-                sys3_failed,
+                (sys3_failed, centres),
             ));
         }
         let rt_nb = rt.neighbours(n);
@@ -492,7 +475,7 @@ pub(super) fn finish(
     faces: Vec<Face>,
     mut report: WeightsReport,
     (whole_polygons, keep): (usize, Keep),
-    sys3_failed: Vec<u32>,
+    (sys3_failed, centres): (Vec<u32>, Centres),
 ) -> Weights3 {
     report.max_abs_weight = w.iter().fold(0.0, |m, x| m.max(crate::geom::f(x).abs()));
     report.system3_feasible = sys3_failed.is_empty();
@@ -504,6 +487,7 @@ pub(super) fn finish(
         whole_polygons,
         keep,
         sys3_failed,
+        centres,
     }
 }
 
@@ -542,29 +526,6 @@ fn infeasible(cx: &Complex3, faces: &[Face], last: &Misses, proof: Option<Certif
         vertices: vertices.into_iter().collect(),
         proof_rows: proof.map(|p| p.rows),
     }
-}
-
-/// A triangle's vertices sorted (the key of `Tetrahedralisation::triangle_apexes`).
-pub(crate) fn sorted3(v: &[u32]) -> [u32; 3] {
-    let mut t = [v[0], v[1], v[2]];
-    t.sort_unstable();
-    t
-}
-
-/// The triangles of RT among a polygon's vertices (sorted triples).
-pub(crate) fn fan(vs: &[u32], tris: &crate::FastMap<[u32; 3], Vec<u32>>) -> Vec<[u32; 3]> {
-    let mut out = vec![];
-    for a in 0..vs.len() {
-        for b in a + 1..vs.len() {
-            for c in b + 1..vs.len() {
-                let t = sorted3(&[vs[a], vs[b], vs[c]]);
-                if tris.contains_key(&t) {
-                    out.push(t);
-                }
-            }
-        }
-    }
-    out
 }
 
 /// Twice the area of a triangle projected along `axis`, exactly.
@@ -616,125 +577,12 @@ pub(super) fn check(cx: &Complex3, faces: &[Face], rt: &Tetrahedralisation) -> M
     }
 }
 
-/// The exact point of a face of dimension 1 or 2 (its vertices) on its
-/// dual (the radical point on a segment; the power centre in a triangle's
-/// or polygon's plane), and its power to the face's vertices.
-pub fn face_centre(cx: &Complex3, w: &[Q], vs: &[u32]) -> Option<([Q; 3], Q)> {
-    let p = |v: u32| cx.points[v as usize].map(q);
-    let (pi, wi) = (p(vs[0]), w[vs[0] as usize].clone());
-    let d = |v: u32| sub(&p(v), &pi);
-    // c - p_i = alpha u + beta v with 2 (c - p_i).u = |u|^2 + w_i - w_j ...
-    let half = |v: u32, u: &[Q; 3]| (norm2(u) + &wi - &w[v as usize]) / Q::from(2);
-    let x: [Q; 3] = match vs.len() {
-        2 => {
-            let u = d(vs[1]);
-            let lambda = half(vs[1], &u) / norm2(&u);
-            u.map(|c| c * &lambda)
-        }
-        3.. => {
-            let (u, v) = (d(vs[1]), d(vs[2]));
-            let (uu, uv, vv) = (norm2(&u), dot(&u, &v), norm2(&v));
-            let det = &uu * &vv - &uv * &uv;
-            if det == 0 {
-                return None;
-            }
-            let (r1, r2) = (half(vs[1], &u), half(vs[2], &v));
-            let alpha = (&vv * &r1 - &uv * &r2) / &det;
-            let beta = (&uu * &r2 - &uv * &r1) / &det;
-            along(
-                &along(&[Q::from(0), Q::from(0), Q::from(0)], &alpha, &u),
-                &beta,
-                &v,
-            )
-        }
-        _ => return None,
-    };
-    let power = norm2(&x) - &wi;
-    Some((std::array::from_fn(|k| &pi[k] + &x[k]), power))
-}
-
-/// Faces of dimension 1 or 2 whose dual they do not cross, exactly: the
-/// centre must lie strictly inside the face and have a smaller power to
-/// the face's vertices than to every vertex of RT next to the face (those
-/// across its triangles; around a segment, its link).
-pub fn sys3_failures(cx: &Complex3, faces: &[Face], w: &[Q], rt: &Tetrahedralisation) -> Vec<u32> {
-    let tris = rt.triangle_apexes();
-    let links = rt.edge_links();
-    let p = |v: u32| cx.points[v as usize].map(q);
-    let crosses = |face: &Face| -> bool {
-        let Some((c, power)) = face_centre(cx, w, &face.vertices) else {
-            return false;
-        };
-        let vs = &face.vertices;
-        let power_to = |m: u32| {
-            let pm = p(m);
-            let d: Q = (0..3).map(|k| (&c[k] - &pm[k]) * (&c[k] - &pm[k])).sum();
-            d - &w[m as usize]
-        };
-        let near: Vec<u32> = if vs.len() == 2 {
-            let pi = p(vs[0]);
-            let u: [Q; 3] = {
-                let pj = p(vs[1]);
-                [0, 1, 2].map(|k| &pj[k] - &pi[k])
-            };
-            let t: Q = (0..3).map(|k| (&c[k] - &pi[k]) * &u[k]).sum();
-            let uu: Q = (0..3).map(|k| &u[k] * &u[k]).sum();
-            if !(is_pos(&t) && is_pos(&(uu - t))) {
-                return false;
-            }
-            links
-                .get(&[vs[0].min(vs[1]), vs[0].max(vs[1])])
-                .cloned()
-                .unwrap_or_default()
-        } else {
-            let axis = plane_axis(
-                cx.points[vs[0] as usize],
-                cx.points[vs[1] as usize],
-                cx.points[vs[2] as usize],
-            )
-            .expect("faces span a plane");
-            let flat = |v: u32| drop_axis(axis, cx.points[v as usize]).map(q);
-            let cf = [1, 2].map(|k| c[(axis + k) % 3].clone());
-            let side = |a: &[Q; 2], b: &[Q; 2], x: &[Q; 2]| {
-                (&b[0] - &a[0]) * (&x[1] - &a[1]) - (&b[1] - &a[1]) * (&x[0] - &a[0])
-            };
-            let turn = side(&flat(vs[0]), &flat(vs[1]), &flat(vs[2]));
-            let m = vs.len();
-            let inside = (0..m).all(|k| {
-                let s = side(&flat(vs[k]), &flat(vs[(k + 1) % m]), &cf);
-                is_pos(&(s * &turn))
-            });
-            if !inside {
-                return false;
-            }
-            let fan_tris = if m == 3 {
-                vec![sorted3(vs)]
-            } else {
-                fan(&face.vertices, &tris)
-            };
-            fan_tris
-                .iter()
-                .flat_map(|t| tris.get(t).cloned().unwrap_or_default())
-                .filter(|a| !vs.contains(a))
-                .collect()
-        };
-        near.iter().all(|&m| is_pos(&(power_to(m) - &power)))
-    };
-    // (in parallel: exact and independent per face)
-    use rayon::prelude::*;
-    faces
-        .par_iter()
-        .enumerate()
-        .filter(|(_, f)| f.dim() > 0 && !f.cut && !crosses(f))
-        .map(|(i, _)| i as u32)
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::backend::compiled;
     use crate::complex::Facet;
+    use crate::geom::norm2;
 
     fn facet(polygons: Vec<Vec<u32>>) -> Facet {
         Facet {

@@ -5,16 +5,20 @@
 //! weights (`zero3`), else the lazy global form over the maximal faces,
 //! polygons kept whole (`d3`).
 
+mod centres;
 mod coplanar;
 mod d2;
 mod d3;
+mod face;
 mod rows3;
 mod zero3;
 
 pub use crate::lp::WeightsReport;
+pub use centres::{face_centre, Centre};
 pub use d2::{solve, Weights};
-pub use d3::{face_centre, kept_whole, solve as solve3, Face, Weights3};
-pub(crate) use d3::{fan, sorted3};
+pub use d3::{kept_whole, solve as solve3, Weights3};
+pub use face::Face;
+pub(crate) use face::{fan, sorted3};
 
 /// How whole polygons keep their lifts coplanar.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]

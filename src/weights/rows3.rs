@@ -3,7 +3,7 @@
 //! dangling segment's radical point and a triangle's or polygon's power
 //! centre inside it and nearest, in power, to its own vertices.
 
-use super::d3::Face;
+use super::face::Face;
 use crate::lp::{plane_rows, rel, sys3_rows, Family, Origin, Row, System, Units};
 use nalgebra::{Matrix2, Matrix3x2, Vector2};
 use std::collections::BTreeSet;

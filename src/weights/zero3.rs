@@ -12,7 +12,9 @@
 //! then empty: on either side it lies inside the empty sphere of the
 //! tetrahedron across. So that is the third test, `on_circles`.
 
-use super::d3::{check, finish, sys3_failures, Face, Weights3};
+use super::centres::{sys3_failures, Centres};
+use super::d3::{check, finish, Weights3};
+use super::face::Face;
 use super::Keep;
 use crate::backend::Tetrahedralisation;
 use crate::complex::Complex3;
@@ -32,7 +34,8 @@ pub(super) fn zero(
         return None;
     }
     let w = vec![Q::from(0); cx.points.len()];
-    if !sys3_failures(cx, faces, &w, dt).is_empty() || on_circles(cx, faces) {
+    let centres = Centres::new(faces.len());
+    if !sys3_failures(cx, faces, (&w, &centres), dt).is_empty() || on_circles(cx, faces) {
         return None;
     }
     let whole = faces.iter().filter(|f| f.vertices.len() > 3).count();
@@ -46,7 +49,7 @@ pub(super) fn zero(
         faces.to_vec(),
         report,
         (whole, keep),
-        vec![],
+        (vec![], centres),
     ))
 }
 
