@@ -240,7 +240,11 @@ fn edges(points: &[[f64; 3]], cells: &[Vec<Vec<u32>>]) -> (Vec<(u32, u32)>, Vec<
             }
         }
     }
-    held.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    // (sizes are not negative: their bits order as they do)
+    use rayon::slice::ParallelSliceMut;
+    held.par_sort_unstable_by_key(|&((a, b), size)| {
+        ((u64::from(a) << 32) | u64::from(b), size.to_bits())
+    });
     held.dedup_by_key(|e| e.0);
     let edges: Vec<(u32, u32)> = held.iter().map(|e| e.0).collect();
     let lengths: Vec<f64> = edges.iter().map(|&(a, b)| dist(a, b)).collect();
