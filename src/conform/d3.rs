@@ -106,7 +106,8 @@ pub fn conform3<B: Backend + ?Sized>(
     // what the mesh does not need goes first (peak memory: the field
     // 16 x 16 x 4 peaked here, 251 MiB, now 231 in relocation)
     // (the faces' numbers go; their cycles stay for the cells)
-    (d.rt, d.faces.index, d.vertex_of, wt.rt) = Default::default();
+    (d.rt, d.vertex_of, wt.rt) = Default::default();
+    d.faces.drop_edges();
     // (and the sites' rationals: the mesh reads their doubles; field3 16 x
     // 16 x 8's peak went from 419 to 390 MiB without the relocation lines)
     let placed = s.p.len();

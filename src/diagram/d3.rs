@@ -178,12 +178,12 @@ impl Diagram3 {
                 "{hidden} sites are hidden in their own diagram"
             )));
         }
-        let faces = edge_faces(&rt, &pv.vertex_of);
+        let faces = edge_faces(&rt, &pv.vertex_of, s.p.len());
         let in_domain = domain(cx, s, &k, &rt, &faces)?;
         // the power vertices of the domain's cells well rounded
         let mut used = vec![false; pv.points.len()];
         for ([a, b], face) in faces.iter() {
-            if in_domain[*a as usize] || in_domain[*b as usize] {
+            if in_domain[a as usize] || in_domain[b as usize] {
                 face.iter()
                     .copied()
                     .flatten()
@@ -198,9 +198,8 @@ impl Diagram3 {
             ..
         } = pv;
         let sp = s.approx();
-        // in key order: the same input gives the same cells' face order
-        let mut keys: Vec<[u32; 2]> = faces.index.keys().copied().collect();
-        keys.par_sort_unstable();
+        // in edge order: the same input gives the same cells' face order
+        let keys: Vec<[u32; 2]> = faces.edges().collect();
         let site_inside = sites_inside(&k, s.p.len(), &keys);
         // each side's face oriented outward (its normal towards the other
         // site), in parallel a chunk at a time; None for an unbounded
@@ -361,23 +360,56 @@ impl Diagram3 {
 }
 
 /// Each edge's face: the power vertices of the tetrahedra around it,
-/// repeats merged (None: unbounded), from its first tetrahedron. (The faces
-/// in parallel, a chunk at a time: whole intermediate vectors raised the
-/// peak by a KB a facet triangle.)
-fn edge_faces(rt: &Tetrahedralisation, vertex_of: &[u32]) -> Faces {
-    let mut first: HashMap<[u32; 2], u32> = HashMap::default();
-    for (t, v) in rt.tets.iter().enumerate() {
-        for a in 0..4 {
-            for b in a + 1..4 {
-                first
-                    .entry([v[a].min(v[b]), v[a].max(v[b])])
-                    .or_insert(t as u32);
-            }
+/// repeats merged (None: unbounded), from its first tetrahedron (the
+/// lowest numbered). Edges are found site by site from each site's
+/// tetrahedra, so that the rings are walked where the memory was just
+/// read. (The faces in parallel, a chunk at a time: whole intermediate
+/// vectors raised the peak by a KB a facet triangle.)
+fn edge_faces(rt: &Tetrahedralisation, vertex_of: &[u32], n: usize) -> Faces {
+    let mut start = vec![0u32; n + 1];
+    for tet in &rt.tets {
+        tet.iter().for_each(|&v| start[v as usize + 1] += 1);
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut star = vec![0u32; start[n] as usize];
+    for (t, tet) in rt.tets.iter().enumerate() {
+        for &v in tet {
+            star[fill[v as usize] as usize] = t as u32;
+            fill[v as usize] += 1;
         }
     }
-    let first: Vec<([u32; 2], u32)> = first.into_iter().collect();
-    let mut faces = Faces::default();
-    faces.index.reserve(first.len());
+    // per site a, its neighbours b > a, each with its first tetrahedron
+    let above: Vec<Vec<(u32, u32)>> = (0..n)
+        .into_par_iter()
+        .map(|a| {
+            let tets = &star[start[a] as usize..start[a + 1] as usize];
+            let mut out: Vec<(u32, u32)> = tets
+                .iter()
+                .flat_map(|&t| {
+                    let tet = rt.tets[t as usize];
+                    tet.into_iter()
+                        .filter(|&b| b > a as u32)
+                        .map(move |b| (b, t))
+                })
+                .collect();
+            out.sort_unstable();
+            out.dedup_by_key(|x| x.0);
+            out.shrink_to_fit();
+            out
+        })
+        .collect();
+    drop((start, fill, star));
+    let first: Vec<u32> = above.iter().flatten().map(|&(_, t)| t).collect();
+    let mut faces = Faces::with_edges(
+        above
+            .into_iter()
+            .map(|list| list.into_iter().map(|(b, _)| b).collect())
+            .collect(),
+    );
+    let first: Vec<([u32; 2], u32)> = faces.edges().zip(first).collect();
     for chunk in first.chunks(CHUNK) {
         let made: Vec<Option<Vec<u32>>> = chunk
             .par_iter()
@@ -392,9 +424,7 @@ fn edge_faces(rt: &Tetrahedralisation, vertex_of: &[u32]) -> Faces {
                 })
             })
             .collect();
-        for (x, face) in chunk.iter().zip(made) {
-            faces.push(x.0, face.as_deref());
-        }
+        made.iter().for_each(|face| faces.push(face.as_deref()));
     }
     faces
 }
@@ -430,9 +460,9 @@ fn domain(
     }
     // mirrors are outside, and the faces they share with sites are on the
     // clip planes
-    for e in faces.index.keys() {
+    for e in faces.edges() {
         if s.is_mirror(e[0] as usize) != s.is_mirror(e[1] as usize) {
-            cut.insert(*e);
+            cut.insert(e);
         }
     }
     let mut parent: Vec<u32> = (0..n as u32).collect();
@@ -446,7 +476,7 @@ fn domain(
     // Faces of no area (sites meeting at a power vertex or edge only) join
     // nothing: they may cross a constraint face's boundary.
     for (e, face) in faces.iter() {
-        if !cut.contains(e) && face.is_none_or(|f| f.len() >= 3) {
+        if !cut.contains(&e) && face.is_none_or(|f| f.len() >= 3) {
             let (a, b) = (find(&mut parent, e[0]), find(&mut parent, e[1]));
             parent[a.max(b) as usize] = a.min(b);
         }
