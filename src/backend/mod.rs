@@ -14,7 +14,7 @@ mod flips3;
 pub(crate) mod points;
 mod tetrahedra;
 pub(crate) use pure3::{regular3 as regular3_with, Predicates3};
-pub use tetrahedra::Tetrahedralisation;
+pub use tetrahedra::{Adjacency, Tetrahedralisation};
 
 use crate::error::Result;
 use crate::geom::Q;

@@ -4,6 +4,16 @@
 use super::NONE;
 use crate::FastMap as HashMap;
 
+/// A triangulation's triangles (sorted) with the vertices across them, and
+/// its edges (sorted) with their links (`triangle_apexes`, `edge_links`).
+#[derive(Debug, Clone, Default)]
+pub struct Adjacency {
+    /// Per triangle, the vertices across it.
+    pub tris: HashMap<[u32; 3], Vec<u32>>,
+    /// Per edge, its link.
+    pub links: HashMap<[u32; 2], Vec<u32>>,
+}
+
 /// Positively oriented tetrahedra (input indices; each vertex sees the
 /// other three counter-clockwise, see `points::F64Points3::orient`), and
 /// per tetrahedron the one across the face opposite each vertex.
@@ -96,6 +106,13 @@ impl Tetrahedralisation {
             v.dedup();
         }
         nb
+    }
+
+    /// Its triangles' apexes and its edges' links at once (the weights'
+    /// checks and the sites read both of the same triangulation).
+    pub fn adjacency(&self) -> Adjacency {
+        let (tris, links) = rayon::join(|| self.triangle_apexes(), || self.edge_links());
+        Adjacency { tris, links }
     }
 
     /// Every triangle (vertices sorted) with the vertices across it: two

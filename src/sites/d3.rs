@@ -216,8 +216,7 @@ impl Dual {
 /// Places the sites (see the module's doc).
 pub fn place(cx: &Complex3, wt: &Weights3) -> Result<Sites3> {
     let w = &wt.w;
-    let tris = wt.rt.triangle_apexes();
-    let links = wt.rt.edge_links();
+    let (tris, links) = (&wt.adjacency.tris, &wt.adjacency.links);
     let mut s = Sites3 {
         of_face: vec![None; wt.faces.len()],
         ..Default::default()

@@ -5,7 +5,7 @@
 //! of both stages on lattices of boxes).
 
 use super::face::{fan, sorted3, Face};
-use crate::backend::Tetrahedralisation;
+use crate::backend::Adjacency;
 use crate::complex::Complex3;
 use crate::geom::{along, dot, drop_axis, is_pos, norm2, plane_axis, q, sub, Q};
 use std::sync::OnceLock;
@@ -82,10 +82,8 @@ pub fn sys3_failures(
     cx: &Complex3,
     faces: &[Face],
     (w, centres): (&[Q], &Centres),
-    rt: &Tetrahedralisation,
+    Adjacency { tris, links }: &Adjacency,
 ) -> Vec<u32> {
-    let tris = rt.triangle_apexes();
-    let links = rt.edge_links();
     let p = |v: u32| cx.points[v as usize].map(q);
     let crosses = |fi: usize, face: &Face| -> bool {
         let Some((c, power)) = centres.of(cx, w, faces, fi) else {

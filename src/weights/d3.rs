@@ -27,7 +27,7 @@ use super::centres::{sys3_failures, Centres};
 use super::coplanar::Relations;
 use super::face::{fan, sorted3, Face};
 use super::Keep;
-use crate::backend::{Backend, Tetrahedralisation};
+use crate::backend::{Adjacency, Backend, Tetrahedralisation};
 use crate::error::{Error, Result};
 use crate::geom::{is_pos, q, Q};
 use crate::lp::{
@@ -40,6 +40,7 @@ use crate::{
     geom::{drop_axis, plane_axis},
 };
 use std::collections::{BTreeSet, HashSet};
+use std::sync::Arc;
 
 /// Polygons with more vertices than this are triangulated (the exact check
 /// of a whole polygon looks at every triple of its vertices).
@@ -62,6 +63,8 @@ pub struct Weights3 {
     pub sys3_failed: Vec<u32>,
     /// The faces' centres under `w` (`Centres::of`).
     pub centres: Centres,
+    /// RT(w)'s triangles and edges with what is around them.
+    pub adjacency: Arc<Adjacency>,
 }
 
 /// Finds weights for a validated, triangulated 3D complex, whole polygons
@@ -402,18 +405,19 @@ fn global<B: Backend + ?Sized>(
         };
         let w = relations.exact(&w);
         let rt = backend.regular3_exact(&pts_q, &w)?;
-        let misses = check(cx, &faces, &rt);
+        let adj = rt.adjacency();
+        let misses = check(cx, &faces, &rt, &adj);
         let mut bad: BTreeSet<usize> = misses.faces.iter().map(|&f| f as usize).collect();
         for h in &misses.hidden {
             bad.extend(faces.iter().position(|f| f.vertices.contains(h)));
         }
         if bad.is_empty() {
             let centres = Centres::new(faces.len());
-            let sys3_failed = sys3_failures(cx, &faces, (&w, &centres), &rt);
+            let sys3_failed = sys3_failures(cx, &faces, (&w, &centres), &adj);
             if sys3_failed.is_empty() || !lp_sys3 {
                 return Ok(finish(
                     w,
-                    rt,
+                    (rt, adj),
                     faces,
                     report,
                     (whole_polygons, keep),
@@ -423,7 +427,7 @@ fn global<B: Backend + ?Sized>(
             bad.extend(sys3_failed.iter().map(|&f| f as usize));
             found = Some(finish(
                 w,
-                rt.clone(),
+                (rt.clone(), adj),
                 faces.clone(),
                 report.clone(),
                 (whole_polygons, keep),
@@ -471,7 +475,7 @@ fn global<B: Backend + ?Sized>(
 
 pub(super) fn finish(
     w: Vec<Q>,
-    rt: Tetrahedralisation,
+    (rt, adjacency): (Tetrahedralisation, Adjacency),
     faces: Vec<Face>,
     mut report: WeightsReport,
     (whole_polygons, keep): (usize, Keep),
@@ -488,6 +492,7 @@ pub(super) fn finish(
         keep,
         sys3_failed,
         centres,
+        adjacency: Arc::new(adjacency),
     }
 }
 
@@ -538,9 +543,12 @@ fn area2(cx: &Complex3, axis: usize, [a, b, c]: [u32; 3]) -> Q {
 /// Exactly: the faces RT(w) lacks and the vertices it hides. A polygon is
 /// there when RT's triangles among its vertices (all in its plane) have
 /// its area: they then tile it.
-pub(super) fn check(cx: &Complex3, faces: &[Face], rt: &Tetrahedralisation) -> Misses {
-    let tris = rt.triangle_apexes();
-    let edges = rt.edge_links();
+pub(super) fn check(
+    cx: &Complex3,
+    faces: &[Face],
+    rt: &Tetrahedralisation,
+    Adjacency { tris, links: edges }: &Adjacency,
+) -> Misses {
     let hidden: HashSet<u32> = rt.hidden.iter().copied().collect();
     let present = |(fi, face): (usize, &Face)| -> Option<u32> {
         let vs = &face.vertices;
@@ -675,7 +683,9 @@ mod tests {
         for keep in [Keep::Coplanar, Keep::Shared] {
             let out = run_kept(&cx, keep).unwrap();
             assert_eq!((out.whole_polygons, out.keep), (6, keep));
-            assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+            assert!(check(&cx, &out.faces, &out.rt, &out.adjacency)
+                .faces
+                .is_empty());
             for f in out.faces.iter().filter(|f| f.vertices.len() > 3) {
                 assert!(lifts_coplanar(&cx, &out.w, &f.vertices), "{keep:?} {f:?}");
             }
@@ -712,7 +722,9 @@ mod tests {
         let cx = boxed(vec![[1.0, 0.5, 0.5]]);
         let out = run(&cx).unwrap();
         assert_eq!(out.whole_polygons, 6);
-        assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+        assert!(check(&cx, &out.faces, &out.rt, &out.adjacency)
+            .faces
+            .is_empty());
         assert!(out.rt.hidden.is_empty());
         assert!(out.w[8] < out.w[0]);
     }
@@ -744,11 +756,15 @@ mod tests {
         // and cross their duals; only the point on A's circle refuses them.
         assert_eq!(out.report.method, "global");
         assert_eq!(out.whole_polygons, 0);
-        assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+        assert!(check(&cx, &out.faces, &out.rt, &out.adjacency)
+            .faces
+            .is_empty());
         // Coplanar lifts give B its own plane: both stay whole.
         let out = run_kept(&cx, Keep::Coplanar).unwrap();
         assert_eq!((out.whole_polygons, out.keep), (2, Keep::Coplanar));
-        assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+        assert!(check(&cx, &out.faces, &out.rt, &out.adjacency)
+            .faces
+            .is_empty());
     }
 
     #[test]
@@ -762,7 +778,9 @@ mod tests {
             out.faces.iter().filter(|f| f.vertices.len() == 3).count(),
             2
         );
-        assert!(check(&cx, &out.faces, &out.rt).faces.is_empty());
+        assert!(check(&cx, &out.faces, &out.rt, &out.adjacency)
+            .faces
+            .is_empty());
     }
 
     #[test]

@@ -29,13 +29,14 @@ pub(super) fn zero(
     dt: &Tetrahedralisation,
     keep: Keep,
 ) -> Option<Weights3> {
-    let misses = check(cx, faces, dt);
+    let adj = dt.adjacency();
+    let misses = check(cx, faces, dt, &adj);
     if !misses.faces.is_empty() || !misses.hidden.is_empty() {
         return None;
     }
     let w = vec![Q::from(0); cx.points.len()];
     let centres = Centres::new(faces.len());
-    if !sys3_failures(cx, faces, (&w, &centres), dt).is_empty() || on_circles(cx, faces) {
+    if !sys3_failures(cx, faces, (&w, &centres), &adj).is_empty() || on_circles(cx, faces) {
         return None;
     }
     let whole = faces.iter().filter(|f| f.vertices.len() > 3).count();
@@ -45,7 +46,7 @@ pub(super) fn zero(
     };
     Some(finish(
         w,
-        dt.clone(),
+        (dt.clone(), adj),
         faces.to_vec(),
         report,
         (whole, keep),
