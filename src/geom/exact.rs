@@ -340,13 +340,16 @@ pub fn det4<T: Filter>(r: [[T; 4]; 4]) -> T {
 /// A 4x4 determinant in doubles, expanded as `geom::det4`, and the same
 /// expansion of the magnitudes `m` with every sign + (its permanent).
 pub(crate) fn det4_f64(r: [[f64; 4]; 4], m: [[f64; 4]; 4]) -> (f64, f64) {
+    (det4_f(r), per4_f64(m))
+}
+
+/// A 4x4 determinant in doubles, expanded as `geom::det4`.
+pub(crate) fn det4_f(r: [[f64; 4]; 4]) -> f64 {
     let three =
         |x: &[[f64; 4]; 4], skip: usize| OTHER_ROWS[skip].map(|i| [x[i][0], x[i][1], x[i][2]]);
     let det3 = |a: [[f64; 3]; 3]| super::det3_f(a[0], a[1], a[2]);
-    let det =
-        r[1][3] * det3(three(&r, 1)) - r[0][3] * det3(three(&r, 0)) - r[2][3] * det3(three(&r, 2))
-            + r[3][3] * det3(three(&r, 3));
-    (det, per4_f64(m))
+    r[1][3] * det3(three(&r, 1)) - r[0][3] * det3(three(&r, 0)) - r[2][3] * det3(three(&r, 2))
+        + r[3][3] * det3(three(&r, 3))
 }
 
 /// The permanent of a 3x3 matrix of magnitudes, in doubles.

@@ -4,7 +4,7 @@
 //! filter), then in outward-rounded intervals around the rationals, and in
 //! integers only where the interval holds 0.
 
-use super::{det3, det3_f, det4, det4_f64, f, norm2, per3_f64, per4_f64, sub, Iv, Q};
+use super::{det3, det3_f, det4, det4_f, f, norm2, sub, Iv, Q};
 use malachite_base::num::arithmetic::traits::{DivExact, Lcm, Sign};
 use malachite_nz::integer::Integer;
 use malachite_nz::natural::Natural;
@@ -54,6 +54,17 @@ fn decide(det: f64, p0: f64, p1: f64, k: f64) -> Option<Ordering> {
     } else {
         None
     }
+}
+
+/// `decide`'s permanents bounded by columns, n! times the product of each
+/// column's largest magnitude (x; with its largest error y added for p1):
+/// each of the n! products is at most that, and the change of a product
+/// when its entries move, prod(|a| + eta) - prod(|a|), grows with every
+/// entry. At most n! times the permanents, for a fraction of their cost.
+fn by_columns<const N: usize>(x: [f64; N], y: [f64; N], terms: f64) -> (f64, f64) {
+    let p0: f64 = x.iter().product();
+    let p1: f64 = x.iter().zip(&y).map(|(a, b)| a + b).product();
+    (terms * p0, terms * p1)
 }
 
 /// The sign of a rational.
@@ -159,13 +170,14 @@ impl<'a> Weighted3<'a> {
 
     /// The semi-static filter of `orient_iv`: a determinant's change when
     /// its entries move by at most eta is at most perm(|a| + eta) -
-    /// perm(|a|) (expand both products); its rounding, 64 eps of the
-    /// permanent, is generous.
+    /// perm(|a|) (expand both products), bounded by columns
+    /// (`by_columns`); its rounding, 64 eps of the permanent, is generous.
     pub fn orient_f64(&self, t: [u32; 4]) -> Option<Ordering> {
         let rows = [t[1], t[2], t[3]].map(|x| self.diff(x, t[0]));
         let det = det3_f(rows[0].0, rows[1].0, rows[2].0);
-        let p0 = per3_f64(rows.map(|r| r.0.map(f64::abs)));
-        let p1 = per3_f64(rows.map(|(d, e)| std::array::from_fn(|k| d[k].abs() + e[k])));
+        let x = [0, 1, 2].map(|k| rows.iter().fold(0.0f64, |m, r| m.max(r.0[k].abs())));
+        let y = [0, 1, 2].map(|k| rows.iter().fold(0.0f64, |m, r| m.max(r.1[k])));
+        let (p0, p1) = by_columns(x, y, 6.0);
         decide(det, p0, p1, 64.0)
     }
 
@@ -174,28 +186,22 @@ impl<'a> Weighted3<'a> {
     /// eta_k, the weights' rounding and its own (4 eps of its magnitude).
     pub fn power_f64(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
         let (we, re) = (self.near[e as usize].mid[3], self.near[e as usize].rad[3]);
-        let rows = t.map(|x| {
-            let (d, eta) = self.diff(x, e);
-            let (wx, rx) = (self.near[x as usize].mid[3], self.near[x as usize].rad[3]);
+        let (mut rows, mut x, mut y) = ([[0.0; 4]; 4], [0.0f64; 4], [0.0f64; 4]);
+        for (i, &v) in t.iter().enumerate() {
+            let (d, eta) = self.diff(v, e);
+            let (wx, rx) = (self.near[v as usize].mid[3], self.near[v as usize].rad[3]);
             let sq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             let wz = wx - we;
             let moved: f64 = (0..3).map(|k| (2.0 * d[k].abs() + eta[k]) * eta[k]).sum();
-            let mag = sq + wz.abs();
             let eta_z = moved + rx + re + 4.0 * f64::EPSILON * (sq + wx.abs() + we.abs());
-            (
-                [d[0], d[1], d[2], sq - wz],
-                [d[0].abs(), d[1].abs(), d[2].abs(), mag],
-                [
-                    d[0].abs() + eta[0],
-                    d[1].abs() + eta[1],
-                    d[2].abs() + eta[2],
-                    mag + eta_z,
-                ],
-            )
-        });
-        let (det, p0) = det4_f64(rows.map(|r| r.0), rows.map(|r| r.1));
-        let p1 = per4_f64(rows.map(|r| r.2));
-        decide(det, p0, p1, 128.0).map(Ordering::reverse)
+            rows[i] = [d[0], d[1], d[2], sq - wz];
+            for k in 0..3 {
+                (x[k], y[k]) = (x[k].max(d[k].abs()), y[k].max(eta[k]));
+            }
+            (x[3], y[3]) = (x[3].max(sq + wz.abs()), y[3].max(eta_z));
+        }
+        let (p0, p1) = by_columns(x, y, 24.0);
+        decide(det4_f(rows), p0, p1, 128.0).map(Ordering::reverse)
     }
 
     /// The same orientation in integers.
@@ -422,7 +428,26 @@ fn bareiss(mut m: Vec<Vec<Integer>>) -> Ordering {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::{dot, q};
+    use crate::geom::{dot, per4_f64, q};
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The column bounds hold the permanents' (what `decide` needs:
+        /// p1 - p0 and p1 no smaller).
+        #[test]
+        fn column_bounds_hold_the_permanents(
+            a in prop::array::uniform4(prop::array::uniform4(0.0f64..1e3)),
+            eta in prop::array::uniform4(prop::array::uniform4(0.0f64..1.0)),
+        ) {
+            let plus: [[f64; 4]; 4] = std::array::from_fn(|i| std::array::from_fn(|k| a[i][k] + eta[i][k]));
+            let (q0, q1) = (per4_f64(a), per4_f64(plus));
+            let x = [0, 1, 2, 3].map(|k| a.iter().fold(0.0f64, |m, r| m.max(r[k])));
+            let y = [0, 1, 2, 3].map(|k| eta.iter().fold(0.0f64, |m, r| m.max(r[k])));
+            let (p0, p1) = by_columns(x, y, 24.0);
+            prop_assert!(p1 >= q1 * (1.0 - 1e-12));
+            prop_assert!(p1 - p0 >= (q1 - q0) * (1.0 - 1e-9) - 1e-9 * q1);
+        }
+    }
 
     fn points(p: &[[f64; 4]]) -> (Vec<[Q; 3]>, Vec<Q>) {
         (
