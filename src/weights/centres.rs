@@ -7,8 +7,14 @@
 use super::face::{fan, sorted3, Face};
 use crate::backend::Adjacency;
 use crate::complex::Complex3;
-use crate::geom::{along, dot, drop_axis, is_pos, norm2, plane_axis, q, sub, Q};
+use crate::geom::{along, dot, drop_axis, is_pos, norm2, plane_axis, q, sub, Iv, Q};
 use std::sync::OnceLock;
+
+/// Whether a quantity is positive: its enclosure, else exactly.
+fn positive(iv: Iv, exact: impl FnOnce() -> Q) -> bool {
+    iv.sign()
+        .map_or_else(|| is_pos(&exact()), |s| s == std::cmp::Ordering::Greater)
+}
 
 /// A face's centre and its power to the face's vertices.
 pub type Centre = ([Q; 3], Q);
@@ -90,10 +96,16 @@ pub fn sys3_failures(
             return false;
         };
         let vs = &face.vertices;
-        let power_to = |m: u32| {
-            let pm = p(m);
-            let d: Q = (0..3).map(|k| (&c[k] - &pm[k]) * (&c[k] - &pm[k])).sum();
-            d - &w[m as usize]
+        let (ci, power_i) = (c.each_ref().map(Iv::of_q), Iv::of_q(power));
+        // pi(c; m) - pi(c; face) > 0, in intervals unless they hold 0
+        let beyond = |m: usize| {
+            let pm = cx.points[m];
+            let d = (0..3).fold(Iv::of(0.0), |s, k| s + (ci[k] - Iv::of(pm[k])).sqr());
+            positive(d - Iv::of_q(&w[m]) - power_i, || {
+                let pm = p(m as u32);
+                let d: Q = (0..3).map(|k| (&c[k] - &pm[k]) * (&c[k] - &pm[k])).sum();
+                d - &w[m] - power
+            })
         };
         let near: Vec<u32> = if vs.len() == 2 {
             let pi = p(vs[0]);
@@ -117,16 +129,25 @@ pub fn sys3_failures(
                 cx.points[vs[2] as usize],
             )
             .expect("faces span a plane");
+            // c strictly inside the polygon (in its plane, projected along
+            // `axis`): on the side of every edge its turn is
             let flat = |v: u32| drop_axis(axis, cx.points[v as usize]).map(q);
-            let cf = [1, 2].map(|k| c[(axis + k) % 3].clone());
             let side = |a: &[Q; 2], b: &[Q; 2], x: &[Q; 2]| {
                 (&b[0] - &a[0]) * (&x[1] - &a[1]) - (&b[1] - &a[1]) * (&x[0] - &a[0])
             };
-            let turn = side(&flat(vs[0]), &flat(vs[1]), &flat(vs[2]));
+            let flat_i = |v: u32| drop_axis(axis, cx.points[v as usize]).map(Iv::of);
+            let side_i = |a: [Iv; 2], b: [Iv; 2], x: [Iv; 2]| {
+                (b[0] - a[0]) * (x[1] - a[1]) - (b[1] - a[1]) * (x[0] - a[0])
+            };
+            let turn_i = side_i(flat_i(vs[0]), flat_i(vs[1]), flat_i(vs[2]));
+            let cfi = [1, 2].map(|k| ci[(axis + k) % 3]);
             let m = vs.len();
             let inside = (0..m).all(|k| {
-                let s = side(&flat(vs[k]), &flat(vs[(k + 1) % m]), &cf);
-                is_pos(&(s * &turn))
+                let (a, b) = (vs[k], vs[(k + 1) % m]);
+                positive(side_i(flat_i(a), flat_i(b), cfi) * turn_i, || {
+                    let cf = [1, 2].map(|k| c[(axis + k) % 3].clone());
+                    side(&flat(a), &flat(b), &cf) * side(&flat(vs[0]), &flat(vs[1]), &flat(vs[2]))
+                })
             });
             if !inside {
                 return false;
@@ -142,7 +163,7 @@ pub fn sys3_failures(
                 .filter(|a| !vs.contains(a))
                 .collect()
         };
-        near.iter().all(|&m| is_pos(&(power_to(m) - power)))
+        near.iter().all(|&m| beyond(m as usize))
     };
     // (in parallel: exact and independent per face)
     use rayon::prelude::*;
