@@ -10,6 +10,7 @@ mod measure;
 mod polygon;
 mod power3;
 mod running;
+mod semistatic;
 mod simplices;
 mod solid;
 
@@ -21,6 +22,7 @@ pub use measure::*;
 pub use polygon::ear_clip;
 pub use power3::Weighted3;
 pub use running::*;
+pub(crate) use semistatic::{by_columns, sign_beyond};
 pub use simplices::*;
 pub use solid::in_solid;
 

@@ -4,6 +4,7 @@
 //! filter), then in outward-rounded intervals around the rationals, and in
 //! integers only where the interval holds 0.
 
+use super::semistatic::{by_columns, sign_beyond};
 use super::{det3, det3_f, det4, det4_f, f, norm2, sub, Iv, Q};
 use malachite_base::num::arithmetic::traits::{DivExact, Lcm, Sign};
 use malachite_nz::integer::Integer;
@@ -36,35 +37,6 @@ pub struct Weighted3<'a> {
     rows: Vec<OnceLock<([Integer; 4], [Integer; 5])>>,
     /// Predicates the intervals could not decide.
     pub exact_evaluations: AtomicUsize,
-}
-
-/// The sign of a determinant in doubles when it is beyond what rounding
-/// the entries (permanents p0 of the magnitudes, p1 with the entries'
-/// bounds added) and the arithmetic (`k` eps of p1) can change; None near
-/// underflow, where rounding is not relative.
-fn decide(det: f64, p0: f64, p1: f64, k: f64) -> Option<Ordering> {
-    let bound = (p1 - p0) + k * f64::EPSILON * p1;
-    if !(bound.is_finite() && det.is_finite()) || p1 < 1e-200 {
-        return None;
-    }
-    if det > bound {
-        Some(Ordering::Greater)
-    } else if det < -bound {
-        Some(Ordering::Less)
-    } else {
-        None
-    }
-}
-
-/// `decide`'s permanents bounded by columns, n! times the product of each
-/// column's largest magnitude (x; with its largest error y added for p1):
-/// each of the n! products is at most that, and the change of a product
-/// when its entries move, prod(|a| + eta) - prod(|a|), grows with every
-/// entry. At most n! times the permanents, for a fraction of their cost.
-fn by_columns<const N: usize>(x: [f64; N], y: [f64; N], terms: f64) -> (f64, f64) {
-    let p0: f64 = x.iter().product();
-    let p1: f64 = x.iter().zip(&y).map(|(a, b)| a + b).product();
-    (terms * p0, terms * p1)
 }
 
 /// The sign of a rational.
@@ -178,7 +150,7 @@ impl<'a> Weighted3<'a> {
         let x = [0, 1, 2].map(|k| rows.iter().fold(0.0f64, |m, r| m.max(r.0[k].abs())));
         let y = [0, 1, 2].map(|k| rows.iter().fold(0.0f64, |m, r| m.max(r.1[k])));
         let (p0, p1) = by_columns(x, y, 6.0);
-        decide(det, p0, p1, 64.0)
+        sign_beyond(det, p0, p1, 64.0)
     }
 
     /// The semi-static filter of `power_iv`, as `orient_f64`; the lifted
@@ -201,7 +173,7 @@ impl<'a> Weighted3<'a> {
             (x[3], y[3]) = (x[3].max(sq + wz.abs()), y[3].max(eta_z));
         }
         let (p0, p1) = by_columns(x, y, 24.0);
-        decide(det4_f(rows), p0, p1, 128.0).map(Ordering::reverse)
+        sign_beyond(det4_f(rows), p0, p1, 128.0).map(Ordering::reverse)
     }
 
     /// The same orientation in integers.

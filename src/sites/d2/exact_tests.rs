@@ -127,3 +127,57 @@ fn exact_centres_are_the_rationals_rounded() {
     }
     assert!(checked > 150, "{checked}");
 }
+
+/// Line sites of random segments and weights: the semi-static filters,
+/// the running-error filter and the fallbacks all agree with the rationals.
+#[test]
+fn filters_agree_with_the_rationals_on_random_sites() {
+    use proptest::prelude::*;
+    let pt = (-50.0f64..50.0, -50.0f64..50.0).prop_map(|(x, y)| [x, y]);
+    let case = (
+        prop::collection::vec(pt, 5),
+        prop::collection::vec(-1.0f64..1.0, 5),
+        prop::collection::vec(-2.0f64..2.0, 5),
+    );
+    proptest!(ProptestConfig::with_cases(24), |((pts, w, ts) in case)| {
+        let mut s = weighted_sites(&pts, &w);
+        let pairs = [(0, 1), (1, 2), (2, 3), (3, 4), (4, 0)];
+        for (k, (&(i, j), &t)) in pairs.iter().zip(&ts).enumerate() {
+            let kind = Def::Line { i, j, t };
+            let track = Track { ta: t, tb: t, kind, dir: [0.0; 2] };
+            let role = Role::Segment { seg: k as u32, left: true };
+            s.push(role, track, 0.0, false);
+        }
+        let zero = Q::from(0);
+        let first = pts.len();
+        let ex: Vec<_> = (first..s.len()).map(|k| s.exact(k)).collect();
+        let idx = |k: usize| k - first;
+        for a in first..s.len() {
+            for b in first..s.len() {
+                for c in first..s.len() {
+                    let (pa, pb, pc) = (&ex[idx(a)].0, &ex[idx(b)].0, &ex[idx(c)].0);
+                    let o = (&pb[0] - &pa[0]) * (&pc[1] - &pa[1]) - (&pb[1] - &pa[1]) * (&pc[0] - &pa[0]);
+                    prop_assert_eq!(s.orient(a, b, c), o.cmp(&zero));
+                    for d in first..s.len() {
+                        if [a, b, c].contains(&d) || s.common_vertex(&[a, b, c, d]).is_some() {
+                            continue;
+                        }
+                        let (qd, wd) = &ex[idx(d)];
+                        let rows: Vec<[Q; 3]> = [a, b, c]
+                            .iter()
+                            .map(|&x| {
+                                let (p, wx) = &ex[idx(x)];
+                                let (dx, dy) = (&p[0] - &qd[0], &p[1] - &qd[1]);
+                                let z = &dx * &dx + &dy * &dy - wx + wd;
+                                [dx, dy, z]
+                            })
+                            .collect();
+                        let r = |k: usize| [&rows[k][0], &rows[k][1], &rows[k][2]];
+                        let det = crate::geom::det3_q([r(0), r(1), r(2)]);
+                        prop_assert_eq!(s.power_test(a, b, c, d), det.cmp(&zero));
+                    }
+                }
+            }
+        }
+    });
+}
