@@ -319,6 +319,16 @@ pub(super) struct Misses {
     pub hidden: Vec<u32>,
 }
 
+/// The vertices next to any of `vs` in any of the neighbour lists `nbs`.
+fn ring(vs: &[u32], nbs: &[&Vec<Vec<u32>>]) -> BTreeSet<u32> {
+    vs.iter()
+        .flat_map(|&v| {
+            nbs.iter()
+                .flat_map(move |nb| nb[v as usize].iter().copied())
+        })
+        .collect()
+}
+
 /// The lazy global form (see the module's doc).
 fn global<B: Backend + ?Sized>(
     backend: &B,
@@ -341,17 +351,6 @@ fn global<B: Backend + ?Sized>(
     let free = relations.free();
     let mut report = WeightsReport::started("global");
     report.free_weights = n - relations.dependent.len();
-    let ring = |vs: &[u32], nbs: &[&Vec<Vec<u32>>]| -> BTreeSet<u32> {
-        let mut out = BTreeSet::new();
-        for &v in vs {
-            for nb in nbs {
-                for &a in &nb[v as usize] {
-                    out.insert(a);
-                }
-            }
-        }
-        out
-    };
     let mut sets: Vec<BTreeSet<u32>> = faces
         .iter()
         .map(|f| {
