@@ -107,11 +107,11 @@ fn well_field_goals() {
     goal(what, per_well[1] / per_well[0], 1.25, "x");
 }
 
-/// The ratios, printed once. Each time is the best of repeated runs
+/// The 2D ratios, printed once; with `full` false only the fields' rows
+/// (lattices of cavities, fields) and the zero-weight goals
+/// (`ORTHOMESH_BENCH_TABLE=2d`). Each time is the best of repeated runs
 /// (pipeline and raw triangulation interleaved, so both see the same
 /// machine), up to about a second per case.
-/// The 2D tables; with `full` false only the fields' rows (lattices of
-/// cavities, fields) and the zero-weight goals (`ORTHOMESH_BENCH_TABLE=2d`).
 fn ratios(full: bool) {
     let b = default_backend();
     eprintln!(

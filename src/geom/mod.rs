@@ -22,7 +22,7 @@ pub use measure::*;
 pub use polygon::ear_clip;
 pub use power3::Weighted3;
 pub use running::*;
-pub(crate) use semistatic::{by_columns, sign_beyond};
+pub(crate) use semistatic::{by_columns, column_max, diff, lifted, sign_beyond};
 pub use simplices::*;
 pub use solid::in_solid;
 

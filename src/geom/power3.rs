@@ -4,7 +4,7 @@
 //! filter), then in outward-rounded intervals around the rationals, and in
 //! integers only where the interval holds 0.
 
-use super::semistatic::{by_columns, sign_beyond};
+use super::semistatic::{by_columns, column_max, diff, lifted, sign_beyond};
 use super::{det3, det3_f, det4, det4_f, f, norm2, sub, Iv, Q};
 use malachite_base::num::arithmetic::traits::{DivExact, Lcm, Sign};
 use malachite_nz::integer::Integer;
@@ -133,11 +133,11 @@ impl<'a> Weighted3<'a> {
     /// Differences p_x - p_o in doubles, each with a bound on how far the
     /// exact difference may be: both points' rounding and the subtraction's.
     fn diff(&self, x: u32, o: u32) -> ([f64; 3], [f64; 3]) {
-        let (nx, no) = (&self.near[x as usize], &self.near[o as usize]);
-        let (mx, mo, rx, ro) = (nx.mid, no.mid, nx.rad, no.rad);
-        let d: [f64; 3] = std::array::from_fn(|k| mx[k] - mo[k]);
-        let eta = std::array::from_fn(|k| rx[k] + ro[k] + f64::EPSILON * d[k].abs());
-        (d, eta)
+        let near = |v: u32| {
+            let n = &self.near[v as usize];
+            (&n.mid[..], &n.rad[..])
+        };
+        diff(near(x), near(o))
     }
 
     /// The semi-static filter of `orient_iv`: a determinant's change when
@@ -147,8 +147,8 @@ impl<'a> Weighted3<'a> {
     pub fn orient_f64(&self, t: [u32; 4]) -> Option<Ordering> {
         let rows = [t[1], t[2], t[3]].map(|x| self.diff(x, t[0]));
         let det = det3_f(rows[0].0, rows[1].0, rows[2].0);
-        let x = [0, 1, 2].map(|k| rows.iter().fold(0.0f64, |m, r| m.max(r.0[k].abs())));
-        let y = [0, 1, 2].map(|k| rows.iter().fold(0.0f64, |m, r| m.max(r.1[k])));
+        let x = column_max(&rows.map(|r| r.0.map(f64::abs)));
+        let y = column_max(&rows.map(|r| r.1));
         let (p0, p1) = by_columns(x, y, 6.0);
         sign_beyond(det, p0, p1, 64.0)
     }
@@ -157,20 +157,17 @@ impl<'a> Weighted3<'a> {
     /// entry |d|^2 - (w_x - w_e) moves by at most sum (2 |d_k| + eta_k)
     /// eta_k, the weights' rounding and its own (4 eps of its magnitude).
     pub fn power_f64(&self, t: [u32; 4], e: u32) -> Option<Ordering> {
-        let (we, re) = (self.near[e as usize].mid[3], self.near[e as usize].rad[3]);
+        let weight = |v: u32| (self.near[v as usize].mid[3], self.near[v as usize].rad[3]);
+        // the entries, and per column the largest magnitude and error
         let (mut rows, mut x, mut y) = ([[0.0; 4]; 4], [0.0f64; 4], [0.0f64; 4]);
         for (i, &v) in t.iter().enumerate() {
             let (d, eta) = self.diff(v, e);
-            let (wx, rx) = (self.near[v as usize].mid[3], self.near[v as usize].rad[3]);
-            let sq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            let wz = wx - we;
-            let moved: f64 = (0..3).map(|k| (2.0 * d[k].abs() + eta[k]) * eta[k]).sum();
-            let eta_z = moved + rx + re + 4.0 * f64::EPSILON * (sq + wx.abs() + we.abs());
-            rows[i] = [d[0], d[1], d[2], sq - wz];
+            let (z, mag, err) = lifted((d, eta), weight(v), weight(e));
+            rows[i] = [d[0], d[1], d[2], z];
             for k in 0..3 {
                 (x[k], y[k]) = (x[k].max(d[k].abs()), y[k].max(eta[k]));
             }
-            (x[3], y[3]) = (x[3].max(sq + wz.abs()), y[3].max(eta_z));
+            (x[3], y[3]) = (x[3].max(mag), y[3].max(err));
         }
         let (p0, p1) = by_columns(x, y, 24.0);
         sign_beyond(det4_f(rows), p0, p1, 128.0).map(Ordering::reverse)
@@ -404,7 +401,7 @@ mod tests {
     use proptest::prelude::*;
 
     proptest! {
-        /// The column bounds hold the permanents' (what `decide` needs:
+        /// The column bounds hold the permanents' (what `sign_beyond` needs:
         /// p1 - p0 and p1 no smaller).
         #[test]
         fn column_bounds_hold_the_permanents(
@@ -413,9 +410,7 @@ mod tests {
         ) {
             let plus: [[f64; 4]; 4] = std::array::from_fn(|i| std::array::from_fn(|k| a[i][k] + eta[i][k]));
             let (q0, q1) = (per4_f64(a), per4_f64(plus));
-            let x = [0, 1, 2, 3].map(|k| a.iter().fold(0.0f64, |m, r| m.max(r[k])));
-            let y = [0, 1, 2, 3].map(|k| eta.iter().fold(0.0f64, |m, r| m.max(r[k])));
-            let (p0, p1) = by_columns(x, y, 24.0);
+            let (p0, p1) = by_columns(column_max(&a), column_max(&eta), 24.0);
             prop_assert!(p1 >= q1 * (1.0 - 1e-12));
             prop_assert!(p1 - p0 >= (q1 - q0) * (1.0 - 1e-9) - 1e-9 * q1);
         }

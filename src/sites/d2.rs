@@ -12,8 +12,8 @@ use crate::backend::Triangulation;
 use crate::complex::Complex;
 use crate::generate::scatter;
 use crate::geom::{
-    by_columns, det3, det3_f, det3_sign, det4_sign, q, qp, sign_beyond, Dyadic, Ev, Filter, Iv,
-    QPoint, Q,
+    by_columns, column_max, det3, det3_f, det3_sign, det4_sign, diff, lifted, q, qp, sign_beyond,
+    Dyadic, Ev, Filter, Iv, QPoint, Q,
 };
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -441,15 +441,11 @@ impl Sites {
         )
     }
 
-    /// Differences of positions x - o in doubles, with bounds on how far
-    /// the exact ones may be (both sites' rounding and the subtraction's).
+    /// Differences of positions x - o in doubles, with their bounds
+    /// (`geom::diff`).
     fn diff(&self, x: usize, o: usize) -> ([f64; 2], [f64; 2]) {
         let ((mx, rx), (mo, ro)) = (self.near(x), self.near(o));
-        let d: [f64; 2] = std::array::from_fn(|k| mx[k] - mo[k]);
-        (
-            d,
-            std::array::from_fn(|k| rx[k] + ro[k] + f64::EPSILON * d[k].abs()),
-        )
+        diff((&mx, &rx), (&mo, &ro))
     }
 
     /// The semi-static filter of `orient`: det [b - a; c - a] in doubles,
@@ -457,35 +453,32 @@ impl Sites {
     fn orient_f64(&self, [a, b, c]: [usize; 3]) -> Option<Ordering> {
         let ((u, eu), (v, ev)) = (self.diff(b, a), self.diff(c, a));
         let det = u[0] * v[1] - u[1] * v[0];
-        let x = [0, 1].map(|k| u[k].abs().max(v[k].abs()));
-        let y = [0, 1].map(|k| eu[k].max(ev[k]));
-        let (p0, p1) = by_columns(x, y, 2.0);
+        let x = column_max(&[u.map(f64::abs), v.map(f64::abs)]);
+        let (p0, p1) = by_columns(x, column_max(&[eu, ev]), 2.0);
         sign_beyond(det, p0, p1, 16.0)
     }
 
     /// The semi-static filter of `power_test`: `power_expr` in doubles
     /// (rows relative to d), as `geom::Weighted3::power_f64` in 3D.
     fn power_f64(&self, [a, b, c, d]: [usize; 4]) -> Option<Ordering> {
-        let (wd, rd) = {
-            let (m, r) = self.near(d);
+        let weight = |s: usize| {
+            let (m, r) = self.near(s);
             (m[2], r[2])
         };
+        // the entries, and per column the largest magnitude and error
         let (mut rows, mut x, mut y) = ([[0.0; 3]; 3], [0.0f64; 3], [0.0f64; 3]);
         for (i, s) in [a, b, c].into_iter().enumerate() {
             let (dd, eta) = self.diff(s, d);
-            let (m, r) = self.near(s);
-            let sq = dd[0] * dd[0] + dd[1] * dd[1];
-            let wz = m[2] - wd;
-            let moved: f64 = (0..2).map(|k| (2.0 * dd[k].abs() + eta[k]) * eta[k]).sum();
-            let eta_z = moved + r[2] + rd + 4.0 * f64::EPSILON * (sq + m[2].abs() + wd.abs());
-            rows[i] = [dd[0], dd[1], sq - wz];
+            let (z, mag, err) = lifted((dd, eta), weight(s), weight(d));
+            rows[i] = [dd[0], dd[1], z];
             for k in 0..2 {
                 (x[k], y[k]) = (x[k].max(dd[k].abs()), y[k].max(eta[k]));
             }
-            (x[2], y[2]) = (x[2].max(sq + wz.abs()), y[2].max(eta_z));
+            (x[2], y[2]) = (x[2].max(mag), y[2].max(err));
         }
         let (p0, p1) = by_columns(x, y, 6.0);
-        sign_beyond(det3_f(rows[0], rows[1], rows[2]), p0, p1, 64.0)
+        let det = det3_f(rows[0], rows[1], rows[2]);
+        sign_beyond(det, p0, p1, 64.0)
     }
 
     /// Orientation of three sites (Greater: counter-clockwise).

@@ -46,7 +46,7 @@ impl Centres {
 /// The exact point of a face of dimension 1 or 2 (its vertices) on its
 /// dual (the radical point on a segment; the power centre in a triangle's
 /// or polygon's plane), and its power to the face's vertices.
-pub fn face_centre(cx: &Complex3, w: &[Q], vs: &[u32]) -> Option<([Q; 3], Q)> {
+pub fn face_centre(cx: &Complex3, w: &[Q], vs: &[u32]) -> Option<Centre> {
     let p = |v: u32| cx.points[v as usize].map(q);
     let (pi, wi) = (p(vs[0]), w[vs[0] as usize].clone());
     let d = |v: u32| sub(&p(v), &pi);
