@@ -98,16 +98,6 @@ pub(crate) const ANCHOR_COST: f64 = 1e3;
 /// 7.5 s).
 pub(crate) const LAZY_SLACK: f64 = 0.2;
 
-/// Violated lazy rows above which a round enters only the most violated
-/// row of each face or segment (`rows::most_violated`); the others enter
-/// in later rounds where still violated. A face's rows (one per vertex
-/// near it) are mostly violated together and mostly met once one is in:
-/// on SPE9's transitions in 3D (two wells, callgrind) 5.56G -> 4.79G
-/// instructions, the models 12% fewer rows at the same iterations. The
-/// local form's pieces (at most 9 at a time on `generate mixed`) keep
-/// entering all, each extra round being a HiGHS run's fixed cost.
-pub(crate) const ENTER_ALL: usize = 256;
-
 /// Rows of a model above which interior point replaces the simplex.
 pub(crate) const BIG_MODEL: usize = 5_000;
 
