@@ -64,6 +64,9 @@ pub(crate) struct Lp {
     pub(crate) refs: Vec<RowRef>,
     /// Whether delta starts bounded below (`margin_floor`).
     pub(crate) floor: bool,
+    /// Violated lazy rows above which not all enter at once (`ENTER_ALL`;
+    /// none once rows have entered).
+    pub(crate) enter_all: usize,
 }
 
 thread_local! {
@@ -583,6 +586,7 @@ impl Lp {
             dual,
             refs,
             floor: floor != Bound::Unbounded,
+            enter_all: super::ENTER_ALL,
         })
     }
 
@@ -660,10 +664,24 @@ impl Lp {
                 None => terms - r.share * cols[self.delta.index()] - r.rhs,
             }
         };
-        let (enter, keep): (Vec<usize>, Vec<usize>) = self
-            .lazy
-            .iter()
-            .partition(|&&at| value(&sys.rows[at]) < 0.0);
+        let (mut keep, mut violated) = (vec![], vec![]);
+        for &at in &self.lazy {
+            match value(&sys.rows[at]) {
+                v if v < 0.0 => violated.push((at, v)),
+                _ => keep.push(at),
+            }
+        }
+        let enter = if violated.len() > self.enter_all {
+            let (enter, later) = super::rows::most_violated(&sys.rows, &violated);
+            keep.extend(later);
+            enter
+        } else {
+            violated.into_iter().map(|v| v.0).collect()
+        };
+        if !enter.is_empty() {
+            // Only a model's first round is grouped (`ENTER_ALL`).
+            self.enter_all = usize::MAX;
+        }
         // (in one HiGHS call: one at a time, each rebuilt the row-wise
         // copy of the matrix)
         let (mut lower, mut starts, mut index, mut values) = (vec![], vec![], vec![], vec![]);

@@ -98,6 +98,18 @@ pub(crate) const ANCHOR_COST: f64 = 1e3;
 /// 7.5 s).
 pub(crate) const LAZY_SLACK: f64 = 0.2;
 
+/// Violated lazy rows above which a model's first round of entering
+/// enters only the most violated row of each face or segment
+/// (`rows::most_violated`); every later round enters all violated rows.
+/// A face's rows (one per vertex near it) are mostly violated together
+/// after a cold solve and mostly met once one is in: SPE9's transitions in
+/// 3D (two wells, callgrind) 5.55G -> 4.78G instructions. Grouping every
+/// round was slower on emerald's well beside the hole (tests/fields3.rs:
+/// rounds of 15,000 iterations, over 10 minutes against 46 s); grouping
+/// the first only takes it to 38 s. The local form's pieces (at most 9
+/// rows a round on `generate mixed`) are unchanged.
+pub(crate) const ENTER_ALL: usize = 256;
+
 /// Rows of a model above which interior point replaces the simplex.
 pub(crate) const BIG_MODEL: usize = 5_000;
 

@@ -3,6 +3,7 @@
 //! units that scale back exactly.
 
 use nalgebra::SVector;
+use std::collections::HashMap;
 
 /// Which rows a row belongs to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,6 +101,40 @@ impl Row {
             origin: Origin::Other,
         }
     }
+}
+
+impl Row {
+    /// The face or segment whose rows this row is one of (None: its own).
+    fn group(&self) -> Option<(bool, u32)> {
+        match (self.family, self.origin) {
+            (Family::Sys3(s), _) => Some((true, s)),
+            (_, Origin::PlaneAbove { face, .. }) => Some((false, face)),
+            _ => None,
+        }
+    }
+}
+
+/// Of the violated rows `enter` (indices into `rows`, with their values,
+/// negative), the most violated of each face or segment (by value over
+/// the norm of its terms; the first such on ties) and every row of no
+/// group, in their order; then the rest, in their order.
+pub(crate) fn most_violated(rows: &[Row], enter: &[(usize, f64)]) -> (Vec<usize>, Vec<usize>) {
+    let mut best: HashMap<(bool, u32), (f64, usize)> = HashMap::new();
+    for &(at, v) in enter {
+        let r = &rows[at];
+        let Some(g) = r.group() else { continue };
+        let norm = r.terms.iter().map(|t| t.1 * t.1).sum::<f64>().sqrt();
+        let v = if norm > 0.0 { v / norm } else { v };
+        let e = best.entry(g).or_insert((v, at));
+        if v < e.0 {
+            *e = (v, at);
+        }
+    }
+    enter.iter().map(|e| e.0).partition(|&at| {
+        rows[at]
+            .group()
+            .is_none_or(|g| best.get(&g).is_some_and(|b| b.1 == at))
+    })
 }
 
 /// p_to - p_from.
@@ -340,6 +375,46 @@ mod tests {
             .sum::<f64>()
             - apex.rhs;
         assert!((v - 0.125).abs() < 1e-15, "{v}");
+    }
+
+    #[test]
+    fn most_violated_rows_by_face_and_segment() {
+        let row = |family, origin, terms: Vec<(usize, f64)>| Row {
+            terms,
+            rhs: 0.0,
+            family,
+            share: 1.0,
+            outside: false,
+            weak: false,
+            origin,
+        };
+        let plane = |face| Origin::PlaneAbove {
+            face,
+            i: 0,
+            on: [1, u32::MAX],
+            m: 2,
+            aux: 3,
+        };
+        let rows = vec![
+            row(Family::Sys1, plane(0), vec![(0, 1.0)]),
+            // more violated by value, less by value over its norm
+            row(Family::Sys1, plane(0), vec![(0, 4.0)]),
+            row(Family::Sys3(7), Origin::Other, vec![(1, 1.0)]),
+            row(Family::Sys3(7), Origin::Other, vec![(1, 1.0)]),
+            row(Family::Sys1, Origin::Other, vec![(2, 1.0)]),
+            row(Family::Sys1, plane(1), vec![(2, 1.0)]),
+        ];
+        let enter = [
+            (0, -1.0),
+            (1, -2.0),
+            (2, -0.5),
+            (3, -0.5),
+            (4, -0.1),
+            (5, -0.2),
+        ];
+        let (now, later) = most_violated(&rows, &enter);
+        assert_eq!(now, vec![0, 2, 4, 5]);
+        assert_eq!(later, vec![1, 3]);
     }
 
     #[test]

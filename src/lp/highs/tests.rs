@@ -55,3 +55,49 @@ fn a_stalled_run_is_finished_with_presolve() {
         "{delta} {free}"
     );
 }
+
+/// Lazy rows that enter a face's or segment's most violated first
+/// (`ENTER_ALL`) reach the optimum that entering all of them reaches.
+#[test]
+fn rows_entering_by_groups_reach_the_same_optimum() {
+    // Segments along a line, each with system 3 rows for every point.
+    // A jittered 8 x 5 lattice, segments between horizontal neighbours.
+    let p: Vec<[f64; 2]> = (0..40)
+        .map(|k| {
+            let t = k as f64;
+            let (x, y) = ((k % 8) as f64, (k / 8) as f64);
+            [x + 0.3 * (t * 1.7).sin(), y + 0.3 * (t * 2.3).cos()]
+        })
+        .collect();
+    let mut sys = System {
+        n: p.len(),
+        free: vec![true; p.len()],
+        verdict: true,
+        unit2: 1.0,
+        l2: vec![1.0; p.len()],
+        ..Default::default()
+    };
+    for s in 0..10u32 {
+        let others: Vec<u32> = (0..p.len() as u32).filter(|&m| m / 2 != s).collect();
+        sys.rows.extend(sys3_rows(&p, s, 2 * s, 2 * s + 1, &others));
+    }
+    let solve = |enter_all: usize| {
+        let mut report = WeightsReport::started("test");
+        let mut lp = Lp::build(&sys, true, None, &Mode::Margin).unwrap();
+        assert!(lp.lazy.len() > 100, "{}", lp.lazy.len());
+        lp.enter_all = enter_all;
+        let delta = lp
+            .solve(&sys, &mut report, f64::NEG_INFINITY)
+            .unwrap()
+            .delta;
+        (delta, report.lp_solves)
+    };
+    let (all, runs_all) = solve(usize::MAX);
+    let (grouped, runs) = solve(0);
+    assert!(
+        all > 0.1 && (all - grouped).abs() <= 1e-9,
+        "{all} {grouped}"
+    );
+    // (the groups took more rounds: the path was taken)
+    assert!(runs > runs_all, "{runs} {runs_all}");
+}
