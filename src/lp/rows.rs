@@ -101,9 +101,7 @@ impl Row {
             origin: Origin::Other,
         }
     }
-}
 
-impl Row {
     /// The face or segment whose rows this row is one of (None: its own).
     fn group(&self) -> Option<(bool, u32)> {
         match (self.family, self.origin) {

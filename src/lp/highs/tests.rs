@@ -60,8 +60,8 @@ fn a_stalled_run_is_finished_with_presolve() {
 /// (`ENTER_ALL`) reach the optimum that entering all of them reaches.
 #[test]
 fn rows_entering_by_groups_reach_the_same_optimum() {
-    // Segments along a line, each with system 3 rows for every point.
-    // A jittered 8 x 5 lattice, segments between horizontal neighbours.
+    // A jittered 8 x 5 lattice, segments between horizontal neighbours,
+    // each with system 3 rows for every other point.
     let p: Vec<[f64; 2]> = (0..40)
         .map(|k| {
             let t = k as f64;
