@@ -11,8 +11,10 @@ mod pure3;
 #[cfg(feature = "cgal")]
 pub use cgal::Cgal;
 mod flips3;
+mod halves;
 pub(crate) mod points;
 mod tetrahedra;
+pub use halves::regular_in_halves;
 pub(crate) use pure3::{regular3 as regular3_with, Predicates3};
 pub use tetrahedra::{Adjacency, Tetrahedralisation};
 
