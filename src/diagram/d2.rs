@@ -305,16 +305,26 @@ impl Diagram {
     /// its length (corners without error excepted).
     fn doubtful_corners(&self) -> Vec<usize> {
         let (points, error) = (&self.points, &self.error);
+        let flagged: Vec<u32> = self
+            .cells
+            .par_iter()
+            .flatten()
+            .flat_map_iter(|ring| {
+                (0..ring.len()).flat_map(move |k| {
+                    let (p, q) = (ring[k], ring[(k + 1) % ring.len()]);
+                    let (ep, eq) = (error[p as usize], error[q as usize]);
+                    let (a, b) = (points[p as usize], points[q as usize]);
+                    let doubt = ep + eq > 0.0 && ep + eq > 1e-6 * length(a, b);
+                    [(p, ep), (q, eq)]
+                        .into_iter()
+                        .filter(move |&(_, e)| doubt && e > 0.0)
+                        .map(|(v, _)| v)
+                })
+            })
+            .collect();
         let mut redo = vec![false; points.len()];
-        for ring in self.cells.iter().flatten() {
-            for k in 0..ring.len() {
-                let (p, q) = (ring[k] as usize, ring[(k + 1) % ring.len()] as usize);
-                let d = (points[p][0] - points[q][0]).hypot(points[p][1] - points[q][1]);
-                if error[p] + error[q] > 1e-6 * d {
-                    redo[p] |= error[p] > 0.0;
-                    redo[q] |= error[q] > 0.0;
-                }
-            }
+        for v in flagged {
+            redo[v as usize] = true;
         }
         (0..points.len()).filter(|&i| redo[i]).collect()
     }
@@ -384,6 +394,18 @@ impl Diagram {
                 inside && !unbounded
             })
             .collect();
+    }
+}
+
+/// |a - b| (hypot's care for overflow only where it is needed: hypot is
+/// several times slower than a square root).
+fn length(a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
+    let d2 = dx * dx + dy * dy;
+    if d2.is_normal() {
+        d2.sqrt()
+    } else {
+        dx.hypot(dy)
     }
 }
 

@@ -146,7 +146,7 @@ impl Sites {
         let p = &cx.points;
         let centres = rt
             .triangles
-            .iter()
+            .par_iter()
             .map(|tri| {
                 let [a, b, c] = tri.map(|v| v as usize);
                 centre_f64([p[a], p[b], p[c]], [w[a], w[b], w[c]])
@@ -217,6 +217,14 @@ impl Sites {
                 })
             })
             .collect();
+        // Room for all sites at once: the extra sites of free ends and
+        // isolated vertices would otherwise copy the arrays again.
+        let extra: usize = cx
+            .degrees()
+            .iter()
+            .map(|&d| [3, 1, 0][d.min(2) as usize])
+            .sum();
+        s.reserve(2 * cx.segments.len() + extra);
         match corners {
             true => {
                 let found = s.corners(cx, rt, domain_side);
@@ -231,16 +239,42 @@ impl Sites {
     /// Pushes many sites whose tracks and fractions are given: their
     /// definitions and enclosures are computed in parallel.
     fn extend<const K: usize>(&mut self, sites: Vec<[(Role, Track, f64, bool); K]>) {
-        let defs: Vec<[(Def, [Iv; 3]); K]> = sites
-            .par_iter()
-            .map(|group| {
-                group.each_ref().map(|(_, track, frac, _)| {
-                    let def = Self::at(track, *frac);
-                    (def, self.enclose(&def))
-                })
-            })
-            .collect();
-        let n = K * sites.len();
+        // Written in place, in parallel: the pages of these arrays are
+        // first touched here (a sequential push of 10^5 sites costs more
+        // than their enclosures).
+        let mut out = (
+            std::mem::take(&mut self.def),
+            (
+                std::mem::take(&mut self.iv),
+                (
+                    std::mem::take(&mut self.approx),
+                    (
+                        std::mem::take(&mut self.role),
+                        (
+                            std::mem::take(&mut self.track),
+                            (
+                                std::mem::take(&mut self.frac),
+                                std::mem::take(&mut self.movable),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let item = |k: usize| {
+            let (role, track, frac, movable) = &sites[k / K][k % K];
+            let def = Self::at(track, *frac);
+            let iv = self.enclose(&def);
+            let rest = (role.clone(), (track.clone(), (*frac, *movable)));
+            (def, (iv, (iv.map(Iv::mid), rest)))
+        };
+        out.par_extend((0..K * sites.len()).into_par_iter().map(item));
+        let (def, (iv, (approx, (role, (track, (frac, movable)))))) = out;
+        (self.def, self.iv, self.approx) = (def, iv, approx);
+        (self.role, self.track, self.frac, self.movable) = (role, track, frac, movable);
+    }
+
+    fn reserve(&mut self, n: usize) {
         self.def.reserve(n);
         self.iv.reserve(n);
         self.approx.reserve(n);
@@ -248,19 +282,9 @@ impl Sites {
         self.track.reserve(n);
         self.frac.reserve(n);
         self.movable.reserve(n);
-        for (group, defs) in sites.into_iter().zip(defs) {
-            for ((role, track, frac, movable), (def, iv)) in group.into_iter().zip(defs) {
-                self.def.push(def);
-                self.iv.push(iv);
-                self.approx.push(iv.map(Iv::mid));
-                self.role.push(role);
-                self.track.push(track);
-                self.frac.push(frac);
-                self.movable.push(movable);
-            }
-        }
     }
 
+    #[cfg(test)]
     fn push(&mut self, role: Role, track: Track, frac: f64, movable: bool) {
         self.extend(vec![[(role, track, frac, movable)]]);
     }

@@ -7,6 +7,7 @@ use crate::backend::Triangulation;
 use crate::complex::Complex;
 use crate::geom::{orient, Dyadic, Filter};
 use crate::{FastMap, FastSet};
+use rayon::prelude::*;
 use std::cmp::Ordering;
 
 impl Sites {
@@ -35,6 +36,9 @@ impl Sites {
             other_end[b as usize] = a;
         }
         let mut on_edge: FastMap<(u32, u32), usize> = FastMap::default();
+        // New sites, pushed together at the end (their enclosures are made
+        // in parallel there); site `first + k` is pending[k].
+        let (first, mut pending) = (self.def.len(), vec![]);
         self.cell_walls = vec![vec![]; n];
         for i in 0..n as u32 {
             let want = match degree[i as usize] {
@@ -105,7 +109,7 @@ impl Sites {
                         edge: (i, i),
                         serves: vec![i],
                     };
-                    self.push(role, tk, 0.5, true);
+                    pending.push([(role, tk, 0.5, true)]);
                 }
                 continue;
             }
@@ -113,33 +117,33 @@ impl Sites {
                 let (k, tk) = cands[c].clone();
                 let key = (i.min(k), i.max(k));
                 if let Some(&s) = on_edge.get(&key) {
-                    if let Role::Vertex { serves, .. } = &mut self.role[s] {
+                    if let Role::Vertex { serves, .. } = &mut pending[s - first][0].0 {
                         serves.push(i);
                     }
                     continue;
                 }
-                on_edge.insert(key, self.def.len());
+                on_edge.insert(key, first + pending.len());
                 let role = Role::Vertex {
                     edge: key,
                     serves: vec![i],
                 };
-                self.push(role, tk, 0.5, true);
+                pending.push([(role, tk, 0.5, true)]);
             }
         }
+        self.extend(pending);
         // The tracks' ends are power centres in doubles: in a sliver cell
         // the middle may lie outside it, so the first fraction inside is
         // taken (decided exactly).
-        for v in 0..self.def.len() {
-            if matches!(self.role[v], Role::Vertex { .. }) && !self.in_served_cells(v) {
-                if let Some(&f) = VERTEX_FRACS.iter().find(|&&f| {
-                    self.move_to(v, f);
-                    self.in_served_cells(v)
-                }) {
-                    self.move_to(v, f);
-                } else {
-                    self.move_to(v, VERTEX_FRACS[0]);
-                }
-            }
+        let off: Vec<usize> = (first..self.def.len())
+            .into_par_iter()
+            .filter(|&v| matches!(self.role[v], Role::Vertex { .. }) && !self.in_served_cells(v))
+            .collect();
+        for v in off {
+            let inside = VERTEX_FRACS.iter().find(|&&f| {
+                self.move_to(v, f);
+                self.in_served_cells(v)
+            });
+            self.move_to(v, inside.copied().unwrap_or(VERTEX_FRACS[0]));
         }
     }
 
