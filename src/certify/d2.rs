@@ -112,18 +112,17 @@ pub fn certify(
 
     // Segments: a single edge of each domain cell beside them.
     let pairs = sites.segment_pairs(cx.segments.len());
-    let mut bad_segments = vec![];
-    for (k, &[i, j]) in cx.segments.iter().enumerate() {
+    let single = |k: usize| {
+        let [i, j] = cx.segments[k];
         let (Some(a), Some(b)) = (vid[i as usize], vid[j as usize]) else {
-            bad_segments.push(cx.segment_ids[k]);
-            continue;
+            return false;
         };
         let beside: Vec<u32> = pairs[k]
             .iter()
             .copied()
             .filter(|&s| diagram.in_domain[s as usize])
             .collect();
-        let ok = !beside.is_empty()
+        !beside.is_empty()
             && beside.iter().all(|&s| {
                 let cell = diagram.cells[s as usize].as_ref().unwrap();
                 let m = cell.len();
@@ -131,11 +130,13 @@ pub fn certify(
                     let (x, y) = (cell[e], cell[(e + 1) % m]);
                     (x, y) == (a, b) || (x, y) == (b, a)
                 })
-            });
-        if !ok {
-            bad_segments.push(cx.segment_ids[k]);
-        }
-    }
+            })
+    };
+    let bad_segments: Vec<i64> = (0..cx.segments.len())
+        .into_par_iter()
+        .filter(|&k| !single(k))
+        .map(|k| cx.segment_ids[k])
+        .collect();
     c.segments_are_single_edges = bad_segments.is_empty();
     if !bad_segments.is_empty() {
         c.problems.push(format!(
@@ -185,7 +186,9 @@ pub fn certify(
     }
 
     // As written: areas and orthogonality in floating point.
-    let area: f64 = mesh.cells.iter().map(|cell| mesh.area(cell)).sum();
+    // (each cell's in parallel, summed in order: the same on any threads)
+    let areas: Vec<f64> = mesh.cells.par_iter().map(|cell| mesh.area(cell)).collect();
+    let area: f64 = areas.iter().sum();
     let dom_area = dom.area();
     c.area_relative_error = ((area - dom_area) / dom_area).abs();
     c.max_orthogonality_defect = mesh.orthogonality_defect();

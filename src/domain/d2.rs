@@ -30,33 +30,38 @@ impl Domain {
     /// Domain boundary as directed segments (a, b) with the domain on the left.
     pub fn boundary(&self) -> Vec<(u32, u32)> {
         let inside = |t: Option<u32>| t.is_some_and(|t| self.inside[t as usize]);
-        let mut out = vec![];
-        for &[a, b] in &self.complex.segments {
-            match (
-                inside(self.cdt.left_of(a, b)),
-                inside(self.cdt.left_of(b, a)),
-            ) {
-                (true, false) => out.push((a, b)),
-                (false, true) => out.push((b, a)),
-                _ => {}
-            }
-        }
-        out
+        self.complex
+            .segments
+            .par_iter()
+            .filter_map(|&[a, b]| {
+                match (
+                    inside(self.cdt.left_of(a, b)),
+                    inside(self.cdt.left_of(b, a)),
+                ) {
+                    (true, false) => Some((a, b)),
+                    (false, true) => Some((b, a)),
+                    _ => None,
+                }
+            })
+            .collect()
     }
 
     /// Area of the domain (floating point, for reports).
     pub fn area(&self) -> f64 {
         let p = &self.complex.points;
-        self.cdt
+        // Terms in parallel, summed in order (the same sum on any threads).
+        let terms: Vec<f64> = self
+            .cdt
             .triangles
-            .iter()
+            .par_iter()
             .zip(&self.inside)
             .filter(|(_, &i)| i)
             .map(|(t, _)| {
                 let [a, b, c] = t.map(|v| p[v as usize]);
                 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
             })
-            .sum()
+            .collect();
+        terms.iter().sum()
     }
 }
 

@@ -238,9 +238,9 @@ impl Mesh {
     /// sites beside it (0 for an orthogonal mesh).
     pub fn orthogonality_defect(&self) -> f64 {
         self.faces
-            .iter()
+            .par_iter()
             .map(|&f| self.face_defect(f))
-            .fold(0.0, f64::max)
+            .reduce(|| 0.0, f64::max)
     }
 
     /// |cos| between face a -> b and the segment from site c to site d (0

@@ -32,6 +32,7 @@ use crate::lp::{
 };
 use crate::progress::Progress;
 use nalgebra::Vector2;
+use rayon::prelude::*;
 use std::collections::BTreeSet;
 
 /// An anchor within this fraction of its segment's length of the dual line
@@ -105,7 +106,7 @@ fn solve_unanchored_first<B: Backend + ?Sized>(
     let unmet_at_zero = unmet_anchors(cx, &zero).len();
     let gabriel = |t: &Triangulation| {
         cx.segments
-            .iter()
+            .par_iter()
             .all(|s| strictly_gabriel(cx, t, s[0], s[1]))
     };
     let zero_weights = |rt: Triangulation, method: &str| Weights {
@@ -515,7 +516,7 @@ fn delaunay(cx: &Complex, t: &Triangulation) -> bool {
         x: p[v as usize][0],
         y: p[v as usize][1],
     };
-    cx.segments.iter().all(|&[a, b]| {
+    cx.segments.par_iter().all(|&[a, b]| {
         let (Some(t1), Some(t2)) = (t.left_of(a, b), t.left_of(b, a)) else {
             return true;
         };
@@ -543,7 +544,6 @@ fn strictly_gabriel(cx: &Complex, dt: &Triangulation, i: u32, j: u32) -> bool {
 /// power for i than for each apex beside the segment.
 pub fn sys3_failures(cx: &Complex, w: &[f64], rt: &Triangulation) -> Vec<u32> {
     use crate::geom::Iv;
-    use rayon::prelude::*;
     let p = &cx.points;
     // Filtered: the same expressions in intervals, exact rationals only
     // where an interval holds zero.
