@@ -581,9 +581,13 @@ fn check_shape(sites: &Sites, rt: &Triangulation) -> std::result::Result<(), Str
 /// turns left or goes straight at every vertex and winds once: the
 /// triangles cover the convex hull of the sites.
 fn check_hull(sites: &Sites, rt: &Triangulation) -> std::result::Result<(), String> {
+    let hull: Vec<(u32, u32)> = rt
+        .par_edge_triangles()
+        .filter_map(|(a, b, _, u)| u.is_none().then_some((a, b)))
+        .collect();
     let mut next = crate::FastMap::default();
-    for (a, b, _, u) in rt.edge_triangles() {
-        if u.is_none() && next.insert(a, b).is_some() {
+    for (a, b) in hull {
+        if next.insert(a, b).is_some() {
             return Err(format!("site {a} is twice on the hull"));
         }
     }
