@@ -116,7 +116,7 @@ fn site_triangulation<B: Backend + ?Sized>(
 ) -> Result<(Triangulation, Option<EdgeTests>)> {
     let pos: Vec<[f64; 2]> = sites.approx.iter().map(|a| [a[0], a[1]]).collect();
     let w = sites.nudged_weights();
-    if let Some(mut rt) = crate::backend::regular_in_halves(backend, &pos, &w)? {
+    if let Some(mut rt) = crate::backend::regular_in_halves(backend, &pos, &w) {
         let checked = Diagram::check_or_repair(sites, &mut rt);
         if checked.is_some() {
             return Ok((rt, checked));

@@ -57,17 +57,17 @@ struct Half {
 }
 
 /// The regular triangulation of the weighted points from two halves, or
-/// None when the input is small or the halves do not stitch (then the
-/// caller triangulates the whole). Deterministic: the same halves whatever
-/// the number of threads.
+/// None when the input is small or the halves do not stitch or fail (then
+/// the caller triangulates the whole). Deterministic: the same halves
+/// whatever the number of threads.
 pub fn regular_in_halves<B: Backend + ?Sized>(
     backend: &B,
     points: &[[f64; 2]],
     weights: &[f64],
-) -> Result<Option<Triangulation>> {
+) -> Option<Triangulation> {
     let n = points.len();
     if n < MIN_POINTS {
-        return Ok(None);
+        return None;
     }
     let extent = |k: usize| {
         points.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
@@ -81,6 +81,9 @@ pub fn regular_in_halves<B: Backend + ?Sized>(
         (1, x)
     };
     let frame = frame(x, y);
+    if !frame.iter().flatten().all(|c| c.is_finite()) {
+        return None;
+    }
     let m = frame.len() as u32;
     let all: Vec<[f64; 2]> = points.iter().copied().chain(frame).collect();
     let all_w: Vec<f64> = weights.iter().copied().chain((0..m).map(|_| 0.0)).collect();
@@ -112,18 +115,20 @@ pub fn regular_in_halves<B: Backend + ?Sized>(
             })
         };
         let (left, right) = rayon::join(|| pick(&|k| k < hi), || pick(&|k| k >= lo));
-        let (left, right) = (left?, right?);
+        // A half the backend refuses (a frame beyond doubles, say) leaves
+        // the whole to the caller, which reports what is wrong with it.
+        let (Ok(left), Ok(right)) = (left, right) else {
+            return None;
+        };
         let keep_l = seam.kept(&left, hi, true);
         let keep_r = seam.kept(&right, lo, false);
         if let (Some(kl), Some(kr)) = (keep_l, keep_r) {
-            let Some(core) = stitch([(&left, &kl), (&right, &kr)]) else {
-                return Ok(None);
-            };
-            return fill(backend, &seam, core);
+            let core = stitch([(&left, &kl), (&right, &kr)])?;
+            return fill(backend, &seam, core).ok().flatten();
         }
         share *= 2.0;
     }
-    Ok(None)
+    None
 }
 
 /// Where the halves meet.
@@ -424,7 +429,7 @@ mod tests {
         let mut stitched = 0;
         for b in crate::backend::compiled() {
             let whole = b.regular(p, w).unwrap();
-            let Some(split) = regular_in_halves(&*b, p, w).unwrap() else {
+            let Some(split) = regular_in_halves(&*b, p, w) else {
                 continue;
             };
             stitched += 1;
@@ -467,9 +472,21 @@ mod tests {
     }
 
     #[test]
+    fn a_frame_beyond_doubles_leaves_the_whole_to_the_caller() {
+        // Points spread over the whole range of doubles: the frame around
+        // them is not finite; the halves give up (a backend may refuse or
+        // panic on such points) and leave the whole to the caller.
+        let (p, w) = cloud(MIN_POINTS as u64 + 10);
+        let p: Vec<[f64; 2]> = p.iter().map(|q| [q[0] * 1e306 - 1.5e308, q[1]]).collect();
+        for b in crate::backend::compiled() {
+            assert!(regular_in_halves(&*b, &p, &w).is_none(), "{}", b.name());
+        }
+    }
+
+    #[test]
     fn small_inputs_are_left_whole() {
         let b = crate::backend::default_backend();
         let (p, w) = cloud(100);
-        assert!(regular_in_halves(&b, &p, &w).unwrap().is_none());
+        assert!(regular_in_halves(&b, &p, &w).is_none());
     }
 }
