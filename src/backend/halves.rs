@@ -16,6 +16,7 @@
 
 use super::{Backend, Triangulation, NONE};
 use crate::error::Result;
+use crate::geom::{bbox, centre_f64};
 use crate::FastMap;
 use rayon::prelude::*;
 
@@ -69,12 +70,8 @@ pub fn regular_in_halves<B: Backend + ?Sized>(
     if n < MIN_POINTS {
         return None;
     }
-    let extent = |k: usize| {
-        points.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
-            (lo.min(p[k]), hi.max(p[k]))
-        })
-    };
-    let (x, y) = (extent(0), extent(1));
+    let (lo, hi) = bbox(points);
+    let (x, y) = ((lo[0], hi[0]), (lo[1], hi[1]));
     let (axis, across) = if x.1 - x.0 >= y.1 - y.0 {
         (0, y)
     } else {
@@ -210,19 +207,14 @@ impl Seam<'_> {
     /// points, in doubles; None when they are nearly collinear.
     fn orthocircle(&self, t: [u32; 3]) -> Option<([f64; 2], f64)> {
         let [a, b, c] = t.map(|v| self.points[v as usize]);
-        let [wa, wb, wc] = t.map(|v| self.weights[v as usize]);
         let (u, v) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
-        let d = 2.0 * (u[0] * v[1] - u[1] * v[0]);
-        let (su, sv) = (
-            u[0] * u[0] + u[1] * u[1] - wb + wa,
-            v[0] * v[0] + v[1] * v[1] - wc + wa,
-        );
         let size = u[0].abs() + u[1].abs() + v[0].abs() + v[1].abs();
-        if d.abs() <= 1e-12 * size * size {
+        if (u[0] * v[1] - u[1] * v[0]).abs() <= 0.5e-12 * size * size {
             return None;
         }
-        let o = [(su * v[1] - sv * u[1]) / d, (sv * u[0] - su * v[0]) / d];
-        Some(([a[0] + o[0], a[1] + o[1]], o[0] * o[0] + o[1] * o[1] - wa))
+        let o = centre_f64([a, b, c], t.map(|v| self.weights[v as usize]));
+        let rho = (o[0] - a[0]).powi(2) + (o[1] - a[1]).powi(2) - self.weights[t[0] as usize];
+        Some((o, rho))
     }
 }
 

@@ -16,6 +16,28 @@ pub fn bbox<const D: usize>(pts: &[[f64; D]]) -> ([f64; D], [f64; D]) {
     (lo, hi)
 }
 
+/// Power centre of three weighted double points in doubles (placement
+/// heuristics and mesh coordinates; never a decision). Scaled by a power of
+/// two so that squares neither overflow nor underflow.
+pub fn centre_f64(p: [[f64; 2]; 3], w: [f64; 3]) -> [f64; 2] {
+    let u = [p[1][0] - p[0][0], p[1][1] - p[0][1]];
+    let v = [p[2][0] - p[0][0], p[2][1] - p[0][1]];
+    let m = u.iter().chain(&v).fold(0.0f64, |m, x| m.max(x.abs()));
+    let s = if m > 0.0 && m.is_finite() {
+        2f64.powi(m.log2().round() as i32)
+    } else {
+        1.0
+    };
+    let (u, v) = (u.map(|x| x / s), v.map(|x| x / s));
+    let det = 2.0 * (u[0] * v[1] - u[1] * v[0]);
+    let ru = u[0] * u[0] + u[1] * u[1] - (w[1] - w[0]) / s / s;
+    let rv = v[0] * v[0] + v[1] * v[1] - (w[2] - w[0]) / s / s;
+    [
+        p[0][0] + (ru * v[1] - rv * u[1]) / det * s,
+        p[0][1] + (rv * u[0] - ru * v[0]) / det * s,
+    ]
+}
+
 /// Signed area of a polygon (shoelace), relative to its first vertex: far
 /// from the origin (map coordinates) absolute products would cancel.
 pub fn shoelace(n: usize, at: impl Fn(usize) -> [f64; 2]) -> f64 {

@@ -12,8 +12,8 @@ use crate::backend::Triangulation;
 use crate::complex::Complex;
 use crate::generate::scatter;
 use crate::geom::{
-    by_columns, column_max, det3, det3_f, det3_sign, det4_sign, diff, lifted, q, qp, sign_beyond,
-    Dyadic, Ev, Filter, Iv, QPoint, Q,
+    by_columns, centre_f64, column_max, det3, det3_f, det3_sign, det4_sign, diff, lifted, q, qp,
+    sign_beyond, Dyadic, Ev, Filter, Iv, QPoint, Q,
 };
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -101,28 +101,6 @@ const VERTEX_FRACS: [f64; 5] = [0.5, 0.25, 0.75, 0.125, 0.875];
 /// moves (measured on `generate field 6` with two points a cavity: the
 /// five fractions above left 19 sites outside, 17 fractions 5).
 const VERTEX_SAMPLES: usize = 64;
-
-/// Power centre of three weighted double points in doubles (placement
-/// heuristics and mesh coordinates; never a decision). Scaled by a power of
-/// two so that squares neither overflow nor underflow.
-pub fn centre_f64(p: [[f64; 2]; 3], w: [f64; 3]) -> [f64; 2] {
-    let u = [p[1][0] - p[0][0], p[1][1] - p[0][1]];
-    let v = [p[2][0] - p[0][0], p[2][1] - p[0][1]];
-    let m = u.iter().chain(&v).fold(0.0f64, |m, x| m.max(x.abs()));
-    let s = if m > 0.0 && m.is_finite() {
-        2f64.powi(m.log2().round() as i32)
-    } else {
-        1.0
-    };
-    let (u, v) = (u.map(|x| x / s), v.map(|x| x / s));
-    let det = 2.0 * (u[0] * v[1] - u[1] * v[0]);
-    let ru = u[0] * u[0] + u[1] * u[1] - (w[1] - w[0]) / s / s;
-    let rv = v[0] * v[0] + v[1] * v[1] - (w[2] - w[0]) / s / s;
-    [
-        p[0][0] + (ru * v[1] - rv * u[1]) / det * s,
-        p[0][1] + (rv * u[0] - ru * v[0]) / det * s,
-    ]
-}
 
 impl Sites {
     /// Places the sites: two per segment on opposite sides when the segment
