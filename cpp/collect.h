@@ -9,6 +9,7 @@
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace orthomesh {
@@ -28,23 +29,27 @@ template <class Tr>
 TriangulationOut collect(Tr& tr, std::size_t n) {
   TriangulationOut out;
   for (uint32_t i : hidden_indices(tr, n)) out.hidden.push_back(i);
+  auto triangles = std::make_unique<std::vector<uint32_t>>();
+  auto neighbours = std::make_unique<std::vector<uint32_t>>();
   if (tr.dimension() == 2) {
-    out.triangles.reserve(3 * tr.number_of_faces());
-    out.neighbours.reserve(3 * tr.number_of_faces());
+    triangles->reserve(3 * tr.number_of_faces());
+    neighbours->reserve(3 * tr.number_of_faces());
     uint32_t id = 0;
     for (auto f = tr.finite_faces_begin(); f != tr.finite_faces_end(); ++f) {
       f->info() = id++;
-      for (int k = 0; k < 3; ++k) out.triangles.push_back(f->vertex(k)->info());
+      for (int k = 0; k < 3; ++k) triangles->push_back(f->vertex(k)->info());
     }
     // CGAL's neighbour i is opposite vertex i: across our edge k (vertex k
     // to k + 1) lies neighbour (k + 2) % 3.
     for (auto f = tr.finite_faces_begin(); f != tr.finite_faces_end(); ++f) {
       for (int k = 0; k < 3; ++k) {
         auto g = f->neighbor((k + 2) % 3);
-        out.neighbours.push_back(tr.is_infinite(g) ? UINT32_MAX : g->info());
+        neighbours->push_back(tr.is_infinite(g) ? UINT32_MAX : g->info());
       }
     }
   }
+  out.triangles = std::move(triangles);
+  out.neighbours = std::move(neighbours);
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
+#include <memory>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -38,18 +39,22 @@ TetrahedralisationOut build_and_collect3(std::vector<std::pair<typename RT3::Wei
     throw std::invalid_argument("the points are coplanar: their regular triangulation has no tetrahedron");
   TetrahedralisationOut out;
   for (uint32_t i : hidden_indices(rt, n)) out.hidden.push_back(i);
-  out.tets.reserve(4 * rt.number_of_finite_cells());
-  out.neighbours.reserve(4 * rt.number_of_finite_cells());
+  auto tets = std::make_unique<std::vector<uint32_t>>();
+  auto neighbours = std::make_unique<std::vector<uint32_t>>();
+  tets->reserve(4 * rt.number_of_finite_cells());
+  neighbours->reserve(4 * rt.number_of_finite_cells());
   uint32_t id = 0;
   for (auto c = rt.finite_cells_begin(); c != rt.finite_cells_end(); ++c) {
     c->info() = id++;
-    for (int k = 0; k < 4; ++k) out.tets.push_back(c->vertex(k)->info());
+    for (int k = 0; k < 4; ++k) tets->push_back(c->vertex(k)->info());
   }
   for (auto c = rt.finite_cells_begin(); c != rt.finite_cells_end(); ++c)
     for (int k = 0; k < 4; ++k) {
       auto d = c->neighbor(k);
-      out.neighbours.push_back(rt.is_infinite(d) ? UINT32_MAX : d->info());
+      neighbours->push_back(rt.is_infinite(d) ? UINT32_MAX : d->info());
     }
+  out.tets = std::move(tets);
+  out.neighbours = std::move(neighbours);
   return out;
 }
 

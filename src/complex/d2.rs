@@ -5,7 +5,6 @@ use super::{distinct_with_extent, finite_in_range};
 use crate::error::{Error, Result};
 use crate::geom::{in_box, orient};
 use std::cmp::Ordering;
-use std::collections::HashMap;
 
 /// Two segments (indices) that cross.
 type SegmentPair = (usize, usize);
@@ -100,7 +99,8 @@ impl Complex {
             return Err(Error::ZeroLengthSegments { segments: zero });
         }
 
-        let mut seen: HashMap<(u32, u32), usize> = HashMap::with_capacity(self.segments.len());
+        let mut seen: crate::FastMap<(u32, u32), usize> = crate::FastMap::default();
+        seen.reserve(self.segments.len());
         let mut rep = vec![];
         for (s, &[a, b]) in self.segments.iter().enumerate() {
             let k = (a.min(b), a.max(b));

@@ -347,12 +347,14 @@ impl Diagram {
         };
         let mut label: Vec<Option<bool>> = vec![None; n];
         let inside = |t: Option<u32>| t.is_some_and(|t| dom.inside[t as usize]);
-        for (k, &[l, r]) in pairs.iter().enumerate() {
-            let [i, j] = cx.segments[k];
+        let sides: Vec<[bool; 2]> = (cx.segments.par_iter())
+            .map(|&[i, j]| [dom.cdt.left_of(i, j), dom.cdt.left_of(j, i)].map(inside))
+            .collect();
+        for (&[l, r], [in_l, in_r]) in pairs.iter().zip(sides) {
             pair(l, r);
             pair(r, l);
-            label[l as usize] = Some(inside(dom.cdt.left_of(i, j)));
-            label[r as usize] = Some(inside(dom.cdt.left_of(j, i)));
+            label[l as usize] = Some(in_l);
+            label[r as usize] = Some(in_r);
         }
         // Cells are neighbours across dual edges of positive length only: at a
         // vertex where four cells meet, the diagonal's dual is a point.
@@ -444,9 +446,14 @@ fn input_vertices(
             }
         }
     }
-    for (t, tri) in tris.iter().enumerate() {
+    // (the tests in parallel, in triangle order)
+    let common: Vec<Option<u32>> = tris
+        .par_iter()
+        .map(|tri| sites.common_vertex(&tri.map(|s| s as usize)))
+        .collect();
+    for (t, v) in common.into_iter().enumerate() {
         size[class[t] as usize] += 1;
-        if let Some(v) = sites.common_vertex(&tri.map(|s| s as usize)) {
+        if let Some(v) = v {
             set(&mut input_vertex[class[t] as usize], v)?;
         }
     }

@@ -5,21 +5,22 @@
 #[cxx::bridge(namespace = "orthomesh")]
 pub(super) mod bridge {
     struct TriangulationOut {
-        /// ccw triangles, 3 input indices each
-        triangles: Vec<u32>,
+        /// ccw triangles, 3 input indices each (C++ vectors: filled there
+        /// without a call into Rust per element)
+        triangles: UniquePtr<CxxVector<u32>>,
         /// per triangle, the triangle across its edge k (from its vertex k
         /// to k + 1), u32::MAX on the hull
-        neighbours: Vec<u32>,
+        neighbours: UniquePtr<CxxVector<u32>>,
         /// input indices that are no vertex of the triangulation
         hidden: Vec<u32>,
     }
 
     struct TetrahedralisationOut {
         /// positively oriented tetrahedra, 4 input indices each
-        tets: Vec<u32>,
+        tets: UniquePtr<CxxVector<u32>>,
         /// per tetrahedron, the one across the face opposite its vertex k,
         /// u32::MAX on the hull
-        neighbours: Vec<u32>,
+        neighbours: UniquePtr<CxxVector<u32>>,
         /// input indices that are no vertex of the triangulation
         hidden: Vec<u32>,
     }

@@ -24,10 +24,15 @@ fn convert(
 ) -> Result<Triangulation> {
     let out = thrown(r)?;
     Ok(Triangulation::from_parts(
-        &out.triangles,
-        &out.neighbours,
+        slice(&out.triangles),
+        slice(&out.neighbours),
         out.hidden,
     ))
+}
+
+/// A C++ vector's elements (none when the shim left it null).
+fn slice(v: &cxx::UniquePtr<cxx::CxxVector<u32>>) -> &[u32] {
+    v.as_ref().map_or(&[], |v| v.as_slice())
 }
 
 impl Backend for Cgal {
@@ -86,8 +91,8 @@ fn convert3(
 ) -> Result<Tetrahedralisation> {
     let out = thrown(out)?;
     Ok(Tetrahedralisation::from_parts(
-        &out.tets,
-        &out.neighbours,
+        slice(&out.tets),
+        slice(&out.neighbours),
         out.hidden,
     ))
 }
