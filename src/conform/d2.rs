@@ -12,7 +12,6 @@ use crate::options::Options;
 use crate::relocate::relocate;
 use crate::sites::{Role, Sites};
 use crate::weights;
-use rayon::prelude::*;
 use std::time::Instant;
 
 /// Stages the 2D pipeline reports (the clock's laps).
@@ -55,14 +54,8 @@ fn with_weights<B: Backend + ?Sized>(
             proved: ids(&wts.sys3_proved),
         });
     }
-    let inside = |t: Option<u32>| t.is_some_and(|t| dom.inside[t as usize]);
-    let domain_side: Vec<[bool; 2]> = cx
-        .segments
-        .par_iter()
-        .map(|&[i, j]| [inside(dom.cdt.left_of(i, j)), inside(dom.cdt.left_of(j, i))])
-        .collect();
     let corners = opts.corner_sites;
-    let mut sites = Sites::place(cx, &wts.w, &wts.rt, &wts.sys3_failed, &domain_side, corners);
+    let mut sites = Sites::place(cx, &wts.w, &wts.rt, &wts.sys3_failed, &dom.sides, corners);
     if let Some(s) = sites.unrepresentable() {
         return Err(Error::Certificate(format!(
             "{} lies beyond the range of doubles: cells this thin cannot be written in double precision",

@@ -346,11 +346,7 @@ impl Diagram {
             slots[usize::from(slots[0] != u32::MAX)] = b;
         };
         let mut label: Vec<Option<bool>> = vec![None; n];
-        let inside = |t: Option<u32>| t.is_some_and(|t| dom.inside[t as usize]);
-        let sides: Vec<[bool; 2]> = (cx.segments.par_iter())
-            .map(|&[i, j]| [dom.cdt.left_of(i, j), dom.cdt.left_of(j, i)].map(inside))
-            .collect();
-        for (&[l, r], [in_l, in_r]) in pairs.iter().zip(sides) {
+        for (&[l, r], &[in_l, in_r]) in pairs.iter().zip(&dom.sides) {
             pair(l, r);
             pair(r, l);
             label[l as usize] = Some(in_l);

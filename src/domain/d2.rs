@@ -19,6 +19,9 @@ pub struct Domain {
     pub complex: Complex,
     pub cdt: Triangulation,
     pub inside: Vec<bool>,
+    /// Per segment, whether the triangles on its left and on its right are
+    /// in the domain.
+    pub sides: Vec<[bool; 2]>,
     /// Convex-hull edges added as constraints.
     pub hull_edges_added: usize,
     /// Input vertices and segments dropped as outside the domain.
@@ -118,12 +121,8 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
             }
         }
     }
-    let inside_at = |t: Option<u32>| t.is_some_and(|t| inside[t as usize]);
-    let keep_s: Vec<bool> = cx
-        .segments
-        .par_iter()
-        .map(|&[a, b]| inside_at(cdt.left_of(a, b)) || inside_at(cdt.left_of(b, a)))
-        .collect();
+    let sides = segment_sides(&cx, &cdt, &inside);
+    let keep_s: Vec<bool> = sides.iter().map(|&[l, r]| l || r).collect();
     let dropped_vertices = keep_v.iter().filter(|&&k| !k).count();
     let dropped_segments = keep_s.iter().filter(|&&k| !k).count();
     if dropped_vertices == 0 && dropped_segments == 0 {
@@ -131,6 +130,7 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
             complex: cx,
             cdt,
             inside,
+            sides,
             hull_edges_added,
             dropped_vertices,
             dropped_segments,
@@ -163,14 +163,25 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
     ));
     let cdt = backend.constrained_delaunay(&rc.points, &rc.segments)?;
     let inside = classify(&rc, &cdt);
+    let sides = segment_sides(&rc, &cdt, &inside);
     Ok(Domain {
         complex: rc,
         cdt,
         inside,
+        sides,
         hull_edges_added,
         dropped_vertices,
         dropped_segments,
     })
+}
+
+/// Per segment, whether the triangles left and right of it are inside.
+fn segment_sides(cx: &Complex, cdt: &Triangulation, inside: &[bool]) -> Vec<[bool; 2]> {
+    let inside_at = |t: Option<u32>| t.is_some_and(|t| inside[t as usize]);
+    cx.segments
+        .par_iter()
+        .map(|&[a, b]| [cdt.left_of(a, b), cdt.left_of(b, a)].map(inside_at))
+        .collect()
 }
 
 /// Directed convex-hull edges (interior on the left) and their triangles.
