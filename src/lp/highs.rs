@@ -196,115 +196,6 @@ pub(crate) fn rejected(e: highs::HighsStatus) -> Error {
     ))
 }
 
-thread_local! {
-    /// The flags of the work this thread runs that another may make moot
-    /// (`cancellable`, innermost last): HiGHS runs stop as soon as one is
-    /// raised.
-    static CANCEL: std::cell::RefCell<Vec<Arc<AtomicBool>>> = const { std::cell::RefCell::new(Vec::new()) };
-}
-
-/// Runs `f` so that raising `stop` interrupts its HiGHS runs (and makes
-/// every later one fail at once) with an error that the caller discards.
-/// Run speculatively beside the work that decides whether it is needed.
-#[cfg(test)]
-pub(crate) fn cancellable<T>(stop: &Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
-    CANCEL.with_borrow_mut(|c| c.push(stop.clone()));
-    let out = f();
-    CANCEL.with_borrow_mut(|c| c.pop());
-    out
-}
-
-/// This thread's cancellation flags, for work that may run on another
-/// thread (`carried`).
-pub(crate) fn flags() -> Vec<Arc<AtomicBool>> {
-    CANCEL.with_borrow(|c| c.clone())
-}
-
-/// Runs `f` with `flags` as this thread's cancellation flags. Every job
-/// that may run on another of rayon's threads carries its maker's flags
-/// so: a thread waiting in a join steals other jobs, which must not see
-/// the flags of the work it waits in (a whole cavity's weights were
-/// cancelled so, as an internal error).
-pub(crate) fn carried<T>(flags: &[Arc<AtomicBool>], f: impl FnOnce() -> T) -> T {
-    let before = CANCEL.with_borrow_mut(|c| std::mem::replace(c, flags.to_vec()));
-    let out = f();
-    CANCEL.with_borrow_mut(|c| *c = before);
-    out
-}
-
-/// Runs `aside`, then `main`, both cancelled where the caller is, each
-/// given the flag that makes the other moot: raised, it keeps the other
-/// from starting (None).
-pub(crate) fn beside<A: Send, B: Send>(
-    main: impl FnOnce(&AtomicBool) -> A + Send,
-    aside: impl FnOnce(&AtomicBool) -> B + Send,
-) -> (Option<A>, Option<B>) {
-    let outer = CANCEL.with_borrow(|c| c.clone());
-    let (moot_main, moot_aside) = (
-        Arc::new(AtomicBool::new(false)),
-        Arc::new(AtomicBool::new(false)),
-    );
-    let unless = |moot: &Arc<AtomicBool>, f: &mut dyn FnMut()| {
-        if !moot.load(Ordering::Relaxed) {
-            let flags: Vec<_> = outer.iter().chain([moot]).cloned().collect();
-            carried(&flags, f);
-        }
-    };
-    let (mut a, mut b) = (None, None);
-    let mut run_main = Some(|| main(&moot_aside));
-    let mut run_aside = Some(|| aside(&moot_main));
-    // One after the other: run side by side, a cavity's weights failed
-    // now and then with a cancelled run's error (fields3, emerald (5, 4)
-    // 12-18, in 2 of 4 runs of the suite), its cause not found.
-    unless(&moot_aside, &mut || b = run_aside.take().map(|f| f()));
-    unless(&moot_main, &mut || a = run_main.take().map(|f| f()));
-    (a, b)
-}
-
-/// A model moved to another thread (built beside the work that needs it).
-pub(crate) struct Moved(pub(crate) Lp);
-
-// SAFETY: a HiGHS instance keeps no state tied to the thread that made it
-// (its scheduler's per-thread state belongs to the threads that run), and
-// a `Moved` model is used by one thread at a time.
-#[allow(unsafe_code)]
-unsafe impl Send for Moved {}
-
-/// A closure or value that stays on its thread (`beside_here`).
-struct Here<T>(T);
-
-// SAFETY: only `beside_here` makes these, for the first closure of a
-// `rayon::join` called on one of rayon's threads and for its result:
-// rayon runs that closure on the calling thread, so neither leaves it.
-#[allow(unsafe_code)]
-unsafe impl<T> Send for Here<T> {}
-
-impl<T> Here<T> {
-    fn run<A>(self) -> A
-    where
-        T: FnOnce() -> A,
-    {
-        (self.0)()
-    }
-}
-
-/// Runs `main`, which holds a model and so stays on this thread, and
-/// `aside` in parallel where rayon finds a free thread (cancelled where
-/// the caller is). Off rayon's threads, or with one, `aside` runs first.
-pub(crate) fn beside_here<A, B: Send>(
-    main: impl FnOnce() -> A,
-    aside: impl FnOnce() -> B + Send,
-) -> (A, B) {
-    if rayon::current_thread_index().is_none() || rayon::current_num_threads() < 2 {
-        let b = aside();
-        return (main(), b);
-    }
-    let outer = CANCEL.with_borrow(|c| c.clone());
-    let main = Here(main);
-    let (a, b) = rayon::join(move || Here(main.run()), || carried(&outer, aside));
-    (a.0, b)
-}
-
 /// The error of a cancelled run (never shown: the caller discards it).
 fn cancelled() -> Error {
     Error::Internal("an LP run was cancelled but its result was used".into())
@@ -339,7 +230,7 @@ unsafe extern "C" fn interrupt(
 #[allow(unsafe_code)]
 fn run_model(model: &mut highs::Model, stall: i32) -> Result<(HighsModelStatus, Option<Vec<f64>>)> {
     let ptr = model.as_mut_ptr();
-    let stop = CANCEL.with_borrow(|c| c.clone());
+    let stop = super::cancel::flags();
     let raised = || stop.iter().any(|s| s.load(Ordering::Relaxed));
     if !stop.is_empty() {
         if raised() {
@@ -545,6 +436,11 @@ impl Lp {
         }
         let mut model = pb.try_optimise(sense).map_err(rejected)?;
         model.make_quiet();
+        // HiGHS' own threads are unused here (the simplex runs serially,
+        // the pieces in parallel); with the default (0) every run asked
+        // the system for its core count (measured: 3% of the CPU time of
+        // `generate mixed 20`).
+        model.set_option("threads", 1);
         // Measured: dual simplex stalls on large sparse systems of this shape
         // where interior point finishes in seconds (docs/method.md section 2).
         model.set_option("solver", if big { "ipm" } else { "simplex" });
@@ -641,7 +537,6 @@ impl Lp {
     }
 
     /// The lazy rows that the solution `cols` violates, now in the model.
-    #[allow(unsafe_code)]
     pub(crate) fn enter_violated(&mut self, sys: &System, cols: &[f64]) -> Result<bool> {
         let n = self.w.len();
         // An elastic model's system 3 row has its segment's slack instead
@@ -682,15 +577,34 @@ impl Lp {
             // Only a model's first round is grouped (`ENTER_ALL`).
             self.enter_all = usize::MAX;
         }
-        // (in one HiGHS call: one at a time, each rebuilt the row-wise
-        // copy of the matrix)
+        self.add_rows(sys, &enter)?;
+        self.lazy = keep;
+        if !enter.is_empty() {
+            self.simplex(true);
+        }
+        Ok(!enter.is_empty())
+    }
+
+    /// The lazy rows `enter` (indices into `sys.rows`) in the model, in
+    /// one HiGHS call (one at a time, each rebuilt the row-wise copy of
+    /// the matrix). The caller takes them out of `lazy`.
+    #[allow(unsafe_code)]
+    pub(crate) fn add_rows(&mut self, sys: &System, enter: &[usize]) -> Result<()> {
+        if enter.is_empty() {
+            return Ok(());
+        }
+        let n = self.w.len();
         let (mut lower, mut starts, mut index, mut values) = (vec![], vec![], vec![], vec![]);
-        for &at in &enter {
+        for &at in enter {
             let r = &sys.rows[at];
             starts.push(index.len() as highs_sys::HighsInt);
-            let (extra, low) = match elastic(r) {
-                Some(sl) => ((sl, 1.0), r.rhs + ELASTIC_ROW_MARGIN),
-                None => ((self.delta, -r.share), r.rhs),
+            // An elastic model's system 3 row has its segment's slack
+            // instead of the margin, and its small margin.
+            let (extra, low) = match r.family {
+                Family::Sys3(s) if self.slack.contains_key(&s) => {
+                    ((self.slack[&s], 1.0), r.rhs + ELASTIC_ROW_MARGIN)
+                }
+                _ => ((self.delta, -r.share), r.rhs),
             };
             for (c, v) in model_terms(r, n, &self.w, &self.aux).chain([extra]) {
                 index.push(c.index() as highs_sys::HighsInt);
@@ -699,32 +613,26 @@ impl Lp {
             lower.push(low);
             self.refs.push(RowRef::Row(at));
         }
-        if !enter.is_empty() {
-            let upper = vec![f64::INFINITY; enter.len()];
-            let model = self.model.as_mut().expect("model");
-            // SAFETY: live instance; one bound pair and one start per row,
-            // `index` and `values` of one length, columns of this model.
-            let status = unsafe {
-                highs_sys::Highs_addRows(
-                    model.as_mut_ptr(),
-                    enter.len() as _,
-                    lower.as_ptr(),
-                    upper.as_ptr(),
-                    index.len() as _,
-                    starts.as_ptr(),
-                    index.as_ptr(),
-                    values.as_ptr(),
-                )
-            };
-            if status == highs_sys::STATUS_ERROR {
-                return Err(rejected(highs::HighsStatus::Error));
-            }
+        let upper = vec![f64::INFINITY; enter.len()];
+        let model = self.model.as_mut().expect("model");
+        // SAFETY: live instance; one bound pair and one start per row,
+        // `index` and `values` of one length, columns of this model.
+        let status = unsafe {
+            highs_sys::Highs_addRows(
+                model.as_mut_ptr(),
+                enter.len() as _,
+                lower.as_ptr(),
+                upper.as_ptr(),
+                index.len() as _,
+                starts.as_ptr(),
+                index.as_ptr(),
+                values.as_ptr(),
+            )
+        };
+        if status == highs_sys::STATUS_ERROR {
+            return Err(rejected(highs::HighsStatus::Error));
         }
-        self.lazy = keep;
-        if !enter.is_empty() {
-            self.simplex(true);
-        }
-        Ok(!enter.is_empty())
+        Ok(())
     }
 
     /// Whether the columns `cols` of this model meet |w_i| <= k l_i^2.

@@ -26,14 +26,16 @@
 //! minimises the total violation of system 3, so that as few segments as
 //! possible miss their duals.
 
+mod cancel;
 mod highs;
 mod pieces;
 mod proof;
 mod rows;
 
 #[cfg(test)]
-pub(crate) use highs::cancellable;
-pub(crate) use highs::{carried, destroy_finished, flags};
+pub(crate) use cancel::cancellable;
+pub(crate) use cancel::{carried, flags};
+pub(crate) use highs::destroy_finished;
 use highs::{Basis, Lp, Mode, Solution};
 pub(crate) use pieces::solve_pieces;
 #[cfg(test)]
@@ -292,7 +294,7 @@ fn margin_on(
             // TetGen's example: 1.5 ms off the critical path). Skipped or
             // solved, the rung after it restarts from this one's optimum.
             let deadline = report.deadline;
-            let (solved, fails) = highs::beside_here(
+            let (solved, fails) = cancel::beside_here(
                 || lp.solve(sys, report, enough),
                 || fails(sys, with3, order[1], deadline),
             );
@@ -408,7 +410,7 @@ struct Verdict {
     duals: Duals,
     /// Where the margin is not trusted: a fresh model of the first rung
     /// for settling (built here, beside the elastic solves).
-    next: Option<highs::Moved>,
+    next: Option<cancel::Moved>,
 }
 
 /// Systems 1 and 3 together: their margin up the ladder, then phase 2
@@ -435,7 +437,7 @@ fn verdict(
     // A verdict's first rung is free: its duals may prove the margin's sign.
     let (duals, next) = if with_duals && sys.verdict {
         let duals = lp.duals(sys, report)?;
-        let next = highs::Moved(Lp::build(sys, true, None, &Mode::Margin)?);
+        let next = cancel::Moved(Lp::build(sys, true, None, &Mode::Margin)?);
         (duals, Some(next))
     } else {
         (vec![], None)
@@ -571,7 +573,7 @@ pub(crate) fn solve_rows(
         ..report.clone()
     };
     let (mut by_elastic, mut by_verdict) = (part(), part());
-    let (side, v) = highs::beside(
+    let (side, v) = cancel::beside(
         |moot| elastic_side(sys, moot, &mut by_elastic),
         |found| verdict(sys, true, found, &mut by_verdict),
     );

@@ -120,7 +120,7 @@ fn solve_kept<B: Backend + ?Sized>(
     way: Keep,
 ) -> Result<Weights3> {
     let first = untouched(cx, sc, all);
-    // (one after the other: see lp::highs::beside)
+    // (one after the other: see lp::cancel::beside)
     let mut whole = all.to_vec();
     let mut out = global(backend, cx, dt, faces(cx, sc, all, cut), way);
     for retry in [first, vec![false; all.len()]] {

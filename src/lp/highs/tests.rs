@@ -1,4 +1,5 @@
 use super::*;
+use crate::lp::cancellable;
 use crate::lp::{plane_rows, sys3_rows};
 
 /// The margin system of one segment among four points.
