@@ -318,6 +318,21 @@ fn status_of(model: &mut highs::Model) -> Result<HighsModelStatus> {
         .map_err(|_| Error::SolverLimit(format!("HiGHS returned an unknown model status {code}")))
 }
 
+/// The simplex iterations of a model's last run.
+#[allow(unsafe_code)]
+fn iterations(model: &mut highs::Model) -> usize {
+    let mut count: highs_sys::HighsInt = 0;
+    // SAFETY: a live instance, a name HiGHS knows, an int it writes.
+    unsafe {
+        highs_sys::Highs_getIntInfoValue(
+            model.as_mut_ptr(),
+            c"simplex_iteration_count".as_ptr(),
+            &mut count,
+        )
+    };
+    usize::try_from(count).unwrap_or(0)
+}
+
 /// The column values of a model's last solution.
 #[allow(unsafe_code)]
 pub(crate) fn columns(model: &mut highs::Model) -> Vec<f64> {
@@ -848,6 +863,7 @@ impl Lp {
             )
         };
         let (status, cols) = ran?;
+        report.lp_iterations += iterations(model);
         report.lp_status = format!("{status:?}");
         match status {
             HighsModelStatus::Optimal => {

@@ -42,6 +42,8 @@ pub(crate) use pieces::solve_pieces;
 pub(crate) use proof::agrees as proof_agrees;
 pub use proof::Proof;
 pub(crate) use proof::{prove, Certificate, Duals};
+#[cfg(test)]
+pub(crate) use rows::jittered_lattice;
 pub(crate) use rows::{plane_rows, rel, sys3_rows, Family, Origin, Row, System, Units};
 
 use crate::error::{Error, Result};
@@ -144,6 +146,8 @@ pub struct WeightsReport {
     pub method: String,
     /// LP solves in all.
     pub lp_solves: usize,
+    /// Simplex iterations of those solves, together.
+    pub lp_iterations: usize,
     /// Independent LPs the local form split into (solved in parallel).
     pub lp_pieces: usize,
     /// Largest LP solved (rows, columns).
@@ -191,6 +195,7 @@ impl WeightsReport {
     /// largest, the margin the smallest, the bound the loosest.
     pub(crate) fn absorb(&mut self, piece: &WeightsReport) {
         self.lp_solves += piece.lp_solves;
+        self.lp_iterations += piece.lp_iterations;
         self.lp_rows = self.lp_rows.max(piece.lp_rows);
         self.lp_cols = self.lp_cols.max(piece.lp_cols);
         if self.lp_status.is_empty() || piece.lp_status != "Optimal" {
@@ -524,6 +529,7 @@ fn elastic_side(sys: &System, moot: &AtomicBool, report: &mut WeightsReport) -> 
 /// last status).
 fn merge(report: &mut WeightsReport, part: &WeightsReport) {
     report.lp_solves += part.lp_solves;
+    report.lp_iterations += part.lp_iterations;
     report.lp_rows = report.lp_rows.max(part.lp_rows);
     report.lp_cols = report.lp_cols.max(part.lp_cols);
     if part.lp_solves > 0 {
@@ -570,6 +576,7 @@ pub(crate) fn solve_rows(
     }
     let part = || WeightsReport {
         lp_solves: 0,
+        lp_iterations: 0,
         ..report.clone()
     };
     let (mut by_elastic, mut by_verdict) = (part(), part());

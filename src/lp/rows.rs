@@ -346,6 +346,32 @@ impl<const D: usize> Units<D> {
     }
 }
 
+/// A test system: a jittered 8 x 5 lattice, segments between horizontal
+/// neighbours, each with system 3 rows for every other point.
+#[cfg(test)]
+pub(crate) fn jittered_lattice() -> System {
+    let p: Vec<[f64; 2]> = (0..40)
+        .map(|k| {
+            let t = k as f64;
+            let (x, y) = ((k % 8) as f64, (k / 8) as f64);
+            [x + 0.3 * (t * 1.7).sin(), y + 0.3 * (t * 2.3).cos()]
+        })
+        .collect();
+    let mut sys = System {
+        n: p.len(),
+        free: vec![true; p.len()],
+        verdict: true,
+        unit2: 1.0,
+        l2: vec![1.0; p.len()],
+        ..Default::default()
+    };
+    for s in 0..10u32 {
+        let others: Vec<u32> = (0..p.len() as u32).filter(|&m| m / 2 != s).collect();
+        sys.rows.extend(sys3_rows(&p, s, 2 * s, 2 * s + 1, &others));
+    }
+    sys
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

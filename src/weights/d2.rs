@@ -151,6 +151,7 @@ fn solve_unanchored_first<B: Backend + ?Sized>(
             // of them (keeping the margin it needs): zero weights.
             let mut z = zero_weights(rt, "zero (the LP met no more anchors)");
             z.report.lp_solves = w.report.lp_solves;
+            z.report.lp_iterations = w.report.lp_iterations;
             z.report.lp_rows = w.report.lp_rows;
             z.report.lp_cols = w.report.lp_cols;
             Ok(z)
