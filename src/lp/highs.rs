@@ -2,6 +2,7 @@
 //! phase 2, warm-started from its basis.
 
 use super::proof::{Duals, RowRef};
+use super::warm::Stage;
 use super::{
     finite, Family, Row, System, WeightsReport, ANCHOR_COST, ELASTIC_ROW_MARGIN, LAZY_SLACK,
     LP_BUDGET,
@@ -67,6 +68,11 @@ pub(crate) struct Lp {
     /// Violated lazy rows above which not all enter at once (`ENTER_ALL`;
     /// none once rows have entered).
     pub(crate) enter_all: usize,
+    /// Which solve of the ladder comes next (`warm`).
+    pub(crate) stage: Stage,
+    /// The next of a similar piece's steps to start from (`warm`; past
+    /// the end once this model's ladder went another way).
+    pub(crate) hinted: usize,
 }
 
 thread_local! {
@@ -498,6 +504,11 @@ impl Lp {
             refs,
             floor: floor != Bound::Unbounded,
             enter_all: super::ENTER_ALL,
+            stage: match mode {
+                Mode::Margin => Stage::Margin(k.map(f64::to_bits)),
+                Mode::Elastic { .. } => Stage::Other,
+            },
+            hinted: 0,
         })
     }
 
@@ -710,6 +721,9 @@ impl Lp {
     /// Phase 1 again with |w_i| <= k l_i^2 (free: None).
     pub(crate) fn bound(&mut self, sys: &System, k: Option<f64>) -> Result<()> {
         self.simplex(true);
+        if let Stage::Margin(_) = self.stage {
+            self.stage = Stage::Margin(k.map(f64::to_bits));
+        }
         let (mut cols, mut upper) = (vec![], vec![]);
         for (i, pq) in self.w.iter().enumerate() {
             if let Some((p, q)) = *pq {
@@ -741,6 +755,7 @@ impl Lp {
     /// minimise sum |w_i| / l_i^2 plus the anchors' violations.
     pub(crate) fn regularise(&mut self, sys: &System, delta_min: f64) -> Result<()> {
         self.simplex(false);
+        self.stage = Stage::Phase2;
         let model = self.model.as_mut().expect("model");
         model.set_sense(Sense::Minimise);
         model.change_column_bounds(self.delta, delta_min..=1.0f64.max(delta_min));
@@ -802,23 +817,27 @@ impl Lp {
     /// Solves, and again while the solution violates lazy rows (which
     /// then enter the model; the basis goes on). Rows only lower the
     /// margin: a margin at or below `enough` is returned as it is, an upper
-    /// bound of the whole system's.
+    /// bound of the whole system's. Where the system is like one solved
+    /// before, each solve starts from that one's basis (`warm`).
     pub(crate) fn solve(
         &mut self,
         sys: &System,
         report: &mut WeightsReport,
         enough: f64,
     ) -> Result<Solution> {
-        loop {
+        self.warm_start(sys)?;
+        let solution = loop {
             let (solution, cols) = self.solve_once(sys, report, enough)?;
             if solution.delta <= enough {
-                return Ok(solution);
+                break solution;
             }
             match cols {
                 Some(cols) if self.enter_violated(sys, &cols)? => continue,
-                _ => return Ok(solution),
+                _ => break solution,
             }
-        }
+        };
+        self.record(sys);
+        Ok(solution)
     }
 
     /// One HiGHS run: the solution, and the columns when optimal.

@@ -31,6 +31,7 @@ mod highs;
 mod pieces;
 mod proof;
 mod rows;
+mod warm;
 
 #[cfg(test)]
 pub(crate) use cancel::cancellable;

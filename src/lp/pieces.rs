@@ -1,6 +1,7 @@
 //! The local form's system split into independent pieces, solved in
 //! parallel.
 
+use super::warm::{keys, Warm};
 use super::{solve_rows, Answer, Origin, Row, System, WeightsReport};
 use crate::error::Result;
 use crate::progress::Progress;
@@ -156,29 +157,61 @@ pub(crate) fn solve_pieces(
 ) -> Result<Option<Vec<f64>>> {
     use rayon::prelude::*;
     use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Arc;
     let n = sys.n;
-    let parts = pieces(sys);
+    let mut parts = pieces(sys);
+    let count = parts.len();
     let done = AtomicUsize::new(0);
     let outer = super::flags();
-    let answers: Vec<(Result<Answer>, WeightsReport)> = parts
-        .par_iter()
-        .map(|p| {
-            let mut r = WeightsReport {
-                deadline: report.deadline,
-                ..Default::default()
-            };
-            let answer = super::carried(&outer, || solve_rows(&p.sys, false, &mut r));
-            let k = done.fetch_add(1, Ordering::Relaxed) + 1;
-            if let Some(f) = progress.filter(|_| k % 64 == 0 || k == parts.len()) {
-                f("weights: LP pieces", k, parts.len());
-            }
-            (answer, r)
-        })
+    let solve = |p: &Piece| {
+        let mut r = WeightsReport {
+            deadline: report.deadline,
+            ..Default::default()
+        };
+        let answer = super::carried(&outer, || solve_rows(&p.sys, false, &mut r));
+        let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+        if let Some(f) = progress.filter(|_| k % 64 == 0 || k == count) {
+            f("weights: LP pieces", k, count);
+        }
+        (answer, r)
+    };
+    // The first piece of each pattern, then the others from its steps.
+    let keys: Vec<(u64, Vec<u64>)> = parts.par_iter().map(|p| keys(&p.sys)).collect();
+    let mut first = crate::FastMap::default();
+    let leader: Vec<usize> = (keys.iter().enumerate())
+        .map(|(i, k)| *first.entry(k.0).or_insert(i))
         .collect();
+    let mut alike = vec![0usize; parts.len()];
+    leader.iter().for_each(|&l| alike[l] += 1);
+    let mut keys: Vec<Vec<u64>> = keys.into_iter().map(|k| k.1).collect();
+    let leads: Vec<usize> = (0..parts.len()).filter(|&i| leader[i] == i).collect();
+    for &i in &leads {
+        let warm = Warm::leader(std::mem::take(&mut keys[i]), alike[i] > 1);
+        parts[i].sys.warm = Some(Arc::new(warm));
+    }
+    let mut answers: Vec<Option<(Result<Answer>, WeightsReport)>> =
+        (0..parts.len()).map(|_| None).collect();
+    let led: Vec<_> = leads.par_iter().map(|&i| solve(&parts[i])).collect();
+    for (&i, a) in leads.iter().zip(led) {
+        answers[i] = Some(a);
+    }
+    let steps: crate::FastMap<usize, _> = (leads.iter())
+        .map(|&i| (i, parts[i].sys.warm.as_ref().and_then(|w| w.steps())))
+        .collect();
+    let rest: Vec<usize> = (0..parts.len()).filter(|&i| leader[i] != i).collect();
+    for &i in &rest {
+        let warm = Warm::follower(std::mem::take(&mut keys[i]), steps[&leader[i]].clone());
+        parts[i].sys.warm = Some(Arc::new(warm));
+    }
+    let followed: Vec<_> = rest.par_iter().map(|&i| solve(&parts[i])).collect();
+    for (&i, a) in rest.iter().zip(followed) {
+        answers[i] = Some(a);
+    }
+    let answers = answers.into_iter().map(|a| a.expect("every piece solved"));
     report.lp_pieces = parts.len();
     let mut w = vec![0.0; n];
     let mut all = true;
-    for ((answer, r), part) in answers.into_iter().zip(&parts) {
+    for ((answer, r), part) in answers.zip(&parts) {
         report.absorb(&r);
         match answer? {
             Answer::Weights(pw, ..) => {

@@ -86,6 +86,9 @@ pub(crate) struct System {
     pub(crate) l2: Vec<f64>,
     pub(crate) rows: Vec<Row>,
     pub(crate) eqs: Vec<Row>,
+    /// Where this system is one of many alike (the local form's pieces),
+    /// what its solves start from or leave for the others (`warm`).
+    pub(crate) warm: Option<std::sync::Arc<super::warm::Warm>>,
 }
 
 impl Row {
