@@ -1,6 +1,7 @@
 //! One HiGHS model of a row system, kept across phase 1's k ladder and
 //! phase 2, warm-started from its basis.
 
+use super::instance::{self, Col, Problem};
 use super::proof::{Duals, RowRef};
 use super::warm::Stage;
 use super::{
@@ -8,7 +9,7 @@ use super::{
     LP_BUDGET,
 };
 use crate::error::{Error, Result};
-use highs::{HighsModelStatus, RowProblem, Sense};
+use highs::{HighsModelStatus, Sense};
 use std::collections::HashMap;
 use std::ops::Bound;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -51,12 +52,12 @@ pub(crate) struct Lp {
     pub(crate) model: Option<highs::Model>,
     /// Per weight, its columns (p, q); None for fixed weights, which are
     /// zero and left out of the rows.
-    pub(crate) w: Vec<Option<(highs::Col, highs::Col)>>,
+    pub(crate) w: Vec<Option<(Col, Col)>>,
     /// The auxiliary columns (supporting planes' free slopes).
-    pub(crate) aux: Vec<highs::Col>,
-    pub(crate) delta: highs::Col,
+    pub(crate) aux: Vec<Col>,
+    pub(crate) delta: Col,
     /// Elastic mode: the violation column of each segment.
-    pub(crate) slack: HashMap<u32, highs::Col>,
+    pub(crate) slack: HashMap<u32, Col>,
     /// Rows of `sys.rows` not in the model yet (see `LAZY_SLACK`).
     pub(crate) lazy: Vec<usize>,
     /// Whether the next solve is the dual simplex (see `Lp::simplex`).
@@ -92,6 +93,10 @@ impl Drop for Lp {
         let Some(model) = self.model.take() else {
             return;
         };
+        // Kept for this thread's next model where it keeps few.
+        let Some(model) = instance::keep(model) else {
+            return;
+        };
         let batch = FINISHED.with_borrow_mut(|f| {
             f.push(model);
             (f.len() >= DROP_BATCH).then(|| std::mem::take(f))
@@ -109,7 +114,8 @@ impl Drop for Lp {
 /// of TetGen's example).
 pub(crate) fn destroy_finished() {
     fn flush() {
-        let batch = FINISHED.with_borrow_mut(std::mem::take);
+        let mut batch = FINISHED.with_borrow_mut(std::mem::take);
+        batch.extend(instance::kept());
         if !batch.is_empty() {
             let _alone = HIGHS.write().unwrap_or_else(|e| e.into_inner());
             drop(batch);
@@ -127,9 +133,9 @@ pub(crate) fn destroy_finished() {
 fn model_terms<'a>(
     r: &'a Row,
     n: usize,
-    w: &'a [Option<(highs::Col, highs::Col)>],
-    aux: &'a [highs::Col],
-) -> impl Iterator<Item = (highs::Col, f64)> + 'a {
+    w: &'a [Option<(Col, Col)>],
+    aux: &'a [Col],
+) -> impl Iterator<Item = (Col, f64)> + 'a {
     r.terms.iter().flat_map(move |&(c, v)| {
         let pair = match (c.checked_sub(n), w.get(c).copied().flatten()) {
             (Some(a), _) => [Some((aux[a], v)), None],
@@ -141,10 +147,7 @@ fn model_terms<'a>(
 }
 
 /// A row over weights alone (no auxiliary columns) as model terms.
-pub(crate) fn weight_row(
-    w: &[Option<(highs::Col, highs::Col)>],
-    r: &Row,
-) -> Vec<(highs::Col, f64)> {
+pub(crate) fn weight_row(w: &[Option<(Col, Col)>], r: &Row) -> Vec<(Col, f64)> {
     model_terms(r, w.len(), w, &[]).collect()
 }
 
@@ -158,11 +161,7 @@ pub(crate) enum Change<'a> {
 /// time, and HiGHS invalidates its solution and info at every call
 /// (measured: 6% of the pieces' instructions).
 #[allow(unsafe_code)]
-pub(crate) fn change_columns(
-    model: &mut highs::Model,
-    cols: &[highs::Col],
-    change: Change,
-) -> Result<()> {
+pub(crate) fn change_columns(model: &mut highs::Model, cols: &[Col], change: Change) -> Result<()> {
     let set: Vec<highs_sys::HighsInt> = cols.iter().map(|c| c.index() as _).collect();
     let n = set.len() as highs_sys::HighsInt;
     let ptr = model.as_mut_ptr();
@@ -192,14 +191,6 @@ pub(crate) fn change_columns(
         ));
     }
     Ok(())
-}
-
-/// HiGHS refused a row or the model.
-pub(crate) fn rejected(e: highs::HighsStatus) -> Error {
-    Error::SolverLimit(format!(
-        "HiGHS rejects the LP as built ({e:?}): its coefficients are beyond its range \
-         (nearly coincident or collinear vertices?)"
-    ))
 }
 
 /// The error of a cancelled run (never shown: the caller discards it).
@@ -372,6 +363,14 @@ pub(crate) fn margin_floor(sys: &System, with3: bool, big: bool) -> Bound<f64> {
     }
 }
 
+/// A lower bound as a number (unbounded: minus infinity).
+fn lowest(b: Bound<f64>) -> f64 {
+    match b {
+        Bound::Included(x) | Bound::Excluded(x) => x,
+        Bound::Unbounded => f64::NEG_INFINITY,
+    }
+}
+
 /// Whether a row is one of the model's margin rows: system 1's, and
 /// system 3's when asked for (anchors are elastic rows of phase 2).
 pub(crate) fn margin_row(r: &Row, with3: bool) -> bool {
@@ -392,13 +391,13 @@ impl Lp {
     /// The model of `sys` in `mode` (Margin or Elastic; phase 2 comes from
     /// a Margin model through `regularise`).
     pub(crate) fn build(sys: &System, with3: bool, k: Option<f64>, mode: &Mode) -> Result<Lp> {
-        let mut pb = RowProblem::default();
-        let free = (Bound::<f64>::Unbounded, Bound::<f64>::Unbounded);
+        let mut pb = Problem::default();
+        let free = (f64::NEG_INFINITY, f64::INFINITY);
         let w: Vec<_> = (0..sys.n)
             .map(|i| {
                 sys.free[i].then(|| {
-                    let b = 0.0..=part_upper(sys, i, k);
-                    (pb.add_column(0.0, b.clone()), pb.add_column(0.0, b))
+                    let b = (0.0, part_upper(sys, i, k));
+                    (pb.add_column(0.0, b), pb.add_column(0.0, b))
                 })
             })
             .collect();
@@ -411,12 +410,9 @@ impl Lp {
         let (delta, sense) = match mode {
             // Minimise -delta: HiGHS' dual simplex stops at an objective
             // bound on minimisations only (`solve_once`).
-            Mode::Margin => (
-                pb.add_column(-1.0, (floor, Bound::Included(1.0))),
-                Sense::Minimise,
-            ),
+            Mode::Margin => (pb.add_column(-1.0, (lowest(floor), 1.0)), Sense::Minimise),
             Mode::Elastic { delta_min, .. } => (
-                pb.add_column(0.0, *delta_min..=1.0f64.max(*delta_min)),
+                pb.add_column(0.0, (*delta_min, 1.0f64.max(*delta_min))),
                 Sense::Minimise,
             ),
         };
@@ -424,7 +420,7 @@ impl Lp {
         let mut slack = HashMap::new();
         let mut refs = vec![];
         for (at, r) in sys.eqs.iter().enumerate().filter(|(_, r)| finite(r)) {
-            pb.add_row(r.rhs..=r.rhs, terms(r));
+            pb.add_row((r.rhs, r.rhs), terms(r));
             refs.push(RowRef::Eq(at));
         }
         let lazy_ok = !big && ((matches!(mode, Mode::Margin) && sys.aux == 0) || sys.lazy_aux);
@@ -440,23 +436,26 @@ impl Lp {
                     // sum(terms) + slack_s >= rhs + small positive margin
                     // (the slack column exists even while its rows are lazy)
                     let cost = costs.get(&s).copied().unwrap_or(1.0);
-                    let sl = *slack.entry(s).or_insert_with(|| pb.add_column(cost, 0.0..));
+                    let sl = *slack
+                        .entry(s)
+                        .or_insert_with(|| pb.add_column(cost, (0.0, f64::INFINITY)));
                     if lazy_ok && -r.rhs > LAZY_SLACK {
                         lazy.push(at);
                         continue;
                     }
-                    pb.add_row((r.rhs + ELASTIC_ROW_MARGIN).., terms(r).chain([(sl, 1.0)]));
+                    let low = r.rhs + ELASTIC_ROW_MARGIN;
+                    pb.add_row((low, f64::INFINITY), terms(r).chain([(sl, 1.0)]));
                     refs.push(RowRef::Row(at));
                 }
                 _ if lazy_ok && -r.rhs > LAZY_SLACK => lazy.push(at),
                 _ => {
-                    pb.add_row(r.rhs.., terms(r).chain([(delta, -r.share)]));
+                    pb.add_row((r.rhs, f64::INFINITY), terms(r).chain([(delta, -r.share)]));
                     refs.push(RowRef::Row(at));
                 }
             }
         }
-        let mut model = pb.try_optimise(sense).map_err(rejected)?;
-        model.make_quiet();
+        let mut model = pb.pass()?;
+        model.set_sense(sense);
         // HiGHS' own threads are unused here (the simplex runs serially,
         // the pieces in parallel); with the default (0) every run asked
         // the system for its core count (measured: 3% of the CPU time of
@@ -557,7 +556,7 @@ impl Lp {
             ));
         }
         let floor = margin_floor(sys, with3, false);
-        model.change_column_bounds(self.delta, (floor, Bound::Included(1.0)));
+        instance::column_bounds(model, self.delta, (lowest(floor), 1.0));
         self.floor = floor != Bound::Unbounded;
         Ok(true)
     }
@@ -656,7 +655,7 @@ impl Lp {
             )
         };
         if status == highs_sys::STATUS_ERROR {
-            return Err(rejected(highs::HighsStatus::Error));
+            return Err(instance::refused("rows added to the LP"));
         }
         Ok(())
     }
@@ -740,13 +739,13 @@ impl Lp {
     /// absent); the primal simplex goes on from the basis.
     pub(crate) fn recost(&mut self, costs: &HashMap<u32, f64>) -> Result<()> {
         self.simplex(false);
-        let mut by_col: Vec<(highs::Col, f64)> = self
+        let mut by_col: Vec<(Col, f64)> = self
             .slack
             .iter()
             .map(|(s, &c)| (c, costs.get(s).copied().unwrap_or(1.0)))
             .collect();
         by_col.sort_unstable_by_key(|c| c.0.index());
-        let (cols, cost): (Vec<highs::Col>, Vec<f64>) = by_col.into_iter().unzip();
+        let (cols, cost): (Vec<Col>, Vec<f64>) = by_col.into_iter().unzip();
         let model = self.model.as_mut().expect("model");
         change_columns(model, &cols, Change::Costs(&cost))
     }
@@ -758,7 +757,7 @@ impl Lp {
         self.stage = Stage::Phase2;
         let model = self.model.as_mut().expect("model");
         model.set_sense(Sense::Minimise);
-        model.change_column_bounds(self.delta, delta_min..=1.0f64.max(delta_min));
+        instance::column_bounds(model, self.delta, (delta_min, 1.0f64.max(delta_min)));
         let (mut cols, mut cost) = (vec![self.delta], vec![0.0]);
         for (i, pq) in self.w.iter().enumerate() {
             if let Some((p, q)) = *pq {
@@ -770,15 +769,11 @@ impl Lp {
         for r in sys.rows.iter().filter(finite) {
             if r.family == Family::Anchor {
                 // sum(terms) + s+ - s- == rhs, |violation| costed
-                let up = model
-                    .try_add_column(ANCHOR_COST, 0.0.., [])
-                    .map_err(rejected)?;
-                let down = model
-                    .try_add_column(ANCHOR_COST, 0.0.., [])
-                    .map_err(rejected)?;
+                let up = instance::add_column(model, ANCHOR_COST, (0.0, f64::INFINITY))?;
+                let down = instance::add_column(model, ANCHOR_COST, (0.0, f64::INFINITY))?;
                 let mut terms = weight_row(&self.w, r);
                 terms.extend([(up, 1.0), (down, -1.0)]);
-                model.try_add_row(r.rhs..=r.rhs, terms).map_err(rejected)?;
+                instance::add_row(model, (r.rhs, r.rhs), &terms)?;
                 self.refs.push(RowRef::Other);
             }
         }
@@ -794,7 +789,7 @@ impl Lp {
             self.floor = false;
             self.simplex(false);
             let model = self.model.as_mut().expect("model");
-            model.change_column_bounds(self.delta, ..=1.0);
+            instance::column_bounds(model, self.delta, (f64::NEG_INFINITY, 1.0));
             self.solve(sys, report, f64::NEG_INFINITY)?;
         }
         let model = self.model.as_mut().expect("model");

@@ -28,6 +28,7 @@
 
 mod cancel;
 mod highs;
+mod instance;
 mod pieces;
 mod proof;
 mod rows;
