@@ -655,7 +655,7 @@ impl Lp {
             )
         };
         if status == highs_sys::STATUS_ERROR {
-            return Err(instance::refused("rows added to the LP"));
+            return Err(instance::refused("rows added"));
         }
         Ok(())
     }

@@ -84,7 +84,7 @@ impl Problem {
         };
         if status == highs_sys::STATUS_ERROR {
             keep(model);
-            return Err(refused("the LP as built"));
+            return Err(refused("the model"));
         }
         Ok(model)
     }
@@ -93,7 +93,7 @@ impl Problem {
 /// HiGHS refused a model, a row or a column.
 pub(crate) fn refused(what: &str) -> Error {
     Error::SolverLimit(format!(
-        "HiGHS rejects {what}: its coefficients are beyond its range \
+        "HiGHS rejects the LP as built ({what}): its coefficients are beyond its range \
          (nearly coincident or collinear vertices?)"
     ))
 }
@@ -118,7 +118,7 @@ fn instance() -> Result<highs::Model> {
         model.make_quiet();
         return Ok(model);
     }
-    highs::Model::try_new(highs::RowProblem::default()).map_err(|_| refused("an empty LP"))
+    highs::Model::try_new(highs::RowProblem::default()).map_err(|_| refused("an empty model"))
 }
 
 /// Keeps a finished model's instance for the next model on this thread;
@@ -167,7 +167,7 @@ pub(crate) fn add_column(
         )
     };
     if status == highs_sys::STATUS_ERROR {
-        return Err(refused("a column"));
+        return Err(refused("a column added"));
     }
     Ok(Col(at))
 }
@@ -194,7 +194,7 @@ pub(crate) fn add_row(
         )
     };
     if status == highs_sys::STATUS_ERROR {
-        return Err(refused("a row"));
+        return Err(refused("a row added"));
     }
     Ok(())
 }
