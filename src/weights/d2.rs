@@ -294,13 +294,10 @@ fn local_system(
         .collect();
     use rayon::prelude::*;
     // In parallel, in edge order then segment order (rows stay deterministic).
-    let inner: Vec<(u32, u32, u32, u32)> = t
-        .edge_triangles()
-        .filter_map(|(a, b, tl, tr)| Some((a, b, tl, tr?)))
-        .collect();
-    sys.rows = inner
-        .par_iter()
-        .filter_map(|&(a, b, tl, tr)| {
+    sys.rows = t
+        .par_edge_triangles()
+        .filter_map(|(a, b, tl, tr)| {
+            let tr = tr?;
             let (c, d) = (t.apex(tl, a, b), t.apex(tr, b, a));
             any_free(&[a, b, c, d]).then(|| {
                 let mut row = convexity_row(p, a, b, c, d);
@@ -310,11 +307,11 @@ fn local_system(
             })
         })
         .collect();
-    let per_segment: Vec<Vec<Row>> = cx
+    let per_segment = cx
         .segments
         .par_iter()
         .enumerate()
-        .map(|(s, &[i, j])| {
+        .flat_map_iter(|(s, &[i, j])| {
             let (mut apexes, mut outside) = (vec![], vec![]);
             for (x, y) in [(i, j), (j, i)] {
                 if let Some(tri) = t.left_of(x, y) {
@@ -332,9 +329,8 @@ fn local_system(
                 row.outside = out;
             }
             rows
-        })
-        .collect();
-    sys.rows.extend(per_segment.into_iter().flatten());
+        });
+    sys.rows.par_extend(per_segment);
     sys.free = free;
     sys
 }
