@@ -152,6 +152,9 @@ pub struct WeightsReport {
     pub lp_iterations: usize,
     /// Independent LPs the local form split into (solved in parallel).
     pub lp_pieces: usize,
+    /// Of those, pieces that took the weights of an earlier piece like
+    /// them, which meet all their rows: no LP ran for them.
+    pub lp_served: usize,
     /// Largest LP solved (rows, columns).
     pub lp_rows: usize,
     /// Largest LP's columns.
@@ -197,6 +200,7 @@ impl WeightsReport {
     /// largest, the margin the smallest, the bound the loosest.
     pub(crate) fn absorb(&mut self, piece: &WeightsReport) {
         self.lp_solves += piece.lp_solves;
+        self.lp_served += piece.lp_served;
         self.lp_iterations += piece.lp_iterations;
         self.lp_rows = self.lp_rows.max(piece.lp_rows);
         self.lp_cols = self.lp_cols.max(piece.lp_cols);

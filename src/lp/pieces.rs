@@ -1,7 +1,7 @@
 //! The local form's system split into independent pieces, solved in
 //! parallel.
 
-use super::warm::{keys, Warm};
+use super::warm::{keys, serves, Warm};
 use super::{solve_rows, Answer, Origin, Row, System, WeightsReport};
 use crate::error::Result;
 use crate::progress::Progress;
@@ -163,19 +163,32 @@ pub(crate) fn solve_pieces(
     let count = parts.len();
     let done = AtomicUsize::new(0);
     let outer = super::flags();
-    let solve = |p: &Piece| {
-        let mut r = WeightsReport {
-            deadline: report.deadline,
-            ..Default::default()
+    // A piece is solved, or takes the weights of its pattern's first piece
+    // where they serve it (`serves`).
+    let solve = |p: &Piece, first: Option<&(Result<Answer>, WeightsReport)>| {
+        let (answer, r) = match first {
+            Some((Ok(Answer::Weights(w, true, _)), by)) if serves(&p.sys, w, by) => (
+                Ok(Answer::Weights(w.clone(), true, vec![])),
+                WeightsReport::served_by(by),
+            ),
+            _ => {
+                let mut r = WeightsReport {
+                    deadline: report.deadline,
+                    ..Default::default()
+                };
+                (
+                    super::carried(&outer, || solve_rows(&p.sys, false, &mut r)),
+                    r,
+                )
+            }
         };
-        let answer = super::carried(&outer, || solve_rows(&p.sys, false, &mut r));
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
         if let Some(f) = progress.filter(|_| k % 64 == 0 || k == count) {
             f("weights: LP pieces", k, count);
         }
         (answer, r)
     };
-    // The first piece of each pattern, then the others from its steps.
+    // The first piece of each pattern, then the others from it.
     let keys: Vec<(u64, Vec<u64>)> = parts.par_iter().map(|p| keys(&p.sys)).collect();
     let mut first = crate::FastMap::default();
     let leader: Vec<usize> = (keys.iter().enumerate())
@@ -184,28 +197,32 @@ pub(crate) fn solve_pieces(
     let mut alike = vec![0usize; parts.len()];
     leader.iter().for_each(|&l| alike[l] += 1);
     let mut keys: Vec<Vec<u64>> = keys.into_iter().map(|k| k.1).collect();
-    let leads: Vec<usize> = (0..parts.len()).filter(|&i| leader[i] == i).collect();
-    for &i in &leads {
-        let warm = Warm::leader(std::mem::take(&mut keys[i]), alike[i] > 1);
-        parts[i].sys.warm = Some(Arc::new(warm));
-    }
     let mut answers: Vec<Option<(Result<Answer>, WeightsReport)>> =
         (0..parts.len()).map(|_| None).collect();
-    let led: Vec<_> = leads.par_iter().map(|&i| solve(&parts[i])).collect();
-    for (&i, a) in leads.iter().zip(led) {
-        answers[i] = Some(a);
-    }
-    let steps: crate::FastMap<usize, _> = (leads.iter())
-        .map(|&i| (i, parts[i].sys.warm.as_ref().and_then(|w| w.steps())))
-        .collect();
-    let rest: Vec<usize> = (0..parts.len()).filter(|&i| leader[i] != i).collect();
-    for &i in &rest {
-        let warm = Warm::follower(std::mem::take(&mut keys[i]), steps[&leader[i]].clone());
-        parts[i].sys.warm = Some(Arc::new(warm));
-    }
-    let followed: Vec<_> = rest.par_iter().map(|&i| solve(&parts[i])).collect();
-    for (&i, a) in rest.iter().zip(followed) {
-        answers[i] = Some(a);
+    for leads in [true, false] {
+        let now: Vec<usize> = (0..parts.len())
+            .filter(|&i| (leader[i] == i) == leads)
+            .collect();
+        // A first piece's steps, taken once for all that follow it.
+        let mut steps = crate::FastMap::default();
+        for &i in &now {
+            let keys = std::mem::take(&mut keys[i]);
+            let warm = match leads {
+                true => Warm::leader(keys, alike[i] > 1),
+                false => {
+                    let l = leader[i];
+                    let warm = |l: usize| parts[l].sys.warm.as_ref().and_then(|w| w.steps());
+                    Warm::follower(keys, steps.entry(l).or_insert_with(|| warm(l)).clone())
+                }
+            };
+            parts[i].sys.warm = Some(Arc::new(warm));
+        }
+        let solved: Vec<_> = (now.par_iter())
+            .map(|&i| solve(&parts[i], answers[leader[i]].as_ref().filter(|_| !leads)))
+            .collect();
+        for (&i, a) in now.iter().zip(solved) {
+            answers[i] = Some(a);
+        }
     }
     let answers = answers.into_iter().map(|a| a.expect("every piece solved"));
     report.lp_pieces = parts.len();

@@ -10,10 +10,13 @@
 //! pieces, 75 patterns): 41,388 simplex iterations -> 12,892.
 //! Deterministic: a piece's start depends on its pattern's first piece
 //! alone, which is solved before the others.
+//! Where the first piece's weights already meet every row of another at
+//! the margin its own LP guaranteed (translates of one cavity, equal but
+//! for rounding), that piece takes them and no LP runs (`serves`).
 
 use super::highs::{Basis, Lp};
 use super::proof::RowRef;
-use super::{Family, Row, System};
+use super::{Family, Row, System, WeightsReport};
 use crate::error::Result;
 use crate::FastMap;
 use std::hash::{Hash, Hasher};
@@ -101,6 +104,53 @@ pub(crate) fn keys(sys: &System) -> (u64, Vec<u64>) {
     }
     let sorted: Vec<u64> = order.iter().map(|&i| shape[i]).collect();
     (hash((sys.n, sys.rows.len(), sorted)), keys)
+}
+
+/// How much of the first piece's phase-2 margin a piece that takes its
+/// weights may lose to rounding (relative): translates of one cavity
+/// measured 1e-12.
+const SERVES_SLACK: f64 = 1e-9;
+
+/// Whether the weights `w` of a similar system, answered with the report
+/// `by`, serve `sys` as they are: every row of it (finite, as models take
+/// them) holds with half the margin `by` found, as phase 2 makes its own
+/// rows hold, and within its rung's bound. Systems with equalities,
+/// anchors or auxiliary columns are always solved.
+pub(crate) fn serves(sys: &System, w: &[f64], by: &WeightsReport) -> bool {
+    let Some(margin) = by.margin.filter(|&m| m > super::TRUST) else {
+        return false;
+    };
+    let plain = sys.eqs.is_empty() && sys.aux == 0 && w.len() == sys.n;
+    if !plain || sys.rows.iter().any(|r| r.family == Family::Anchor) {
+        return false;
+    }
+    // Weights come back in the input's units (`System::unit2`).
+    let w: Vec<f64> = w.iter().map(|x| x / sys.unit2).collect();
+    let bounded = |(i, x): (usize, &f64)| match by.bound_k {
+        _ if !sys.free[i] => *x == 0.0,
+        Some(k) => x.abs() <= k * sys.l2[i],
+        None => true,
+    };
+    let delta = margin / 2.0 * (1.0 - SERVES_SLACK);
+    let holds = |r: &Row| {
+        let lhs: f64 = r.terms.iter().map(|&(c, v)| v * w[c]).sum();
+        lhs - r.share * delta >= r.rhs
+    };
+    w.iter().enumerate().all(bounded) && sys.rows.iter().filter(super::finite).all(holds)
+}
+
+impl WeightsReport {
+    /// The report of a piece that took the weights of the similar piece
+    /// that answered with `by` (`serves`): its margin, bound and status.
+    pub(crate) fn served_by(by: &WeightsReport) -> WeightsReport {
+        WeightsReport {
+            lp_status: by.lp_status.clone(),
+            margin: by.margin,
+            bound_k: by.bound_k,
+            lp_served: 1,
+            ..Default::default()
+        }
+    }
 }
 
 impl Warm {
@@ -254,5 +304,41 @@ mod tests {
         assert!(4 * it2 <= alone, "{it2} from the steps, {alone} alone");
         let far = (w1.iter().zip(&w2)).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         assert!(far <= 1e-9, "{far}");
+    }
+
+    /// A re-rounded copy of a system takes the first one's weights as they
+    /// are; a copy one of whose rows they no longer meet at half the
+    /// margin is solved.
+    #[test]
+    fn weights_serve_a_copy_only_where_every_row_holds() {
+        let mut first = jittered_lattice();
+        first.verdict = false;
+        let mut report = WeightsReport::started("test");
+        let Answer::Weights(w, ..) = solve_rows(&first, false, &mut report).unwrap() else {
+            panic!("no weights")
+        };
+        let margin = report.margin.unwrap();
+        assert!(margin > 1e-3, "{margin}");
+        let mut copy = first.clone();
+        for r in &mut copy.rows {
+            r.terms.iter_mut().for_each(|t| t.1 *= 1.0 + 1e-13);
+        }
+        assert!(serves(&first, &w, &report) && serves(&copy, &w, &report));
+        // The tightest row asked for a quarter of the margin more.
+        let value = |r: &Row| r.terms.iter().map(|&(c, v)| v * w[c]).sum::<f64>() - r.rhs;
+        let tight = (0..copy.rows.len())
+            .min_by(|&a, &b| value(&copy.rows[a]).total_cmp(&value(&copy.rows[b])))
+            .unwrap();
+        copy.rows[tight].rhs += margin / 4.0;
+        assert!(!serves(&copy, &w, &report));
+        // Nor where the system has an equality, or a weight beyond its bound.
+        let mut eq = first.clone();
+        eq.eqs.push(first.rows[0].clone());
+        assert!(!serves(&eq, &w, &report));
+        let bounded = WeightsReport {
+            bound_k: Some(1e-9),
+            ..report.clone()
+        };
+        assert!(w.iter().any(|x| x.abs() > 1e-9) && !serves(&first, &w, &bounded));
     }
 }
