@@ -78,10 +78,53 @@ fn print_goals() {
             target, measured
         );
     }
-    eprintln!(
-        "{:<58} {:>8} {:>10}  scripts/bench_triangle.py",
-        "generate mixed 20 and 55 against Triangle", "8x (5x)", "-"
-    );
+}
+
+/// `generate mixed` 20 and 55 against Triangle (`scripts/bench_triangle.py
+/// --goals`, which needs Python's triangle package): the pipeline's best
+/// and median of seven runs over Triangle's best. Not measured where the
+/// script cannot run.
+fn triangle_goals() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let script = format!("{root}/scripts/bench_triangle.py");
+    let out = std::process::Command::new("python3")
+        .args([script.as_str(), "--goals"])
+        .current_dir(root)
+        .output();
+    let text = match &out {
+        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).to_string(),
+        Ok(o) => {
+            let why = String::from_utf8_lossy(&o.stderr);
+            eprintln!("against Triangle: not measured ({})", why.trim());
+            String::new()
+        }
+        Err(e) => {
+            eprintln!("against Triangle: not measured (python3: {e})");
+            String::new()
+        }
+    };
+    for n in [20, 55] {
+        let ms: Vec<f64> = (text.lines())
+            .find_map(|l| l.strip_prefix(&format!("goal mixed {n}: ")))
+            .map(|rest| rest.split(' ').filter_map(|x| x.parse().ok()).collect())
+            .unwrap_or_default();
+        let [tri, best, median] = ms[..] else {
+            goal(
+                &format!("generate mixed {n} against Triangle"),
+                f64::NAN,
+                8.0,
+                "x",
+            );
+            continue;
+        };
+        eprintln!(
+            "mixed {n}: Triangle {tri:.1} ms, orthomesh {best:.1} ms best, {median:.1} median"
+        );
+        let what = format!("generate mixed {n} against Triangle, best (goal 5x)");
+        goal(&what, best / tri, 8.0, "x");
+        let what = format!("generate mixed {n} against Triangle, median");
+        goal(&what, median / tri, 8.0, "x");
+    }
 }
 
 /// `generate wells` at 5 x 5 and 10 x 10 wells, built in 3D with the
@@ -669,7 +712,8 @@ fn main() {
     // filtered to some groups (`cargo bench -- conform3`).
     let filtered = std::env::args().skip(1).any(|a| !a.starts_with('-'));
     // ORTHOMESH_BENCH_TABLE=3d: the 3D pipeline table alone (docs/performance.md)
-    // ORTHOMESH_BENCH_TABLE=2d: the 2D fields' rows and the zero-weight goals
+    // ORTHOMESH_BENCH_TABLE=2d: the 2D fields' rows, the zero-weight goals and
+    // `generate mixed` against Triangle
     // ORTHOMESH_BENCH_TABLE=tables: every table and the goals, without
     // the criterion groups
     let table = std::env::var("ORTHOMESH_BENCH_TABLE").unwrap_or_default();
@@ -682,6 +726,7 @@ fn main() {
     }
     if table == "2d" {
         ratios(false);
+        triangle_goals();
         print_goals();
         return;
     }
@@ -692,6 +737,7 @@ fn main() {
         pipeline_ratios_3d();
         spe9_3d_goals();
         well_field_goals();
+        triangle_goals();
         print_goals();
         if tables {
             return;

@@ -11,8 +11,10 @@ several runs; Triangle's in-process (the C call through Python, plus
 triangle.voronoi of its output vertices), orthomesh's pipeline time from
 its report (process start and file writing excluded).
 
-Usage: python3 scripts/bench_triangle.py [--quick | --generated]   (builds the release CLI)
---quick: the shared inputs and mixed 5; --generated: mixed 5, 20 and 55 alone.
+Usage: python3 scripts/bench_triangle.py [--quick | --generated | --goals]   (builds the release CLI)
+--quick: the shared inputs and mixed 5; --generated: mixed 5, 20 and 55 alone;
+--goals: mixed 20 and 55, seven runs of each tool taken in turn, one line each
+"goal mixed N: TRIANGLE_MS BEST_MS MEDIAN_MS" (read by `cargo bench`).
 """
 import json
 import os
@@ -89,7 +91,7 @@ def best(f, runs, budget=2.0):
     return min(times) * 1e3, out
 
 
-def run_triangle(vertices, segments, holes):
+def run_triangle(vertices, segments, holes, runs=5):
     data = {"vertices": np.array(vertices), "segments": np.array(segments)}
     if holes:
         data["holes"] = np.array(holes)
@@ -99,7 +101,7 @@ def run_triangle(vertices, segments, holes):
         triangle.voronoi(t["vertices"])
         return t
 
-    ms, t = best(once, 5)
+    ms, t = best(once, runs)
     return ms, len(t["vertices"]) - len(vertices)
 
 
@@ -119,9 +121,32 @@ def run_orthomesh(path, extra, runs):
         return min(times), rep
 
 
+def goals():
+    """mixed 20 and 55: Triangle and orthomesh taken in turn, seven runs each
+    (both see the same state of the machine); Triangle's best, orthomesh's
+    best and median pipeline time."""
+    tmp = tempfile.mkdtemp()
+    for n in [20, 55]:
+        path = os.path.join(tmp, f"mixed-{n}.poly")
+        subprocess.run([CLI, "generate", "mixed", str(n), "-o", path],
+                       check=True, capture_output=True)
+        vs, ss, hs = read_poly(path)
+        tri, ours = [], []
+        for _ in range(7):
+            tri.append(run_triangle(vs, ss, hs, 1)[0])
+            run = run_orthomesh(path, [], 1)
+            if run is None:
+                sys.exit(f"orthomesh failed on mixed {n}")
+            ours.append(run[0])
+        ours.sort()
+        print(f"goal mixed {n}: {min(tri):.2f} {ours[0]:.2f} {ours[3]:.2f}", flush=True)
+
+
 def main():
     quick = "--quick" in sys.argv
     subprocess.run(["cargo", "build", "--release", "--quiet"], cwd=ROOT, check=True)
+    if "--goals" in sys.argv:
+        return goals()
     data = os.path.join(ROOT, "tests", "data", "pslg")
     inputs = [] if "--generated" in sys.argv else [
         os.path.join(data, f) for f in sorted(os.listdir(data)) if f.endswith((".poly", ".edg"))]

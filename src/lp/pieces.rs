@@ -75,6 +75,17 @@ pub(crate) fn pieces(mut sys: System) -> Vec<Piece> {
         out[piece_of[r]].cols.push(v);
         out[piece_of[r]].sys.l2.push(sys.l2[v]);
     }
+    // Room for each piece's rows (by its first weight's), so that they
+    // are not copied as they grow (measured: a third of the split's time).
+    let mut count = vec![0usize; out.len()];
+    for r in &rows {
+        if let Some(&(c, _)) = r.terms.iter().find(|t| sys.free[t.0]) {
+            count[piece_of[c]] += 1;
+        }
+    }
+    for (p, &k) in out.iter_mut().zip(&count) {
+        p.sys.rows.reserve_exact(k);
+    }
     for (row, eq) in rows
         .into_iter()
         .map(|r| (r, false))
