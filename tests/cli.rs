@@ -318,8 +318,11 @@ fn the_same_input_gives_byte_identical_mesh_and_report() {
             !report.contains("total_ms"),
             "{input}: timing in the report"
         );
-        if input == &inputs[0] {
+        if input == &inputs[0] && cfg!(feature = "cgal") {
             // Its wells' pieces repeat: some take the first one's weights.
+            // (The pure engine triangulates the wells' nearly cocircular
+            // points differently from one translate to the next: on it
+            // no two pieces of mixed 6 have one pattern.)
             let r: serde_json::Value = serde_json::from_str(&report).unwrap();
             let served = r["weights"]["lp_served"].as_u64().unwrap();
             assert!(served > 0 && served < 36, "{served} pieces served");
