@@ -105,6 +105,11 @@ impl Row {
         }
     }
 
+    /// sum(terms) at the columns' values `x`.
+    pub(crate) fn lhs(&self, x: &[f64]) -> f64 {
+        self.terms.iter().map(|&(c, v)| v * x[c]).sum()
+    }
+
     /// The face or segment whose rows this row is one of (None: its own).
     fn group(&self) -> Option<(bool, u32)> {
         match (self.family, self.origin) {

@@ -132,10 +132,7 @@ pub(crate) fn serves(sys: &System, w: &[f64], by: &WeightsReport) -> bool {
         None => true,
     };
     let delta = margin / 2.0 * (1.0 - SERVES_SLACK);
-    let holds = |r: &Row| {
-        let lhs: f64 = r.terms.iter().map(|&(c, v)| v * w[c]).sum();
-        lhs - r.share * delta >= r.rhs
-    };
+    let holds = |r: &Row| r.lhs(&w) - r.share * delta >= r.rhs;
     w.iter().enumerate().all(bounded) && sys.rows.iter().filter(super::finite).all(holds)
 }
 
@@ -325,7 +322,7 @@ mod tests {
         }
         assert!(serves(&first, &w, &report) && serves(&copy, &w, &report));
         // The tightest row asked for a quarter of the margin more.
-        let value = |r: &Row| r.terms.iter().map(|&(c, v)| v * w[c]).sum::<f64>() - r.rhs;
+        let value = |r: &Row| r.lhs(&w) - r.rhs;
         let tight = (0..copy.rows.len())
             .min_by(|&a, &b| value(&copy.rows[a]).total_cmp(&value(&copy.rows[b])))
             .unwrap();
