@@ -68,34 +68,58 @@ impl Dyadic {
         self * self
     }
 
-    /// Both mantissas at the smaller exponent (exact shifts; a zero takes
-    /// the other's exponent, so that it never lengthens the other).
-    fn aligned(&self, o: &Dyadic) -> (Integer, Integer, i64) {
-        if self.m == 0 {
-            return (Integer::from(0), o.m.clone(), o.e);
-        }
+    /// self + sign o, at the smaller exponent: only the mantissa with the
+    /// larger exponent is shifted (a new integer), the other is added to
+    /// it by reference. A zero takes the other's exponent, so that it never
+    /// lengthens the other.
+    fn plus(&self, o: &Dyadic, negate: bool) -> Dyadic {
+        let signed = |m: Integer| if negate { -m } else { m };
         if o.m == 0 {
-            return (self.m.clone(), Integer::from(0), self.e);
+            return self.clone();
         }
-        let e = self.e.min(o.e);
-        let at = |x: &Dyadic| &x.m << ((x.e - e) as u64);
-        (at(self), at(o), e)
+        if self.m == 0 {
+            return Dyadic {
+                m: signed(o.m.clone()),
+                e: o.e,
+            };
+        }
+        let shifted = |x: &Dyadic, e: i64| &x.m << ((x.e - e) as u64);
+        match self.e.cmp(&o.e) {
+            Ordering::Greater => Dyadic {
+                m: if negate {
+                    shifted(self, o.e) - &o.m
+                } else {
+                    shifted(self, o.e) + &o.m
+                },
+                e: o.e,
+            },
+            Ordering::Less => Dyadic {
+                m: signed(shifted(o, self.e)) + &self.m,
+                e: self.e,
+            },
+            Ordering::Equal => Dyadic {
+                m: if negate {
+                    &self.m - &o.m
+                } else {
+                    &self.m + &o.m
+                },
+                e: self.e,
+            },
+        }
     }
 }
 
 impl Add for &Dyadic {
     type Output = Dyadic;
     fn add(self, o: &Dyadic) -> Dyadic {
-        let (a, b, e) = self.aligned(o);
-        Dyadic { m: a + b, e }
+        self.plus(o, false)
     }
 }
 
 impl Sub for &Dyadic {
     type Output = Dyadic;
     fn sub(self, o: &Dyadic) -> Dyadic {
-        let (a, b, e) = self.aligned(o);
-        Dyadic { m: a - b, e }
+        self.plus(o, true)
     }
 }
 
