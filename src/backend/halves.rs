@@ -224,38 +224,36 @@ type Open = FastMap<(u32, u32), usize>;
 /// Triangles with their adjacency (NONE: none yet or the boundary) and
 /// the hidden points.
 struct Parts {
-    flat: Vec<u32>,
-    neighbours: Vec<u32>,
+    tris: Vec<[u32; 3]>,
+    adj: Vec<[u32; 3]>,
     hidden: Vec<u32>,
 }
 
 impl Parts {
-    /// Adds triangles (given by a source's ids), pairing each edge with the
-    /// added triangle the source has across it (`across`, source ids); the
-    /// other edges go to `open` as (a, b) -> slot. False when a directed
-    /// edge is open twice.
-    fn add(
-        &mut self,
-        tris: &[[u32; 3]],
-        across: impl Fn(usize, usize) -> Option<u32>,
-        open: &mut Open,
-    ) -> bool {
-        let first = (self.flat.len() / 3) as u32;
-        for (t, tri) in tris.iter().enumerate() {
-            for k in 0..3 {
-                let slot = self.flat.len() + k;
-                match across(t, k) {
-                    Some(u) => self.neighbours.push(first + u),
-                    None => {
-                        self.neighbours.push(NONE);
-                        if open.insert((tri[k], tri[(k + 1) % 3]), slot).is_some() {
-                            return false;
-                        }
-                    }
-                }
+    /// Adds triangles with their neighbours among them (`adj`: indices into
+    /// `tris`, NONE for none); the edges without one go to `open` as
+    /// (a, b) -> slot 3 t + k. False when a directed edge is open twice.
+    fn add(&mut self, tris: Vec<[u32; 3]>, adj: Vec<[u32; 3]>, open: &mut Open) -> bool {
+        let first = self.tris.len();
+        let unpaired: Vec<((u32, u32), usize)> = tris
+            .par_iter()
+            .zip(&adj)
+            .enumerate()
+            .flat_map_iter(|(t, (tri, a))| {
+                (0..3)
+                    .filter(move |&k| a[k] == NONE)
+                    .map(move |k| ((tri[k], tri[(k + 1) % 3]), 3 * (first + t) + k))
+            })
+            .collect();
+        for (edge, slot) in unpaired {
+            if open.insert(edge, slot).is_some() {
+                return false;
             }
-            self.flat.extend(tri);
         }
+        let shift = |u: u32| if u == NONE { NONE } else { first as u32 + u };
+        self.adj
+            .par_extend(adj.into_par_iter().map(|a| a.map(shift)));
+        self.tris.extend(tris);
         true
     }
 
@@ -263,46 +261,70 @@ impl Parts {
     fn pair(&mut self, open: &Open) {
         for (&(a, b), &slot) in open {
             if let Some(&twin) = open.get(&(b, a)) {
-                self.neighbours[slot] = (twin / 3) as u32;
+                self.adj[slot / 3][slot % 3] = (twin / 3) as u32;
             }
         }
     }
+}
+
+/// The triangles of `rt` that `keep` marks, with `map` applied to their
+/// vertices, and their neighbours among them (renumbered; NONE for none).
+fn kept_part(
+    rt: &Triangulation,
+    keep: &[bool],
+    map: impl Fn(u32) -> u32 + Sync,
+) -> (Vec<[u32; 3]>, Vec<[u32; 3]>) {
+    let ids: Vec<u32> = (0..keep.len() as u32)
+        .into_par_iter()
+        .filter(|&t| keep[t as usize])
+        .collect();
+    let mut new_id = vec![NONE; keep.len()];
+    for (i, &t) in ids.iter().enumerate() {
+        new_id[t as usize] = i as u32;
+    }
+    let tris = ids
+        .par_iter()
+        .map(|&t| rt.triangles[t as usize].map(&map))
+        .collect();
+    let adj = ids
+        .par_iter()
+        .map(|&t| {
+            rt.adj[t as usize].map(|u| {
+                if u != NONE && keep[u as usize] {
+                    new_id[u as usize]
+                } else {
+                    NONE
+                }
+            })
+        })
+        .collect();
+    (tris, adj)
 }
 
 /// The kept triangles of both halves in global indices, paired with their
 /// neighbours; the edges left open bound the kept region. None when a
 /// directed edge is kept twice.
 fn stitch(halves: [(&Half, &Vec<bool>); 2]) -> Option<(Parts, Open)> {
+    let part = |(half, kept): (&Half, &Vec<bool>)| {
+        kept_part(&half.rt, kept, |v: u32| half.ids[v as usize])
+    };
+    let both = rayon::join(|| part(halves[0]), || part(halves[1]));
     let mut parts = Parts {
-        flat: vec![],
-        neighbours: vec![],
+        tris: vec![],
+        adj: vec![],
         hidden: vec![],
     };
     let mut open = FastMap::default();
-    for (half, kept) in halves {
-        let global = |v: u32| half.ids[v as usize];
+    for ((half, _), (tris, adj)) in halves.into_iter().zip([both.0, both.1]) {
         parts
             .hidden
-            .extend(half.rt.hidden.iter().map(|&v| global(v)));
-        let mut new_id = vec![NONE; kept.len()];
-        let ids: Vec<usize> = (0..kept.len()).filter(|&t| kept[t]).collect();
-        for (i, &t) in ids.iter().enumerate() {
-            new_id[t] = i as u32;
-        }
-        let tris: Vec<[u32; 3]> = ids
-            .iter()
-            .map(|&t| half.rt.triangles[t].map(global))
-            .collect();
-        let across = |i: usize, k: usize| {
-            let u = half.rt.adj[ids[i]][k];
-            (u != NONE && kept[u as usize]).then(|| new_id[u as usize])
-        };
-        if !parts.add(&tris, across, &mut open) {
+            .extend(half.rt.hidden.iter().map(|&v| half.ids[v as usize]));
+        if !parts.add(tris, adj, &mut open) {
             return None;
         }
     }
     parts.pair(&open);
-    open.retain(|_, slot| parts.neighbours[*slot] == NONE);
+    open.retain(|_, slot| parts.adj[*slot / 3][*slot % 3] == NONE);
     Some((parts, open))
 }
 
@@ -351,27 +373,15 @@ fn fill<B: Backend + ?Sized>(
             }
         }
     }
-    let ids: Vec<usize> = (0..pocket.len()).filter(|&t| pocket[t]).collect();
-    let mut new_id = vec![NONE; pocket.len()];
-    for (i, &t) in ids.iter().enumerate() {
-        new_id[t] = i as u32;
-    }
-    let tris: Vec<[u32; 3]> = ids
-        .iter()
-        .map(|&t| rt.triangles[t].map(|v| ring[v as usize]))
-        .collect();
-    let across = |i: usize, k: usize| {
-        let u = rt.adj[ids[i]][k];
-        (u != NONE && pocket[u as usize]).then(|| new_id[u as usize])
-    };
+    let (tris, adj) = kept_part(&rt, &pocket, |v: u32| ring[v as usize]);
     let mut open2 = open.clone();
-    if !parts.add(&tris, across, &mut open2) {
+    if !parts.add(tris, adj, &mut open2) {
         return Ok(None);
     }
     parts.pair(&open2);
     let Parts {
-        flat,
-        neighbours,
+        tris,
+        adj,
         mut hidden,
     } = parts;
     // (hidden frame points are no concern)
@@ -379,13 +389,13 @@ fn fill<B: Backend + ?Sized>(
     hidden.sort_unstable();
     hidden.dedup();
     let mut seen = vec![false; seam.n];
-    for &v in flat.iter().chain(&hidden) {
+    for &v in tris.iter().flatten().chain(&hidden) {
         seen[v as usize] = true;
     }
     if seen.contains(&false) {
         return Ok(None);
     }
-    Ok(Some(Triangulation::from_parts(&flat, &neighbours, hidden)))
+    Ok(Some(Triangulation::from_arrays(tris, adj, hidden)))
 }
 
 #[cfg(test)]

@@ -109,12 +109,21 @@ pub trait FlipTests {
 impl Triangulation {
     /// From triangles and their adjacency (as the backends give them).
     pub(crate) fn from_parts(flat: &[u32], neighbours: &[u32], hidden: Vec<u32>) -> Self {
-        let triangles: Vec<[u32; 3]> = flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        let adj = neighbours
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
-        let n = flat.iter().max().map_or(0, |&m| m as usize + 1);
+        let triples = |v: &[u32]| v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        Self::from_arrays(triples(flat), triples(neighbours), hidden)
+    }
+
+    /// From triangles and their neighbours (NONE: none).
+    pub(crate) fn from_arrays(
+        triangles: Vec<[u32; 3]>,
+        adj: Vec<[u32; 3]>,
+        hidden: Vec<u32>,
+    ) -> Self {
+        let n = triangles
+            .iter()
+            .flatten()
+            .max()
+            .map_or(0, |&m| m as usize + 1);
         let mut corner = vec![NONE; n];
         for (t, tri) in triangles.iter().enumerate() {
             for &v in tri {
