@@ -363,9 +363,16 @@ pub fn relocate<B: Backend + ?Sized>(
             for &s in &out {
                 flag[s] = true;
             }
-            for &s in &touched {
-                let s = s as usize;
-                flag[s] = diagram.in_domain[s] && !beaten_by(sites, &rt, s).is_empty();
+            // (each touched site's test in parallel, applied in order)
+            let beaten: Vec<bool> = touched
+                .par_iter()
+                .map(|&s| {
+                    let s = s as usize;
+                    diagram.in_domain[s] && !beaten_by(sites, &rt, s).is_empty()
+                })
+                .collect();
+            for (&s, beaten) in touched.iter().zip(beaten) {
+                flag[s as usize] = beaten;
             }
             out = (0..sites.len()).filter(|&s| flag[s]).collect();
             (trusted, checked) = (false, None);

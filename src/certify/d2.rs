@@ -8,7 +8,6 @@ use crate::diagram::Diagram;
 use crate::domain::Domain;
 use crate::mesh::Mesh;
 use crate::sites::Sites;
-use crate::FastMap;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -149,15 +148,19 @@ pub fn certify(
     // other cells are exactly the domain boundary, each once. The cell of a
     // lies left of the dual edge from the vertex of the triangle across to
     // that of the triangle on the left of a -> b.
+    // Both lists sorted (in parallel): equal when each boundary edge is
+    // crossed exactly once and nothing else is.
     let edges = dom.boundary();
-    let mut boundary: FastMap<(u32, u32), bool> = edges
+    let mut boundary: Vec<(u32, u32)> = edges
         .iter()
-        .filter_map(|&(a, b)| Some(((vid[a as usize]?, vid[b as usize]?), false)))
+        .filter_map(|&(a, b)| Some((vid[a as usize]?, vid[b as usize]?)))
         .collect();
-    let mut tiles = convex && boundary.len() == edges.len();
+    boundary.par_sort_unstable();
+    let distinct = boundary.windows(2).all(|w| w[0] != w[1]);
+    let mut tiles = convex && distinct && boundary.len() == edges.len();
     // The dual edges between domain and other cells, found in parallel;
     // None for one on the hull (a domain cell there would be unbounded).
-    let crossing: Vec<Option<(u32, u32)>> = rt
+    let crossing: Option<Vec<(u32, u32)>> = rt
         .par_edge_triangles()
         .filter_map(|(a, b, t, u)| {
             let (ia, ib) = (diagram.in_domain[a as usize], diagram.in_domain[b as usize]);
@@ -172,13 +175,13 @@ pub fn certify(
             (from != to).then_some(Some(if ia { (from, to) } else { (to, from) }))
         })
         .collect();
-    for edge in crossing {
-        match edge.and_then(|e| boundary.get_mut(&e)) {
-            Some(seen) if !*seen => *seen = true,
-            _ => tiles = false,
+    match crossing {
+        Some(mut crossing) => {
+            crossing.par_sort_unstable();
+            tiles &= crossing == boundary;
         }
+        None => tiles = false,
     }
-    tiles &= boundary.values().all(|&seen| seen);
     c.cells_tile_domain = tiles;
     if !tiles {
         c.problems
