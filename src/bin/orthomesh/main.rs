@@ -319,6 +319,7 @@ struct Outputs {
 }
 
 fn main() -> ExitCode {
+    orthomesh::keep_freed_memory();
     // Usage errors exit 1 like every other error (help and version: 0).
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
