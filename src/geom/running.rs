@@ -5,7 +5,7 @@
 //! and maximum and two outward steps. Decides only what the bound allows;
 //! the rest goes on to intervals and exact arithmetic.
 
-use super::{Filter, Iv};
+use super::Filter;
 use std::cmp::Ordering;
 use std::ops::{Add, Mul, Sub};
 
@@ -23,13 +23,13 @@ pub struct Ev {
 }
 
 impl Ev {
-    /// A double inside an enclosure, with its distance to either end
-    /// (rounded up: the subtraction may round down by a relative U, the
-    /// product too).
-    pub fn within(i: Iv, v: f64) -> Ev {
+    /// A double inside an enclosure, with r its distance to the farther
+    /// end, computed in doubles (rounded up here: that subtraction may round
+    /// down by a relative U, the product too).
+    pub fn off_by(v: f64, r: f64) -> Ev {
         Ev {
             v,
-            e: (i.hi - v).max(v - i.lo) * (1.0 + 4.0 * U) + TINY,
+            e: r * (1.0 + 4.0 * U) + TINY,
         }
     }
 }
@@ -100,7 +100,7 @@ impl Mul for Ev {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::{det3, det3_q, q, Q};
+    use crate::geom::{det3, det3_q, q, Iv, Q};
 
     /// Rows near singular at every scale: whatever the filter decides, the
     /// rationals agree.
@@ -142,7 +142,8 @@ mod tests {
     #[test]
     fn enclosures_bound_their_values() {
         let i = Iv::of(1.0) / Iv::of(3.0);
-        let e = Ev::within(i, i.mid());
+        let m = i.mid();
+        let e = Ev::off_by(m, (i.hi - m).max(m - i.lo));
         let third = Q::from(1) / Q::from(3);
         let d = q(e.v) - third;
         assert!(d.clone() * d <= q(e.e) * q(e.e));
