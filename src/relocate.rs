@@ -114,7 +114,12 @@ fn site_triangulation<B: Backend + ?Sized>(
     backend: &B,
     sites: &Sites,
 ) -> Result<(Triangulation, Option<EdgeTests>)> {
-    let pos: Vec<[f64; 2]> = sites.approx.iter().map(|a| [a[0], a[1]]).collect();
+    let pos: Vec<[f64; 2]> = (0..sites.len())
+        .map(|s| {
+            let [x, y, _] = sites.approx(s);
+            [x, y]
+        })
+        .collect();
     let w = sites.nudged_weights();
     if let Some(mut rt) = crate::backend::regular_in_halves(backend, &pos, &w) {
         let checked = Diagram::check_or_repair(sites, &mut rt);
@@ -426,8 +431,13 @@ mod tests {
             let before = edges(&rt);
             if let Some(touched) = walk(&mut sites, &mut rt, s, 1.0) {
                 walked += 1;
-                let pos: Vec<[f64; 2]> = sites.approx.iter().map(|a| [a[0], a[1]]).collect();
-                let w: Vec<f64> = sites.approx.iter().map(|a| a[2]).collect();
+                let pos: Vec<[f64; 2]> = (0..sites.len())
+                    .map(|s| {
+                        let [x, y, _] = sites.approx(s);
+                        [x, y]
+                    })
+                    .collect();
+                let w: Vec<f64> = (0..sites.len()).map(|s| sites.approx(s)[2]).collect();
                 assert_eq!(pos[s], end);
                 let fresh = backend.regular(&pos, &w).unwrap();
                 assert_eq!(edges(&rt), edges(&fresh), "trial {trial}");

@@ -208,8 +208,8 @@ fn site_margin(
     let mut nearest = vec![f64::INFINITY; sites.len()];
     for (a, b) in rt.edges() {
         for (x, y) in [(a as usize, b as usize), (b as usize, a as usize)] {
-            let [xa, ya, wa] = sites.approx[x];
-            let [xb, yb, wb] = sites.approx[y];
+            let [xa, ya, wa] = sites.approx(x);
+            let [xb, yb, wb] = sites.approx(y);
             let d2 = (xa - xb).powi(2) + (ya - yb).powi(2);
             nearest[x] = nearest[x].min((d2 + wa - wb) / (2.0 * d2.sqrt()));
         }

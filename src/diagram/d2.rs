@@ -600,7 +600,7 @@ fn check_hull(sites: &Sites, rt: &Triangulation) -> std::result::Result<(), Stri
         if sites.orient(a as usize, b as usize, c as usize) == Ordering::Less {
             return Err(format!("the hull turns right at site {b}"));
         }
-        let p = |s: u32| sites.approx[s as usize];
+        let p = |s: u32| sites.approx(s as usize);
         let (pa, pb, pc) = (p(a), p(b), p(c));
         let u = [pb[0] - pa[0], pb[1] - pa[1]];
         let v = [pc[0] - pb[0], pc[1] - pb[1]];

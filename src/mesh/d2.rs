@@ -183,7 +183,7 @@ impl Mesh {
             .collect();
         m.cells = cells.into_iter().collect::<Result<_>>()?;
         for s in (0..diagram.cells.len()).filter(|&s| diagram.in_domain[s]) {
-            let [x, y, w] = sites.approx[s];
+            let [x, y, w] = sites.approx(s);
             m.sites.push([x, y]);
             m.weights.push(w);
         }

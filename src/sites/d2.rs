@@ -68,9 +68,7 @@ pub struct Sites {
     pub role: Vec<Role>,
     /// Enclosures of (x, y, weight).
     pub iv: Vec<[Iv; 3]>,
-    /// Doubles inside them, for backends, filters and reports.
-    pub approx: Vec<[f64; 3]>,
-    /// What the filters read of each site, in one cache line.
+    /// Doubles inside them (`approx`) and what else the filters read.
     hot: Vec<Hot>,
     track: Vec<Track>,
     /// Position on the track as the fraction (t - ta) / (tb - ta).
@@ -92,9 +90,10 @@ pub struct Sites {
     pub exact_evaluations: AtomicUsize,
 }
 
-/// A site's doubles, their distances from the exact values, and the input
-/// vertices it serves: what the filtered predicates read, in one cache line
-/// (three arrays cost three misses a site on large inputs).
+/// A site's doubles (inside its enclosures), their distances from the exact
+/// values, and the input vertices it serves: what the filtered predicates
+/// read, in one cache line (three arrays cost three misses a site on large
+/// inputs).
 #[derive(Debug, Clone, Copy)]
 #[repr(align(64))]
 struct Hot {
@@ -104,7 +103,8 @@ struct Hot {
 }
 
 impl Hot {
-    fn of(def: &Def, iv: &[Iv; 3], m: [f64; 3]) -> Hot {
+    fn of(def: &Def, iv: &[Iv; 3]) -> Hot {
+        let m = iv.map(Iv::mid);
         Hot {
             m,
             r: std::array::from_fn(|k| (iv[k].hi - m[k]).max(m[k] - iv[k].lo)),
@@ -252,7 +252,7 @@ impl Sites {
             (
                 std::mem::take(&mut self.iv),
                 (
-                    std::mem::take(&mut self.approx),
+                    std::mem::take(&mut self.hot),
                     (
                         std::mem::take(&mut self.role),
                         (
@@ -271,24 +271,17 @@ impl Sites {
             let def = Self::at(track, *frac);
             let iv = self.enclose(&def);
             let rest = (role.clone(), (track.clone(), (*frac, *movable)));
-            (def, (iv, (iv.map(Iv::mid), rest)))
+            (def, (iv, (Hot::of(&def, &iv), rest)))
         };
         out.par_extend((0..K * sites.len()).into_par_iter().map(item));
-        let (def, (iv, (approx, (role, (track, (frac, movable)))))) = out;
-        let first = self.hot.len();
-        self.hot.par_extend(
-            (first..def.len())
-                .into_par_iter()
-                .map(|s| Hot::of(&def[s], &iv[s], approx[s])),
-        );
-        (self.def, self.iv, self.approx) = (def, iv, approx);
+        let (def, (iv, (hot, (role, (track, (frac, movable)))))) = out;
+        (self.def, self.iv, self.hot) = (def, iv, hot);
         (self.role, self.track, self.frac, self.movable) = (role, track, frac, movable);
     }
 
     fn reserve(&mut self, n: usize) {
         self.def.reserve(n);
         self.iv.reserve(n);
-        self.approx.reserve(n);
         self.hot.reserve(n);
         self.role.reserve(n);
         self.track.reserve(n);
@@ -304,8 +297,7 @@ impl Sites {
     fn set(&mut self, s: usize, def: Def) {
         self.def[s] = def;
         self.iv[s] = self.enclose(&def);
-        self.approx[s] = self.iv[s].map(Iv::mid);
-        self.hot[s] = Hot::of(&def, &self.iv[s], self.approx[s]);
+        self.hot[s] = Hot::of(&def, &self.iv[s]);
     }
 
     /// The site at a fraction of its track.
@@ -388,6 +380,11 @@ impl Sites {
                 Def::Centre { tri } => self.centre_q(tri),
             }
         }
+    }
+
+    /// Site s's (x, y, weight) in doubles, inside its enclosures.
+    pub fn approx(&self, s: usize) -> [f64; 3] {
+        self.hot[s].m
     }
 
     /// The input vertices at which this site has that vertex's weight as its
@@ -662,7 +659,7 @@ impl Sites {
         against
             .iter()
             .map(|&b| {
-                let [bx, by, bw] = self.approx[b];
+                let [bx, by, bw] = self.approx(b);
                 let d2 = (x - bx).powi(2) + (y - by).powi(2);
                 (d2 + w - bw) / (2.0 * d2.sqrt())
             })
@@ -703,8 +700,8 @@ impl Sites {
         let lambda = (u.norm_squared() + wi - wj) / (2.0 * u.norm_squared());
         let base = pi + lambda * u;
         let d = nalgebra::Vector2::new(-u[1], u[0]) * (tk.tb - tk.ta);
-        let sb = nalgebra::Vector2::new(self.approx[b][0], self.approx[b][1]);
-        let wb = self.approx[b][2];
+        let [bx, by, wb] = self.approx(b);
+        let sb = nalgebra::Vector2::new(bx, by);
         // g(f) = 2|d|^2 f^2 + 2 f d.(2 base - b - p) + |base - b|^2 + |base - p|^2 - w - omega_b
         let qa = 2.0 * d.norm_squared();
         let qb = 2.0 * d.dot(&(2.0 * base - sb - pi));
@@ -730,10 +727,10 @@ impl Sites {
     /// below 1e-9 that the nudge gets wrong is caught by the exact check and
     /// flipped.
     pub fn nudged_weights(&self) -> Vec<f64> {
-        self.approx
+        self.hot
             .iter()
             .enumerate()
-            .map(|(s, a)| a[2] * (1.0 + 1e-9 * (scatter(s as u64) - 0.5)))
+            .map(|(s, h)| h.m[2] * (1.0 + 1e-9 * (scatter(s as u64) - 0.5)))
             .collect()
     }
 
@@ -741,7 +738,7 @@ impl Sites {
     /// error: the inputs are off by their enclosures' widths, and far sites
     /// with large weights cancel.
     pub fn centre_estimate(&self, t: [u32; 3]) -> ([f64; 2], f64) {
-        let [a, b, c] = t.map(|s| self.approx[s as usize]);
+        let [a, b, c] = t.map(|s| self.approx(s as usize));
         let u = [b[0] - a[0], b[1] - a[1]];
         let v = [c[0] - a[0], c[1] - a[1]];
         let det = (u[0] * v[1] - u[1] * v[0]).abs();
