@@ -8,12 +8,13 @@
 const PURGE_DELAY: libmimalloc_sys::mi_option_t = 15;
 
 /// Keeps the memory mimalloc frees for its next allocations instead of
-/// returning it to the system (by default a second after it is freed). The stages free large arrays
-/// and allocate new ones, and every page taken back from the system costs
-/// a page fault and its zeroing: measured, 8% of a 10^5-segment field's
-/// pipeline. The peak stays the same (freed memory is reused first); the
-/// process holds it until it ends. Process-wide: for programs that own the
-/// process (the CLI, the benches), not for libraries.
+/// returning it to the system (by default a second after it is freed).
+/// The stages free large arrays and allocate new ones, and every page taken
+/// back from the system costs a page fault and its zeroing: measured, 5-8%
+/// of a 10^5-segment field's pipeline, for a peak 16% higher there (3% on
+/// SPE9 in 3D); the process holds that memory until it ends.
+/// Process-wide: for programs that own the process (the CLI, the benches),
+/// not for libraries.
 #[allow(unsafe_code)]
 pub fn keep_freed_memory() {
     // SAFETY: sets an integer option; mimalloc reads options atomically.
