@@ -77,7 +77,7 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
             "fewer than three vertices, or all vertices collinear".into(),
         ));
     }
-    let mut inside = classify(&cx, &cdt);
+    let (mut inside, mut sides) = classify(&cx, &cdt);
     let mut hull_edges_added = 0;
     if !inside.iter().any(|&i| i) {
         // Nothing enclosed: mesh the convex hull, its edges become constraints.
@@ -103,7 +103,7 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
             next_id - hull_edges_added as i64
         ));
         cdt = backend.constrained_delaunay(&cx.points, &cx.segments)?;
-        inside = classify(&cx, &cdt);
+        (inside, sides) = classify(&cx, &cdt);
         if !inside.iter().any(|&i| i) {
             return Err(Error::Degenerate(
                 "the hole points remove the whole convex hull".into(),
@@ -121,7 +121,6 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
             }
         }
     }
-    let sides = segment_sides(&cx, &cdt, &inside);
     let keep_s: Vec<bool> = sides.iter().map(|&[l, r]| l || r).collect();
     let dropped_vertices = keep_v.iter().filter(|&&k| !k).count();
     let dropped_segments = keep_s.iter().filter(|&&k| !k).count();
@@ -162,8 +161,7 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
         "{dropped_vertices} vertices and {dropped_segments} segments lie outside the domain (or in holes) and are ignored"
     ));
     let cdt = backend.constrained_delaunay(&rc.points, &rc.segments)?;
-    let inside = classify(&rc, &cdt);
-    let sides = segment_sides(&rc, &cdt, &inside);
+    let (inside, sides) = classify(&rc, &cdt);
     Ok(Domain {
         complex: rc,
         cdt,
@@ -173,15 +171,6 @@ pub fn build<B: Backend + ?Sized>(backend: &B, input: &Complex) -> Result<Domain
         dropped_vertices,
         dropped_segments,
     })
-}
-
-/// Per segment, whether the triangles left and right of it are inside.
-fn segment_sides(cx: &Complex, cdt: &Triangulation, inside: &[bool]) -> Vec<[bool; 2]> {
-    let inside_at = |t: Option<u32>| t.is_some_and(|t| inside[t as usize]);
-    cx.segments
-        .par_iter()
-        .map(|&[a, b]| [cdt.left_of(a, b), cdt.left_of(b, a)].map(inside_at))
-        .collect()
 }
 
 /// Directed convex-hull edges (interior on the left) and their triangles.
@@ -225,21 +214,14 @@ fn locate(t: &Triangulation, p: &[[f64; 2]], h: [f64; 2], start: u32) -> Option<
 }
 
 /// Triangle's eating: from the hull and from the hole points, across every
-/// edge that is not a segment. What is not eaten is the domain.
-fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
-    let segs: FastSet<(u32, u32)> = cx
-        .segments
-        .iter()
-        .map(|s| (s[0].min(s[1]), s[0].max(s[1])))
-        .collect();
-    let is_seg = |a: u32, b: u32| segs.contains(&(a.min(b), a.max(b)));
+/// edge that is not a segment. What is not eaten is the domain. Also, per
+/// segment, whether the triangles on its left and right are in it.
+fn classify(cx: &Complex, t: &Triangulation) -> (Vec<bool>, Vec<[bool; 2]>) {
+    let (is_seg, around_seg) = segment_edges(cx, t);
     let mut eaten = vec![false; t.triangles.len()];
-    let mut queue = VecDeque::new();
-    for (a, b, k) in hull_edges(t) {
-        if !is_seg(a, b) {
-            queue.push_back(k);
-        }
-    }
+    let mut queue: VecDeque<u32> = (0..t.triangles.len() as u32)
+        .filter(|&k| (0..3).any(|e| t.across(k, e).is_none() && is_seg[k as usize] & 1 << e == 0))
+        .collect();
     let p = &cx.points;
     let mut around: Option<Vec<Vec<u32>>> = None;
     let mut start = 0;
@@ -270,10 +252,8 @@ fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
         if std::mem::replace(&mut eaten[k as usize], true) {
             continue;
         }
-        let tri = t.triangles[k as usize];
         for e in 0..3 {
-            let (a, b) = (tri[e], tri[(e + 1) % 3]);
-            if !is_seg(a, b) {
+            if is_seg[k as usize] & 1 << e == 0 {
                 if let Some(n) = t.across(k, e) {
                     if !eaten[n as usize] {
                         queue.push_back(n);
@@ -282,5 +262,34 @@ fn classify(cx: &Complex, t: &Triangulation) -> Vec<bool> {
             }
         }
     }
-    eaten.into_iter().map(|e| !e).collect()
+    let inside: Vec<bool> = eaten.into_iter().map(|e| !e).collect();
+    let sides = around_seg
+        .iter()
+        .map(|lr| lr.map(|t| t.is_some_and(|t| inside[t as usize])))
+        .collect();
+    (inside, sides)
+}
+
+/// Per triangle, a bit per edge k (vertex k to k + 1) that is a segment;
+/// per segment, the triangles on its left and on its right.
+fn segment_edges(cx: &Complex, t: &Triangulation) -> (Vec<u8>, Vec<[Option<u32>; 2]>) {
+    let around: Vec<[Option<u32>; 2]> = cx
+        .segments
+        .par_iter()
+        .map(|&[a, b]| [t.left_of(a, b), t.left_of(b, a)])
+        .collect();
+    let mut is_seg = vec![0u8; t.triangles.len()];
+    for (&[a, b], lr) in cx.segments.iter().zip(&around) {
+        for (k, from) in lr.iter().zip([a, b]) {
+            if let Some(k) = *k {
+                let tri = t.triangles[k as usize];
+                let e = tri
+                    .iter()
+                    .position(|&v| v == from)
+                    .expect("left_of's triangle holds its edge");
+                is_seg[k as usize] |= 1 << e;
+            }
+        }
+    }
+    (is_seg, around)
 }
