@@ -204,6 +204,15 @@ impl Triangulation {
         }
     }
 
+    /// The triangles on the left of a->b and of b->a: one walk around a
+    /// where a->b has a triangle (the other is across its edge).
+    pub fn beside(&self, a: u32, b: u32) -> [Option<u32>; 2] {
+        match self.left_of(a, b) {
+            Some(t) => [Some(t), self.across(t, self.edge_index(t, a, b))],
+            None => [None, self.left_of(b, a)],
+        }
+    }
+
     /// The vertex of triangle `t` opposite its edge a->b (which must be in it).
     pub fn apex(&self, t: u32, a: u32, b: u32) -> u32 {
         let tri = self.triangles[t as usize];
@@ -216,8 +225,8 @@ impl Triangulation {
     /// diagonal (the caller checks that their union is strictly convex).
     /// Returns the new triangles, or None when a-b is not an inner edge.
     pub fn flip(&mut self, a: u32, b: u32) -> Option<[u32; 2]> {
-        let t1 = self.left_of(a, b)?;
-        let t2 = self.left_of(b, a)?;
+        let [t1, t2] = self.beside(a, b);
+        let (t1, t2) = (t1?, t2?);
         let c = self.apex(t1, a, b);
         let d = self.apex(t2, b, a);
         let edge = |s: &Self, t: u32, x: u32, y: u32| s.edge_index(t, x, y);
@@ -282,7 +291,8 @@ impl Triangulation {
         a: u32,
         b: u32,
     ) -> Option<(u32, u32)> {
-        let (t1, t2) = (self.left_of(a, b)?, self.left_of(b, a)?);
+        let [t1, t2] = self.beside(a, b);
+        let (t1, t2) = (t1?, t2?);
         let (c, d) = (self.apex(t1, a, b), self.apex(t2, b, a));
         (tests.power(a, b, c, d) == Ordering::Greater).then_some((c, d))
     }
@@ -402,15 +412,33 @@ impl Triangulation {
         nb
     }
 
-    /// Triangles around each vertex.
-    pub fn vertex_triangles(&self, n: usize) -> Vec<Vec<u32>> {
-        let mut vt = vec![Vec::new(); n];
-        for (t, tri) in self.triangles.iter().enumerate() {
-            for &v in tri {
-                vt[v as usize].push(t as u32);
+    /// The triangles around vertex v, interior or on the hull: a walk each
+    /// way from its corner (empty when v is no vertex).
+    pub fn fan(&self, v: u32) -> Vec<u32> {
+        let Some(start) = self.corner.get(v as usize).copied().filter(|&t| t != NONE) else {
+            return vec![];
+        };
+        let at = |t: u32| {
+            self.triangles[t as usize]
+                .iter()
+                .position(|&x| x == v)
+                .expect("the fan's triangles hold its vertex")
+        };
+        let mut out = vec![start];
+        let mut t = start;
+        while let Some(n) = self.across(t, (at(t) + 2) % 3) {
+            if n == start {
+                return out;
             }
+            out.push(n);
+            t = n;
         }
-        vt
+        t = start;
+        while let Some(n) = self.across(t, at(t)) {
+            out.push(n);
+            t = n;
+        }
+        out
     }
 }
 
@@ -428,6 +456,33 @@ mod tests {
         assert!(t.has_edge(3, 2));
         assert!(!t.has_edge(0, 3));
         assert_eq!(t.edges().count(), 5);
+        assert_eq!(t.beside(1, 2), [Some(0), Some(1)]);
+        assert_eq!(t.beside(0, 1), [Some(0), None]);
+        assert_eq!(t.beside(1, 0), [None, Some(0)]);
+        assert_eq!(t.beside(0, 3), [None, None]);
+    }
+
+    #[test]
+    fn fans_hold_every_triangle_of_their_vertex() {
+        // A hexagon around vertex 0, less one triangle: 0 is on the hull.
+        let mut flat = vec![];
+        for k in 1..6 {
+            flat.extend([0, k, k % 6 + 1]);
+        }
+        for (whole, flat) in [
+            (false, flat.clone()),
+            (true, [flat, vec![0, 6, 1]].concat()),
+        ] {
+            let t = Triangulation::from_flat(&flat, vec![]);
+            for v in 0..7 {
+                let mut fan = t.fan(v);
+                fan.sort();
+                let holding: Vec<u32> = (0..t.triangles.len() as u32)
+                    .filter(|&k| t.triangles[k as usize].contains(&v))
+                    .collect();
+                assert_eq!(fan, holding, "vertex {v}, closed {whole}");
+            }
+        }
     }
 
     #[test]

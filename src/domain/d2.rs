@@ -32,19 +32,14 @@ pub struct Domain {
 impl Domain {
     /// Domain boundary as directed segments (a, b) with the domain on the left.
     pub fn boundary(&self) -> Vec<(u32, u32)> {
-        let inside = |t: Option<u32>| t.is_some_and(|t| self.inside[t as usize]);
         self.complex
             .segments
-            .par_iter()
-            .filter_map(|&[a, b]| {
-                match (
-                    inside(self.cdt.left_of(a, b)),
-                    inside(self.cdt.left_of(b, a)),
-                ) {
-                    (true, false) => Some((a, b)),
-                    (false, true) => Some((b, a)),
-                    _ => None,
-                }
+            .iter()
+            .zip(&self.sides)
+            .filter_map(|(&[a, b], side)| match side {
+                [true, false] => Some((a, b)),
+                [false, true] => Some((b, a)),
+                _ => None,
             })
             .collect()
     }
@@ -223,7 +218,6 @@ fn classify(cx: &Complex, t: &Triangulation) -> (Vec<bool>, Vec<[bool; 2]>) {
         .filter(|&k| (0..3).any(|e| t.across(k, e).is_none() && is_seg[k as usize] & 1 << e == 0))
         .collect();
     let p = &cx.points;
-    let mut around: Option<Vec<Vec<u32>>> = None;
     let mut start = 0;
     for &h in &cx.holes {
         // Each walk starts where the last ended: nearby holes are cheap.
@@ -238,10 +232,9 @@ fn classify(cx: &Complex, t: &Triangulation) -> (Vec<bool>, Vec<[bool; 2]>) {
                 orient(p[tri[e] as usize], p[tri[(e + 1) % 3] as usize], h) == Ordering::Equal
             })
         {
-            let around = around.get_or_insert_with(|| t.vertex_triangles(p.len()));
             queue.extend(
                 tri.iter()
-                    .flat_map(|&v| around[v as usize].iter().copied())
+                    .flat_map(|&v| t.fan(v))
                     .filter(|&k| contains(t, p, k, h)),
             );
         } else {
@@ -276,7 +269,7 @@ fn segment_edges(cx: &Complex, t: &Triangulation) -> (Vec<u8>, Vec<[Option<u32>;
     let around: Vec<[Option<u32>; 2]> = cx
         .segments
         .par_iter()
-        .map(|&[a, b]| [t.left_of(a, b), t.left_of(b, a)])
+        .map(|&[a, b]| t.beside(a, b))
         .collect();
     let mut is_seg = vec![0u8; t.triangles.len()];
     for (&[a, b], lr) in cx.segments.iter().zip(&around) {

@@ -578,13 +578,14 @@ impl Sites {
         let l = u[0] * u[0] + u[1] * u[1];
         let lambda = (l + wi - wj) / (2.0 * l);
         let base = [pi[0] + lambda * u[0], pi[1] + lambda * u[1]];
-        let param = |a: u32, b: u32| {
-            rt.left_of(a, b).map(|t| {
+        let param = |t: Option<u32>| {
+            t.map(|t| {
                 let c = self.centres[t as usize];
                 ((c[0] - base[0]) * -u[1] + (c[1] - base[1]) * u[0]) / l
             })
         };
-        (param(i, j), param(j, i))
+        let [left, right] = rt.beside(i, j);
+        (param(left), param(right))
     }
 
     /// Moves a site that is outside its cell because of the sites in

@@ -313,8 +313,8 @@ fn local_system(
         .enumerate()
         .flat_map_iter(|(s, &[i, j])| {
             let (mut apexes, mut outside) = (vec![], vec![]);
-            for (x, y) in [(i, j), (j, i)] {
-                if let Some(tri) = t.left_of(x, y) {
+            for (tri, (x, y)) in t.beside(i, j).into_iter().zip([(i, j), (j, i)]) {
+                if let Some(tri) = tri {
                     apexes.push(t.apex(tri, x, y));
                     outside.push(!inside[tri as usize]);
                 }
@@ -514,7 +514,7 @@ fn delaunay(cx: &Complex, t: &Triangulation) -> bool {
         y: p[v as usize][1],
     };
     cx.segments.par_iter().all(|&[a, b]| {
-        let (Some(t1), Some(t2)) = (t.left_of(a, b), t.left_of(b, a)) else {
+        let [Some(t1), Some(t2)] = t.beside(a, b) else {
             return true;
         };
         let (x, y) = (t.apex(t1, a, b), t.apex(t2, b, a));
@@ -526,9 +526,10 @@ fn delaunay(cx: &Complex, t: &Triangulation) -> bool {
 /// triangulation: both apexes outside the closed diametral disc.
 fn strictly_gabriel(cx: &Complex, dt: &Triangulation, i: u32, j: u32) -> bool {
     let p = &cx.points;
-    [(i, j), (j, i)]
-        .iter()
-        .all(|&(a, b)| match dt.left_of(a, b) {
+    dt.beside(i, j)
+        .into_iter()
+        .zip([(i, j), (j, i)])
+        .all(|(t, (a, b))| match t {
             Some(t) => {
                 !in_diametral_disc(p[i as usize], p[j as usize], p[dt.apex(t, a, b) as usize])
             }
@@ -546,9 +547,11 @@ pub fn sys3_failures(cx: &Complex, w: &[f64], rt: &Triangulation) -> Vec<u32> {
     // where an interval holds zero.
     let holds = |s: usize| -> bool {
         let [i, j] = cx.segments[s];
-        let apexes: Vec<u32> = [(i, j), (j, i)]
+        let apexes: Vec<u32> = rt
+            .beside(i, j)
             .into_iter()
-            .filter_map(|(a, b)| rt.left_of(a, b).map(|t| rt.apex(t, a, b)))
+            .zip([(i, j), (j, i)])
+            .filter_map(|(t, (a, b))| t.map(|t| rt.apex(t, a, b)))
             .collect();
         let iv = |v: u32| p[v as usize].map(Iv::of);
         let ivsub = |a: [Iv; 2], b: [Iv; 2]| [a[0] - b[0], a[1] - b[1]];
