@@ -11,7 +11,7 @@ pub(crate) use d3::tests;
 pub use d3::{Complex3, Facet};
 
 use crate::error::{Error, Result};
-use std::collections::HashMap;
+use rayon::prelude::*;
 
 /// Largest coordinate magnitude: squared lengths stay far below f64::MAX.
 pub const MAX_COORD: f64 = 1e150;
@@ -44,16 +44,17 @@ pub(crate) fn finite_in_range<const D: usize>(points: &[[f64; D]], ids: &[i64]) 
 /// Exact duplicates (-0.0 and 0.0 are the same position), then an extent
 /// below MIN_EXTENT, as errors naming them.
 pub(crate) fn distinct_with_extent<const D: usize>(points: &[[f64; D]], ids: &[i64]) -> Result<()> {
-    let key = |p: [f64; D]| p.map(|c| (c + 0.0).to_bits());
-    let mut seen: HashMap<[u64; D], usize> = HashMap::with_capacity(points.len());
-    let mut dups = vec![];
-    for (i, &p) in points.iter().enumerate() {
-        if let Some(&j) = seen.get(&key(p)) {
-            dups.push((ids[j], ids[i]));
-        } else {
-            seen.insert(key(p), i);
-        }
-    }
+    let key = |i: u32| points[i as usize].map(|c| (c + 0.0).to_bits());
+    // Sorted by position, then index: each run of one position starts at
+    // its first occurrence.
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&i| (key(i), i));
+    let mut dups: Vec<(usize, usize)> = order
+        .chunk_by(|&a, &b| key(a) == key(b))
+        .flat_map(|run| run[1..].iter().map(|&i| (run[0] as usize, i as usize)))
+        .collect();
+    dups.sort_unstable_by_key(|&(_, i)| i);
+    let dups: Vec<(i64, i64)> = dups.into_iter().map(|(j, i)| (ids[j], ids[i])).collect();
     if !dups.is_empty() {
         return Err(Error::DuplicateVertices { pairs: dups });
     }
