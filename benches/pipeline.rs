@@ -18,8 +18,8 @@ use orthomesh::{Mesher, Options};
 use std::time::{Duration, Instant};
 
 /// As in the CLI: mimalloc for every allocation, HiGHS' too.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+#[path = "../src/bin/orthomesh/allocator.rs"]
+mod allocator;
 
 fn random_points(n: usize, seed: u64) -> Vec<[f64; 2]> {
     let mut next = orthomesh::generate::uniform(seed);
@@ -709,7 +709,7 @@ criterion_group!(
 
 fn main() {
     // As in the CLI.
-    orthomesh::keep_freed_memory();
+    allocator::keep_freed_memory();
     // `cargo bench` passes --bench; `cargo test --benches` runs each
     // benchmark once only, and skips the (slow) table, as does a run
     // filtered to some groups (`cargo bench -- conform3`).

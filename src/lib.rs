@@ -33,7 +33,6 @@
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
-mod allocator;
 pub mod backend;
 mod certify;
 mod complex;
@@ -55,7 +54,6 @@ mod sites;
 mod split;
 mod weights;
 
-pub use allocator::keep_freed_memory;
 pub use backend::{by_name, compiled, default_backend, Backend};
 pub use certify::{Certificate, Certificate3};
 pub use complex::{Complex, Complex3, Facet};

@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 
 /// Top-level modules from the bottom up: a module may use those before it.
 const LAYERS: &[&str] = &[
-    "allocator",
     "error",
     "progress",
     "geom",

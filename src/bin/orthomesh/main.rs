@@ -9,6 +9,7 @@ use orthomesh::Progress;
 use orthomesh::{io, Backend, CellArray, Complex, Complex3, Mesher, Options};
 use orthomesh::{Error, Result};
 use orthomesh::{Outcome, D2, D3};
+mod allocator;
 mod deck;
 mod hybrid2d;
 mod hybrid3d;
@@ -17,15 +18,6 @@ use deck::{DeckArgs, DeckOut};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-
-/// mimalloc for every allocation, HiGHS' C++ ones too (its `override`
-/// feature): the local form's thousands of small LP solves allocate and
-/// free per solve (measured: 7% of a 10^5-segment run). Without
-/// transparent huge pages (its `no_thp` feature): memory it returns and
-/// takes again was zeroed 2 MiB at a time (measured: 15% of a 10^5-segment
-/// run's CPU time in the kernel's page clearing, 1% without).
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 /// Conforming orthogonal meshes: power diagrams whose edges contain your
 /// constraint segments exactly, with sites inside their cells, and an exact
@@ -319,7 +311,7 @@ struct Outputs {
 }
 
 fn main() -> ExitCode {
-    orthomesh::keep_freed_memory();
+    allocator::keep_freed_memory();
     // Usage errors exit 1 like every other error (help and version: 0).
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
