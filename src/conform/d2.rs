@@ -12,6 +12,7 @@ use crate::options::Options;
 use crate::relocate::relocate;
 use crate::sites::{Role, Sites};
 use crate::weights;
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// Stages the 2D pipeline reports (the clock's laps).
@@ -205,15 +206,36 @@ fn site_margin(
     mesh: &Mesh,
     domain_sites: &[usize],
 ) -> f64 {
-    let mut nearest = vec![f64::INFINITY; sites.len()];
-    for (a, b) in rt.edges() {
-        for (x, y) in [(a as usize, b as usize), (b as usize, a as usize)] {
-            let [xa, ya, wa] = sites.approx(x);
-            let [xb, yb, wb] = sites.approx(y);
-            let d2 = (xa - xb).powi(2) + (ya - yb).powi(2);
-            nearest[x] = nearest[x].min((d2 + wa - wb) / (2.0 * d2.sqrt()));
-        }
-    }
+    // Per site, its power distance to the nearest dual line: each thread
+    // takes a block of triangles (both ways along their edges), then the
+    // minima of the blocks (a minimum is the same in any order).
+    let block = rt
+        .triangles
+        .len()
+        .div_ceil(rayon::current_num_threads())
+        .max(1);
+    let nearest = rt
+        .triangles
+        .par_chunks(block)
+        .map(|tris| {
+            let mut near = vec![f64::INFINITY; sites.len()];
+            for tri in tris {
+                for k in 0..3 {
+                    let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
+                    let ([xa, ya, wa], [xb, yb, wb]) = (sites.approx(a), sites.approx(b));
+                    let d2 = (xa - xb).powi(2) + (ya - yb).powi(2);
+                    let half = 2.0 * d2.sqrt();
+                    near[a] = near[a].min((d2 + wa - wb) / half);
+                    near[b] = near[b].min((d2 + wb - wa) / half);
+                }
+            }
+            near
+        })
+        .reduce_with(|mut a, b| {
+            a.par_iter_mut().zip(&b).for_each(|(x, y)| *x = x.min(*y));
+            a
+        })
+        .unwrap_or_default();
     domain_sites
         .iter()
         .zip(&mesh.cells)
