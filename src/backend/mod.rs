@@ -251,7 +251,7 @@ impl Triangulation {
     }
 
     /// The k of triangle t's directed edge x -> y (tri[k], tri[k + 1]).
-    fn edge_index(&self, t: u32, x: u32, y: u32) -> usize {
+    pub fn edge_index(&self, t: u32, x: u32, y: u32) -> usize {
         let tri = self.triangles[t as usize];
         (0..3)
             .find(|&k| (tri[k], tri[(k + 1) % 3]) == (x, y))

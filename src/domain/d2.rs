@@ -273,14 +273,9 @@ fn segment_edges(cx: &Complex, t: &Triangulation) -> (Vec<u8>, Vec<[Option<u32>;
         .collect();
     let mut is_seg = vec![0u8; t.triangles.len()];
     for (&[a, b], lr) in cx.segments.iter().zip(&around) {
-        for (k, from) in lr.iter().zip([a, b]) {
+        for (k, (x, y)) in lr.iter().zip([(a, b), (b, a)]) {
             if let Some(k) = *k {
-                let tri = t.triangles[k as usize];
-                let e = tri
-                    .iter()
-                    .position(|&v| v == from)
-                    .expect("left_of's triangle holds its edge");
-                is_seg[k as usize] |= 1 << e;
+                is_seg[k as usize] |= 1 << t.edge_index(k, x, y);
             }
         }
     }
