@@ -7,6 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 python3 -m pip install -q --disable-pip-version-check -r scripts/requirements-readers.txt
+# One clean pass, not an edit loop: incremental caches would only fill the disk.
+export CARGO_INCREMENTAL=0
 export ORTHOMESH_TEST_OUT="$PWD/target/test-meshes"
 rm -rf "$ORTHOMESH_TEST_OUT" && mkdir -p "$ORTHOMESH_TEST_OUT"
 cargo test --all-targets --features pure-rust "$@"
