@@ -790,7 +790,9 @@ impl Lp {
             self.simplex(false);
             let model = self.model.as_mut().expect("model");
             instance::column_bounds(model, self.delta, (f64::NEG_INFINITY, 1.0));
-            self.solve(sys, report, f64::NEG_INFINITY)?;
+            // Without its floor the margin is no larger: where it is not
+            // trusted, no row needs to enter for the duals to prove that.
+            self.solve_until(sys, report, f64::NEG_INFINITY, super::TRUST)?;
         }
         let model = self.model.as_mut().expect("model");
         let mut dual = vec![0.0; model.num_rows()];
@@ -820,10 +822,23 @@ impl Lp {
         report: &mut WeightsReport,
         enough: f64,
     ) -> Result<Solution> {
+        self.solve_until(sys, report, enough, enough)
+    }
+
+    /// `solve`, with rows no longer entering once an optimum's margin is at
+    /// or below `stop`: each model is still solved to its optimum (below
+    /// `enough`), so its duals bound the whole system's margin too.
+    pub(crate) fn solve_until(
+        &mut self,
+        sys: &System,
+        report: &mut WeightsReport,
+        enough: f64,
+        stop: f64,
+    ) -> Result<Solution> {
         self.warm_start(sys)?;
         let solution = loop {
             let (solution, cols) = self.solve_once(sys, report, enough)?;
-            if solution.delta <= enough {
+            if solution.delta <= enough.max(stop) {
                 break solution;
             }
             match cols {

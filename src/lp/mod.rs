@@ -299,6 +299,16 @@ fn margin_on(
         // far leave none (lazy rows cannot raise it).
         let returned = step + 1 == order.len() || (sys.verdict && step == 0);
         let enough = if returned { f64::NEG_INFINITY } else { TRUST };
+        // A verdict's free rung that is not trusted on some of its rows is
+        // not on all of them, and its duals there prove as much: the other
+        // rows need not enter (measured on SPE9's transitions in 3D: 1,300
+        // of the verdict's 1,700 iterations a cavity went to rows entered
+        // after the margin was already negative).
+        let stop = if sys.verdict && step == 0 {
+            TRUST
+        } else {
+            enough
+        };
         let delta = if restart && step == 0 && k.is_none() && order.len() > 2 {
             // The next rung is solved beside this one, from scratch on a
             // model of its own, and skipped where it fails (measured on
@@ -306,7 +316,7 @@ fn margin_on(
             // solved, the rung after it restarts from this one's optimum.
             let deadline = report.deadline;
             let (solved, fails) = cancel::beside_here(
-                || lp.solve(sys, report, enough),
+                || lp.solve_until(sys, report, enough, stop),
                 || fails(sys, with3, order[1], deadline),
             );
             report.lp_solves += 1;
@@ -316,7 +326,7 @@ fn margin_on(
             free = Some((lp.basis(), cols, delta));
             delta
         } else {
-            lp.solve(sys, report, enough)?.delta
+            lp.solve_until(sys, report, enough, stop)?.delta
         };
         if sys.verdict && step == 0 {
             if delta <= TRUST {
