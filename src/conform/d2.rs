@@ -224,9 +224,9 @@ fn site_margin(
                     let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
                     let ([xa, ya, wa], [xb, yb, wb]) = (sites.approx(a), sites.approx(b));
                     let d2 = (xa - xb).powi(2) + (ya - yb).powi(2);
-                    let half = 2.0 * d2.sqrt();
-                    near[a] = near[a].min((d2 + wa - wb) / half);
-                    near[b] = near[b].min((d2 + wb - wa) / half);
+                    let twice_len = 2.0 * d2.sqrt();
+                    near[a] = near[a].min((d2 + wa - wb) / twice_len);
+                    near[b] = near[b].min((d2 + wb - wa) / twice_len);
                 }
             }
             near
